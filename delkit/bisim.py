@@ -1,0 +1,169 @@
+"""Bisimulation: coarsest bisimulation by partition refinement, contraction, canonical hashes.
+
+Refinement starts from the partition by valuation and splits blocks by the *signature*
+``(block(w), {block(v) : w R_a v} for each agent a)`` until nothing changes (a fixpoint — the coarsest
+bisimulation, not the result of a single pass). Block numbers are *canonical*: at every round a block's
+number is the rank of its signature among all signatures, and signatures only mention propositions and
+earlier ranks, never world indices. Bisimilar worlds therefore get equal numbers, even in different
+models with the same generated bisimulation classes, which gives a canonical form (and hash) of a
+pointed model: the table of its classes with their valuations and successor classes, plus the classes
+of its designated worlds.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Sequence
+
+import numpy as np
+
+from delkit.kripke import KripkeModel
+from delkit.relation import Relation
+
+__all__ = ["refine", "bisimulation_classes", "contract", "bisimilar", "canonical_form", "canonical_hash",
+           "disjoint_union"]
+
+
+def _successor_sets(rel: Relation, blocks: np.ndarray) -> list[tuple[int, ...]]:
+    """For each world, the sorted tuple of blocks of its successors."""
+    n = blocks.size
+    if rel.labels is not None:
+        lab = rel.labels
+        # unique (class, block) pairs, then the set of blocks per class
+        key = np.unique(lab.astype(np.int64) * (int(blocks.max(initial=0)) + 1) + blocks)
+        base = int(blocks.max(initial=0)) + 1
+        cls, blk = key // base, key % base
+        per_class: dict[int, tuple[int, ...]] = {}
+        if cls.size:
+            splits = np.flatnonzero(np.diff(cls)) + 1
+            for c_arr, b_arr in zip(np.split(cls, splits), np.split(blk, splits), strict=True):
+                per_class[int(c_arr[0])] = tuple(int(b) for b in b_arr)
+        return [per_class[int(c)] for c in lab]
+    m = rel.matrix
+    out: list[tuple[int, ...]] = []
+    ind, ptr = m.indices, m.indptr
+    succ_blocks = blocks[ind]
+    for w in range(n):
+        seg = succ_blocks[ptr[w]:ptr[w + 1]]
+        out.append(tuple(np.unique(seg).tolist()) if seg.size else ())
+    return out
+
+
+def refine(model: KripkeModel, agents: Sequence[str] | None = None) -> np.ndarray:
+    """Canonical block number of every world under the coarsest bisimulation (w.r.t. ``agents``)."""
+    ags = list(model.agents if agents is None else agents)
+    n = model.n_worlds
+    if n == 0:
+        return np.zeros(0, dtype=np.int64)
+    # round 0: rank of the valuation row (canonical: rows compared as bit strings)
+    _, blocks = np.unique(model.valuation, axis=0, return_inverse=True)
+    blocks = blocks.astype(np.int64).ravel()
+    n_blocks = int(blocks.max()) + 1
+    while True:
+        succ = [_successor_sets(model.relations[a], blocks) for a in ags]
+        sigs = [(int(blocks[w]), *(s[w] for s in succ)) for w in range(n)]
+        uniq = sorted(set(sigs))
+        rank = {s: i for i, s in enumerate(uniq)}
+        new = np.fromiter((rank[s] for s in sigs), dtype=np.int64, count=n)
+        if len(uniq) == n_blocks:
+            # no block split: the partition is stable (ranks are a monotone renaming of the old blocks)
+            return new
+        blocks, n_blocks = new, len(uniq)
+
+
+def bisimulation_classes(model: KripkeModel) -> list[list[int]]:
+    """The classes of the coarsest bisimulation on ``model`` as lists of worlds."""
+    blocks = refine(model)
+    out: dict[int, list[int]] = {}
+    for w, b in enumerate(blocks):
+        out.setdefault(int(b), []).append(w)
+    return [out[k] for k in sorted(out)]
+
+
+def contract(model: KripkeModel, *, generated: bool = True) -> KripkeModel:
+    """Bisimulation contraction: the quotient of (the designated-generated submodel of) ``model``.
+
+    Worlds of the result are the bisimulation classes in canonical order; X R_a Y iff some w ∈ X and
+    v ∈ Y have w R_a v. Partitions stay partitions. The result is bisimilar to the input and minimal.
+    """
+    m = model.generated() if generated else model
+    blocks = refine(m)
+    k = int(blocks.max()) + 1 if blocks.size else 0
+    rep = np.zeros(k, dtype=np.int64)
+    rep[blocks[::-1]] = np.arange(m.n_worlds)[::-1]  # first world of each block
+    rels: dict[str, Relation] = {}
+    for a, r in m.relations.items():
+        if r.labels is not None:
+            rels[a] = Relation.from_labels(r.labels[rep])
+        else:
+            coo = r.matrix.tocoo()
+            rels[a] = Relation.from_pairs(k, zip(blocks[coo.row].tolist(), blocks[coo.col].tolist(), strict=True))
+    des = sorted({int(blocks[d]) for d in m.designated})
+    return KripkeModel(m.props, m.agents, m.valuation[rep], rels, tuple(des))
+
+
+def canonical_form(model: KripkeModel, *, generated: bool = True) -> tuple:
+    """A hashable canonical form: equal for two pointed models iff they are bisimilar.
+
+    (Provided both have the same propositions and agents.) It lists, for every bisimulation class of
+    the generated submodel in canonical order, its valuation and its successor classes per agent, and
+    then the set of designated classes.
+    """
+    m = model.generated() if generated else model
+    blocks = refine(m)
+    k = int(blocks.max()) + 1 if blocks.size else 0
+    rep = np.zeros(k, dtype=np.int64)
+    rep[blocks[::-1]] = np.arange(m.n_worlds)[::-1]
+    succ = {a: _successor_sets(m.relations[a], blocks) for a in m.agents}
+    table = tuple(
+        (m.valuation[rep[b]].tobytes(), tuple(succ[a][rep[b]] for a in sorted(m.agents))) for b in range(k)
+    )
+    des = tuple(sorted({int(blocks[d]) for d in m.designated}))
+    return (tuple(m.props), tuple(sorted(m.agents)), table, des)
+
+
+def canonical_hash(model: KripkeModel, *, generated: bool = True) -> str:
+    """SHA-256 hex digest of :func:`canonical_form`; bisimilar pointed models get equal hashes."""
+    return hashlib.sha256(repr(canonical_form(model, generated=generated)).encode()).hexdigest()
+
+
+def disjoint_union(a: KripkeModel, b: KripkeModel) -> tuple[KripkeModel, int]:
+    """Disjoint union (worlds of ``b`` shifted by ``len(a)``); designated = both. Returns (model, offset)."""
+    if a.props != b.props or set(a.agents) != set(b.agents):
+        if set(a.props) != set(b.props) or set(a.agents) != set(b.agents):
+            from delkit.errors import ModelError
+
+            raise ModelError("disjoint union needs the same propositions and agents")
+        b = _reorder_props(b, a.props)
+    off = a.n_worlds
+    val = np.vstack([a.valuation, b.valuation])
+    rels = {}
+    for ag in a.agents:
+        ra, rb = a.relations[ag], b.relations[ag]
+        if ra.labels is not None and rb.labels is not None:
+            rels[ag] = Relation.from_labels(np.concatenate([ra.labels, rb.labels + int(ra.labels.max(initial=-1)) + 1]))
+        else:
+            import scipy.sparse as sp
+
+            rels[ag] = Relation.from_matrix(sp.block_diag([ra.to_matrix(), rb.to_matrix()], format="csr"))
+    des = tuple(a.designated) + tuple(d + off for d in b.designated)
+    return KripkeModel(a.props, a.agents, val, rels, des), off
+
+
+def _reorder_props(m: KripkeModel, props: tuple[str, ...]) -> KripkeModel:
+    idx = [m.props.index(p) for p in props]
+    return KripkeModel(props, m.agents, m.valuation[:, idx], m.relations, m.designated, m.names)
+
+
+def bisimilar(a: KripkeModel, b: KripkeModel) -> bool:
+    """Are the pointed models (a, a.designated) and (b, b.designated) bisimilar?
+
+    Multi-pointed: every designated world of each has a bisimilar designated world in the other.
+    """
+    if set(a.props) != set(b.props) or set(a.agents) != set(b.agents):
+        return False
+    u, off = disjoint_union(a, b)
+    blocks = refine(u)
+    da = {int(blocks[d]) for d in a.designated}
+    db = {int(blocks[d + off]) for d in b.designated}
+    return da == db

@@ -1,0 +1,62 @@
+"""The single ``delkit`` command.
+
+Sub-commands live in their own modules and import the heavy layers (planners, sim, arms) lazily, inside
+the command functions, so that ``delkit --help`` stays fast. A :class:`delkit.errors.DelkitError` is
+printed as one line on stderr with exit status 2, never as a traceback.
+"""
+
+from __future__ import annotations
+
+import sys
+
+__all__ = ["main", "run"]
+
+
+def _build_app():
+    import typer
+
+    from delkit.cli import arms_cmd, consistency_cmd, core_cmd, explore_cmd, plan_cmd
+
+    app = typer.Typer(
+        name="delkit",
+        help="delkit: dynamic epistemic logic for multi-agent robotics.",
+        no_args_is_help=True,
+        add_completion=False,
+        pretty_exceptions_enable=False,
+    )
+    core_cmd.register(app)
+    plan_cmd.register(app)
+    consistency_cmd.register(app)
+    explore_cmd.register(app)
+    arms_cmd.register(app)
+    return app
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the CLI and return its exit status (0 ok, 1 a negative answer such as an invalid plan, 2 bad input)."""
+    import click
+
+    from delkit.errors import DelkitError
+
+    application = _build_app()
+    try:
+        result = application(args=list(sys.argv[1:] if argv is None else argv), prog_name="delkit",
+                             standalone_mode=False)
+    except DelkitError as exc:
+        print(f"delkit: error: {exc}", file=sys.stderr)
+        return 2
+    except click.exceptions.ClickException as exc:  # usage errors: unknown option, missing file, ...
+        exc.show()
+        return 2
+    except click.exceptions.Abort:
+        print("delkit: aborted", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("delkit: interrupted", file=sys.stderr)
+        return 130
+    return result if isinstance(result, int) else 0
+
+
+def run() -> None:
+    """Console-script entry point."""
+    sys.exit(main())

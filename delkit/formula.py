@@ -1,0 +1,536 @@
+"""Formulas of dynamic epistemic logic: an immutable, hashable AST.
+
+Grammar of the text syntax (see :func:`parse`; :func:`show` prints it back so that
+``parse(show(f)) == f``)::
+
+    φ ::= p | T | F | ~φ | φ & φ | φ | φ | φ -> φ | φ <-> φ | (φ)
+        | K_a φ | B_a φ | Kw_a φ          knowledge / belief (box) of agent a, knowing whether
+        | E{a,b} φ | C{a,b} φ | D{a,b} φ  everybody / common / distributed knowledge of a group
+        | [!φ] φ                          public announcement  [!φ]ψ
+        | [E,e] φ                         update with event e of the event model named E
+
+Agent names after ``K_`` are letters and digits; other names are written in braces: ``K{robot_1} p``.
+``B_a`` is read as ``K_a`` (on KD45 models the box is belief). Binding: unary operators bind tightest,
+then ``&``, ``|``, ``->`` (right associative), ``<->``.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import TYPE_CHECKING, Any
+
+from delkit.errors import ParseError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from delkit.events import EventModel
+
+__all__ = [
+    "Formula", "Top", "Bot", "Prop", "Not", "And", "Or", "Implies", "Iff", "K", "Kw", "E", "C", "D",
+    "Announce", "Update", "TOP", "BOT", "parse", "show", "conj", "disj", "props_of", "agents_of",
+    "subformulas", "substitute", "is_propositional", "modal_depth",
+]
+
+
+class Formula:
+    """Base class of all formulas. Supports ``~f``, ``f & g``, ``f | g``, ``f >> g`` (implication)."""
+
+    __slots__ = ()
+
+    def __invert__(self) -> Formula:
+        return Not(self)
+
+    def __and__(self, other: Formula) -> Formula:
+        return And((self, other))
+
+    def __or__(self, other: Formula) -> Formula:
+        return Or((self, other))
+
+    def __rshift__(self, other: Formula) -> Formula:
+        return Implies(self, other)
+
+    def __str__(self) -> str:
+        return show(self)
+
+
+@dataclass(frozen=True, slots=True)
+class Top(Formula):
+    """⊤, true everywhere."""
+
+
+@dataclass(frozen=True, slots=True)
+class Bot(Formula):
+    """⊥, false everywhere."""
+
+
+TOP = Top()
+BOT = Bot()
+
+
+@dataclass(frozen=True, slots=True)
+class Prop(Formula):
+    """An atomic proposition."""
+
+    name: str
+
+
+@dataclass(frozen=True, slots=True)
+class Not(Formula):
+    arg: Formula
+
+
+@dataclass(frozen=True, slots=True)
+class And(Formula):
+    """Conjunction of any number of formulas (the empty conjunction is ⊤)."""
+
+    args: tuple[Formula, ...]
+
+    def __init__(self, args: Iterable[Formula]) -> None:
+        object.__setattr__(self, "args", tuple(args))
+
+
+@dataclass(frozen=True, slots=True)
+class Or(Formula):
+    """Disjunction of any number of formulas (the empty disjunction is ⊥)."""
+
+    args: tuple[Formula, ...]
+
+    def __init__(self, args: Iterable[Formula]) -> None:
+        object.__setattr__(self, "args", tuple(args))
+
+
+@dataclass(frozen=True, slots=True)
+class Implies(Formula):
+    left: Formula
+    right: Formula
+
+
+@dataclass(frozen=True, slots=True)
+class Iff(Formula):
+    left: Formula
+    right: Formula
+
+
+@dataclass(frozen=True, slots=True)
+class K(Formula):
+    """K_a φ: φ holds in every world agent a considers possible (belief on KD45 models)."""
+
+    agent: str
+    arg: Formula
+
+
+@dataclass(frozen=True, slots=True)
+class Kw(Formula):
+    """Kw_a φ = K_a φ ∨ K_a ¬φ: agent a knows whether φ."""
+
+    agent: str
+    arg: Formula
+
+
+def _group(agents: Iterable[str]) -> tuple[str, ...]:
+    return tuple(sorted(set(agents)))
+
+
+@dataclass(frozen=True, slots=True)
+class E(Formula):
+    """E_G φ = ⋀_{a∈G} K_a φ: everybody in G knows φ."""
+
+    group: tuple[str, ...]
+    arg: Formula
+
+    def __init__(self, group: Iterable[str], arg: Formula) -> None:
+        object.__setattr__(self, "group", _group(group))
+        object.__setattr__(self, "arg", arg)
+
+
+@dataclass(frozen=True, slots=True)
+class C(Formula):
+    """C_G φ: φ holds in every world reachable in one or more steps of ⋃_{a∈G} R_a."""
+
+    group: tuple[str, ...]
+    arg: Formula
+
+    def __init__(self, group: Iterable[str], arg: Formula) -> None:
+        object.__setattr__(self, "group", _group(group))
+        object.__setattr__(self, "arg", arg)
+
+
+@dataclass(frozen=True, slots=True)
+class D(Formula):
+    """D_G φ: φ holds in every world reachable by ⋂_{a∈G} R_a (distributed knowledge)."""
+
+    group: tuple[str, ...]
+    arg: Formula
+
+    def __init__(self, group: Iterable[str], arg: Formula) -> None:
+        object.__setattr__(self, "group", _group(group))
+        object.__setattr__(self, "arg", arg)
+
+
+@dataclass(frozen=True, slots=True)
+class Announce(Formula):
+    """[!φ]ψ: if φ is true, ψ holds after φ is publicly announced."""
+
+    announced: Formula
+    arg: Formula
+
+
+@dataclass(frozen=True, slots=True)
+class Update(Formula):
+    """[E,e]ψ: if pre(e) holds, ψ holds after the update with event model E at event e.
+
+    ``event`` is an event index or name of ``model``; ``name`` is how the model is written in text.
+    """
+
+    model: EventModel
+    event: int
+    arg: Formula
+    name: str = "E"
+
+
+# ----------------------------------------------------------------------------- helpers
+
+
+def conj(parts: Iterable[Formula]) -> Formula:
+    """Conjunction, flattened; ⊤ for no parts and the part itself for one."""
+    flat: list[Formula] = []
+    for p in parts:
+        if isinstance(p, And):
+            flat.extend(p.args)
+        elif not isinstance(p, Top):
+            flat.append(p)
+    if not flat:
+        return TOP
+    return flat[0] if len(flat) == 1 else And(flat)
+
+
+def disj(parts: Iterable[Formula]) -> Formula:
+    """Disjunction, flattened; ⊥ for no parts and the part itself for one."""
+    flat: list[Formula] = []
+    for p in parts:
+        if isinstance(p, Or):
+            flat.extend(p.args)
+        elif not isinstance(p, Bot):
+            flat.append(p)
+    if not flat:
+        return BOT
+    return flat[0] if len(flat) == 1 else Or(flat)
+
+
+def children(f: Formula) -> tuple[Formula, ...]:
+    """Immediate subformulas."""
+    if isinstance(f, (And, Or)):
+        return f.args
+    if isinstance(f, (Implies, Iff)):
+        return (f.left, f.right)
+    if isinstance(f, Announce):
+        return (f.announced, f.arg)
+    if isinstance(f, (Not, K, Kw, E, C, D, Update)):
+        return (f.arg,)
+    return ()
+
+
+def subformulas(f: Formula) -> Iterable[Formula]:
+    """All subformulas, each once, children before parents (does not enter event models)."""
+    seen: set[Formula] = set()
+    order: list[Formula] = []
+    stack: list[tuple[Formula, bool]] = [(f, False)]
+    while stack:
+        g, done = stack.pop()
+        if done:
+            if g not in seen:
+                seen.add(g)
+                order.append(g)
+            continue
+        if g in seen:
+            continue
+        stack.append((g, True))
+        for c in children(g):
+            stack.append((c, False))
+    return order
+
+
+def props_of(f: Formula) -> set[str]:
+    """Proposition names occurring in f (and in the preconditions of event models it mentions)."""
+    out: set[str] = set()
+    for g in subformulas(f):
+        if isinstance(g, Prop):
+            out.add(g.name)
+        elif isinstance(g, Update):
+            for pre in g.model.pre:
+                out |= props_of(pre)
+    return out
+
+
+def agents_of(f: Formula) -> set[str]:
+    """Agent names occurring in f."""
+    out: set[str] = set()
+    for g in subformulas(f):
+        if isinstance(g, (K, Kw)):
+            out.add(g.agent)
+        elif isinstance(g, (E, C, D)):
+            out |= set(g.group)
+    return out
+
+
+def is_propositional(f: Formula) -> bool:
+    """True if f has no modal or dynamic operator."""
+    return all(isinstance(g, (Top, Bot, Prop, Not, And, Or, Implies, Iff)) for g in subformulas(f))
+
+
+def modal_depth(f: Formula) -> int:
+    """Nesting depth of K/Kw/E/C/D/dynamic operators."""
+    if isinstance(f, (K, Kw, E, C, D)):
+        return 1 + modal_depth(f.arg)
+    if isinstance(f, Announce):
+        return 1 + max(modal_depth(f.announced), modal_depth(f.arg))
+    if isinstance(f, Update):
+        return 1 + modal_depth(f.arg)
+    cs = children(f)
+    return max((modal_depth(c) for c in cs), default=0)
+
+
+def substitute(f: Formula, mapping: Mapping[str, Formula]) -> Formula:
+    """Replace propositions by formulas everywhere in f (used to compose postconditions)."""
+    if isinstance(f, Prop):
+        return mapping.get(f.name, f)
+    if isinstance(f, (Top, Bot)):
+        return f
+    if isinstance(f, Not):
+        return Not(substitute(f.arg, mapping))
+    if isinstance(f, And):
+        return And(substitute(a, mapping) for a in f.args)
+    if isinstance(f, Or):
+        return Or(substitute(a, mapping) for a in f.args)
+    if isinstance(f, Implies):
+        return Implies(substitute(f.left, mapping), substitute(f.right, mapping))
+    if isinstance(f, Iff):
+        return Iff(substitute(f.left, mapping), substitute(f.right, mapping))
+    raise ValueError(f"substitute is only defined on propositional formulas, not on {show(f)}")
+
+
+# ----------------------------------------------------------------------------- printing
+
+_SIMPLE_AGENT = re.compile(r"^[A-Za-z0-9]+$")
+_PREC = {Iff: 1, Implies: 2, Or: 3, And: 4}
+_ATOMIC = 9
+
+
+def _agent(a: str) -> str:
+    return f"_{a}" if _SIMPLE_AGENT.match(a) else "{" + a + "}"
+
+
+def _group_text(g: tuple[str, ...]) -> str:
+    return "{" + ",".join(g) + "}"
+
+
+def _prec(f: Formula) -> int:
+    return _PREC.get(type(f), _ATOMIC)
+
+
+def show(f: Formula) -> str:
+    """Print a formula in the text syntax; :func:`parse` reads it back to an equal formula."""
+    if isinstance(f, Top):
+        return "T"
+    if isinstance(f, Bot):
+        return "F"
+    if isinstance(f, Prop):
+        return f.name
+    if isinstance(f, Not):
+        return "~" + _wrap(f.arg, _ATOMIC)
+    if isinstance(f, And):
+        if not f.args:
+            return "(T & T)" if False else "T"
+        if len(f.args) == 1:
+            return "(" + show(f.args[0]) + " & T)"
+        return " & ".join(_wrap(a, _PREC[And] + 1) for a in f.args)
+    if isinstance(f, Or):
+        if not f.args:
+            return "F"
+        if len(f.args) == 1:
+            return "(" + show(f.args[0]) + " | F)"
+        return " | ".join(_wrap(a, _PREC[Or] + 1) for a in f.args)
+    if isinstance(f, Implies):
+        return _wrap(f.left, _PREC[Implies] + 1) + " -> " + _wrap(f.right, _PREC[Implies])
+    if isinstance(f, Iff):
+        return _wrap(f.left, _PREC[Iff] + 1) + " <-> " + _wrap(f.right, _PREC[Iff] + 1)
+    if isinstance(f, K):
+        return "K" + _agent(f.agent) + " " + _wrap(f.arg, _ATOMIC)
+    if isinstance(f, Kw):
+        return "Kw" + _agent(f.agent) + " " + _wrap(f.arg, _ATOMIC)
+    if isinstance(f, (E, C, D)):
+        return type(f).__name__ + _group_text(f.group) + " " + _wrap(f.arg, _ATOMIC)
+    if isinstance(f, Announce):
+        return "[!" + show(f.announced) + "] " + _wrap(f.arg, _ATOMIC)
+    if isinstance(f, Update):
+        ev = f.model.events[f.event]
+        return f"[{f.name},{ev}] " + _wrap(f.arg, _ATOMIC)
+    raise TypeError(f"not a formula: {f!r}")
+
+
+def _wrap(f: Formula, min_prec: int) -> str:
+    text = show(f)
+    return text if _prec(f) >= min_prec else "(" + text + ")"
+
+
+# ----------------------------------------------------------------------------- parsing
+
+_GRAMMAR = r"""
+?start: iff
+?iff: imp ("<->" imp)*            -> iff_chain
+?imp: disj ("->" imp)?            -> imp
+?disj: conj ("|" conj)*           -> or_chain
+?conj: unary ("&" unary)*         -> and_chain
+?unary: NOT unary                 -> neg
+      | KOP unary                 -> k
+      | KWOP unary                -> kw
+      | KBRACE agentname "}" unary  -> kbrace
+      | KWBRACE agentname "}" unary -> kwbrace
+      | GROUPOP agents "}" unary  -> grp
+      | "[" "!" iff "]" unary     -> announce
+      | "[" NAME "," NAME "]" unary -> update
+      | atom
+?atom: "T"                        -> top
+     | "F"                        -> bot
+     | "true"                     -> top
+     | "false"                    -> bot
+     | NAME                       -> prop
+     | "(" iff ")"
+agents: (agentname ("," agentname)*)?
+agentname: NAME
+
+NOT: "~" | "!" | "¬"
+KOP.3: /(K|B)_[A-Za-z0-9]+/
+KWOP.4: /Kw_[A-Za-z0-9]+/
+KBRACE.3: /(K|B)\{/
+KWBRACE.4: /Kw\{/
+GROUPOP.3: /[ECD]\{/
+NAME: /[A-Za-z_][A-Za-z0-9_.']*/
+%ignore /[ \t\r\n]+/
+%ignore /#[^\n]*/
+"""
+
+
+@lru_cache(maxsize=1)
+def _parser() -> Any:
+    from lark import Lark
+
+    return Lark(_GRAMMAR, parser="lalr", propagate_positions=False, maybe_placeholders=False)
+
+
+_TOKEN_NAMES = {
+    "NOT": "~", "KOP": "K_a", "KWOP": "Kw_a", "KBRACE": "K{agent}", "KWBRACE": "Kw{agent}",
+    "GROUPOP": "C{a,b}/E{..}/D{..}", "NAME": "a name", "LPAR": "(", "RPAR": ")", "LSQB": "[",
+    "RSQB": "]", "AMPERSAND": "&", "VBAR": "|", "COMMA": ",", "RBRACE": "}", "BANG": "!",
+    "$END": "end of formula", "T": "T", "F": "F", "TRUE": "true", "FALSE": "false",
+}
+
+
+def parse(text: str, *, events: Mapping[str, EventModel] | None = None, source: str = "<formula>",
+          line_offset: int = 0, column_offset: int = 0) -> Formula:
+    """Parse the text syntax into a :class:`Formula`.
+
+    ``events`` maps names used in ``[E,e]`` to event models. Errors raise :class:`ParseError` with the
+    line and column in ``source`` (offsets let callers report positions inside a larger file).
+    """
+    from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+
+    if not text.strip():
+        raise ParseError("empty formula; write e.g. 'K_a p & ~K_b p'", source=source,
+                         line=1 + line_offset, column=1 + column_offset)
+    try:
+        tree = _parser().parse(text)
+    except UnexpectedToken as exc:
+        tok = exc.token
+        expected = sorted({_TOKEN_NAMES.get(t, t) for t in exc.expected})
+        if tok.type == "$END":
+            lines = text.splitlines() or [""]
+            line, column, shown = len(lines), len(lines[-1]) + 1, "end of formula"
+        else:
+            line, column, shown = exc.line, exc.column, repr(str(tok))
+        raise ParseError(f"unexpected {shown}", source=source, line=line + line_offset,
+                         column=column + (column_offset if line == 1 else 0),
+                         expected=expected) from None
+    except UnexpectedCharacters as exc:
+        raise ParseError(f"unexpected character {text[exc.pos_in_stream]!r}", source=source,
+                         line=exc.line + line_offset,
+                         column=exc.column + (column_offset if exc.line == 1 else 0)) from None
+    except UnexpectedEOF as exc:
+        lines = text.splitlines() or [""]
+        raise ParseError("formula ends too early", source=source, line=len(lines) + line_offset,
+                         column=len(lines[-1]) + 1,
+                         expected=sorted({_TOKEN_NAMES.get(t, t) for t in exc.expected})) from None
+    except UnexpectedInput as exc:  # pragma: no cover - other lark errors
+        raise ParseError(str(exc), source=source) from None
+    return _Build(events or {}, source).build(tree)
+
+
+class _Build:
+    def __init__(self, events: Mapping[str, EventModel], source: str) -> None:
+        self.events = events
+        self.source = source
+
+    def build(self, t: Any) -> Formula:  # noqa: C901 - a flat dispatch
+        from lark import Token
+
+        if isinstance(t, Token):
+            raise AssertionError(t)
+        d = t.data
+        ch = t.children
+        if d in ("and_chain", "or_chain", "imp", "iff_chain") and len(ch) == 1:
+            return self.build(ch[0])
+        if d == "top":
+            return TOP
+        if d == "bot":
+            return BOT
+        if d == "prop":
+            return Prop(str(ch[0]))
+        if d == "neg":
+            return Not(self.build(ch[1]))
+        if d == "k":
+            return K(str(ch[0])[2:], self.build(ch[1]))
+        if d == "kw":
+            return Kw(str(ch[0])[3:], self.build(ch[1]))
+        if d == "kbrace":
+            return K(self._agent(ch[1]), self.build(ch[2]))
+        if d == "kwbrace":
+            return Kw(self._agent(ch[1]), self.build(ch[2]))
+        if d == "grp":
+            op = str(ch[0])[0]
+            group = [self._agent(a) for a in ch[1].children]
+            if not group:
+                raise ParseError(f"{op}{{}} needs at least one agent", source=self.source,
+                                 line=ch[0].line, column=ch[0].column)
+            return {"E": E, "C": C, "D": D}[op](group, self.build(ch[2]))
+        if d == "announce":
+            return Announce(self.build(ch[0]), self.build(ch[1]))
+        if d == "update":
+            name, ev = str(ch[0]), str(ch[1])
+            if name not in self.events:
+                known = ", ".join(sorted(self.events)) or "none given"
+                raise ParseError(f"unknown event model {name!r} (known: {known})", source=self.source,
+                                 line=ch[0].line, column=ch[0].column)
+            model = self.events[name]
+            if ev not in model.events:
+                raise ParseError(f"event model {name!r} has no event {ev!r} (events: "
+                                 f"{', '.join(model.events)})", source=self.source, line=ch[1].line,
+                                 column=ch[1].column)
+            return Update(model, model.events.index(ev), self.build(ch[2]), name)
+        if d == "and_chain":
+            return And(self.build(c) for c in ch)
+        if d == "or_chain":
+            return Or(self.build(c) for c in ch)
+        if d == "imp":
+            return Implies(self.build(ch[0]), self.build(ch[1]))
+        if d == "iff_chain":
+            parts = [self.build(c) for c in ch]
+            out = Iff(parts[0], parts[1])
+            for p in parts[2:]:
+                out = Iff(out, p)
+            return out
+        raise AssertionError(f"unhandled parse node {d}")
+
+    def _agent(self, node: Any) -> str:
+        return str(node.children[0])

@@ -1,0 +1,212 @@
+"""Accessibility relations over worlds 0..n-1, for Kripke and event models alike.
+
+A relation is stored either as a *partition* (an equivalence relation, S5: one integer label per world,
+two worlds related iff their labels are equal) or as a sparse boolean matrix (K, KD45: row w holds
+the successors of w). Partitions keep every operation linear in the number of worlds; matrices are used
+as soon as a relation is not an equivalence (e.g. after a private announcement).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+
+__all__ = ["Relation"]
+
+
+@dataclass(frozen=True, eq=False)
+class Relation:
+    """An accessibility relation on ``n`` points, as a partition (``labels``) or a CSR matrix."""
+
+    n: int
+    labels: np.ndarray | None = None
+    matrix: sp.csr_matrix | None = None
+
+    # ------------------------------------------------------------------ constructors
+    @staticmethod
+    def from_labels(labels: Iterable[int] | np.ndarray) -> Relation:
+        """Equivalence relation: points with equal labels are related (labels are renumbered 0..k-1)."""
+        arr = np.asarray(labels, dtype=np.int64).ravel()
+        if arr.size:
+            _, arr = np.unique(arr, return_inverse=True)
+        return Relation(n=int(arr.size), labels=arr.astype(np.int64))
+
+    @staticmethod
+    def from_blocks(n: int, blocks: Iterable[Iterable[int]]) -> Relation:
+        """Equivalence relation from its classes; points not in any block form singleton classes."""
+        labels = np.full(n, -1, dtype=np.int64)
+        k = 0
+        for block in blocks:
+            for w in block:
+                if labels[w] != -1:
+                    raise ValueError(f"point {w} is in two blocks")
+                labels[w] = k
+            k += 1
+        missing = np.flatnonzero(labels == -1)
+        labels[missing] = np.arange(k, k + missing.size)
+        return Relation.from_labels(labels)
+
+    @staticmethod
+    def from_pairs(n: int, pairs: Iterable[tuple[int, int]]) -> Relation:
+        """Arbitrary relation from (source, target) pairs."""
+        arr = np.asarray(list(pairs), dtype=np.int64).reshape(-1, 2)
+        if arr.size and (arr.min() < 0 or arr.max() >= n):
+            raise ValueError(f"relation pair out of range 0..{n - 1}")
+        m = sp.csr_matrix((np.ones(len(arr), dtype=bool), (arr[:, 0], arr[:, 1])), shape=(n, n), dtype=bool)
+        m.sum_duplicates()
+        return Relation(n=n, matrix=m)
+
+    @staticmethod
+    def from_matrix(m: sp.spmatrix | np.ndarray) -> Relation:
+        mat = sp.csr_matrix(m, dtype=bool)
+        mat.eliminate_zeros()
+        mat.sum_duplicates()
+        mat.sort_indices()
+        return Relation(n=mat.shape[0], matrix=mat)
+
+    @staticmethod
+    def identity(n: int) -> Relation:
+        return Relation(n=n, labels=np.arange(n, dtype=np.int64))
+
+    @staticmethod
+    def total(n: int) -> Relation:
+        return Relation(n=n, labels=np.zeros(n, dtype=np.int64))
+
+    # ------------------------------------------------------------------ views
+    @property
+    def is_partition(self) -> bool:
+        return self.labels is not None
+
+    def to_matrix(self) -> sp.csr_matrix:
+        """The relation as a CSR boolean matrix (built once for partitions, then cached)."""
+        if self.matrix is not None:
+            return self.matrix
+        cached = self.__dict__.get("_matrix")
+        if cached is None:
+            lab = self.labels
+            order = np.argsort(lab, kind="stable")
+            counts = np.bincount(lab)
+            starts = np.concatenate([[0], np.cumsum(counts)])
+            rows, cols = [], []
+            # group members: pair all members of each class (vectorised by class size)
+            for size in np.unique(counts):
+                cls = np.flatnonzero(counts == size)
+                if size == 0:
+                    continue
+                members = order[(starts[cls][:, None] + np.arange(size)[None, :])]  # (c, size)
+                rows.append(np.repeat(members, size, axis=1).ravel())
+                cols.append(np.tile(members, (1, size)).ravel())
+            r = np.concatenate(rows) if rows else np.zeros(0, dtype=np.int64)
+            c = np.concatenate(cols) if cols else np.zeros(0, dtype=np.int64)
+            cached = sp.csr_matrix((np.ones(r.size, dtype=bool), (r, c)), shape=(self.n, self.n), dtype=bool)
+            cached.sort_indices()
+            object.__setattr__(self, "_matrix", cached)
+        return cached
+
+    def successors(self, w: int) -> np.ndarray:
+        if self.labels is not None:
+            return np.flatnonzero(self.labels == self.labels[w])
+        m = self.matrix
+        return m.indices[m.indptr[w]:m.indptr[w + 1]].copy()
+
+    def pairs(self) -> np.ndarray:
+        m = self.to_matrix().tocoo()
+        return np.stack([m.row, m.col], axis=1)
+
+    def box(self, truth: np.ndarray) -> np.ndarray:
+        """Vector of worlds all of whose successors satisfy ``truth`` (the modal box)."""
+        truth = np.asarray(truth, dtype=bool)
+        if self.labels is not None:
+            bad = np.bincount(self.labels, weights=~truth, minlength=int(self.labels.max(initial=-1)) + 1)
+            return bad[self.labels] == 0
+        bad = self.matrix @ (~truth).astype(np.int64)
+        return bad == 0
+
+    def diamond(self, truth: np.ndarray) -> np.ndarray:
+        """Vector of worlds with at least one successor satisfying ``truth``."""
+        return ~self.box(~np.asarray(truth, dtype=bool))
+
+    def has_successor(self) -> np.ndarray:
+        if self.labels is not None:
+            return np.ones(self.n, dtype=bool)
+        return np.diff(self.matrix.indptr) > 0
+
+    # ------------------------------------------------------------------ transformations
+    def restrict(self, keep: np.ndarray) -> Relation:
+        """Relation on the points ``keep`` (an index array, in that order)."""
+        keep = np.asarray(keep, dtype=np.int64)
+        if self.labels is not None:
+            return Relation.from_labels(self.labels[keep]) if keep.size else Relation(0, np.zeros(0, np.int64))
+        return Relation.from_matrix(self.matrix[keep][:, keep])
+
+    def product(self, other: Relation, pairs: np.ndarray) -> Relation:
+        """Relation on pairs (w, e): (w,e) ~ (v,f) iff w ~self v and e ~other f; ``pairs`` is (k, 2)."""
+        w, e = pairs[:, 0], pairs[:, 1]
+        if self.labels is not None and other.labels is not None:
+            base = int(other.labels.max(initial=-1)) + 1
+            return Relation.from_labels(self.labels[w] * base + other.labels[e])
+        a = self.to_matrix()[w][:, w]
+        b = other.to_matrix()[e][:, e]
+        return Relation.from_matrix(a.multiply(b))
+
+    def intersect(self, other: Relation) -> Relation:
+        if self.labels is not None and other.labels is not None:
+            base = int(other.labels.max(initial=-1)) + 1
+            return Relation.from_labels(self.labels * base + other.labels)
+        return Relation.from_matrix(self.to_matrix().multiply(other.to_matrix()))
+
+    def union_matrix(self, others: Iterable[Relation]) -> sp.csr_matrix:
+        m = self.to_matrix().astype(np.int8)
+        for o in others:
+            m = m + o.to_matrix().astype(np.int8)
+        return sp.csr_matrix(m > 0)
+
+    # ------------------------------------------------------------------ frame properties
+    def is_reflexive(self) -> bool:
+        if self.labels is not None:
+            return True
+        return bool(self.matrix.diagonal().all()) if self.n else True
+
+    def is_serial(self) -> bool:
+        return bool(self.has_successor().all())
+
+    def is_transitive(self) -> bool:
+        if self.labels is not None:
+            return True
+        m = self.matrix.astype(np.int32)
+        two = (m @ m) > 0
+        return (two > self.matrix).nnz == 0
+
+    def is_euclidean(self) -> bool:
+        """w R v and w R u imply v R u, i.e. R^T R ⊆ R."""
+        if self.labels is not None:
+            return True
+        m = self.matrix.astype(np.int32)
+        two = (m.T @ m) > 0
+        return (two > self.matrix).nnz == 0
+
+    def is_symmetric(self) -> bool:
+        if self.labels is not None:
+            return True
+        return (self.matrix != self.matrix.T).nnz == 0
+
+    def as_partition(self) -> Relation:
+        """The same relation stored as a partition, if it is an equivalence (else ``self``)."""
+        if self.labels is not None or not (self.is_reflexive() and self.is_symmetric() and self.is_transitive()):
+            return self
+        from scipy.sparse.csgraph import connected_components
+
+        _, lab = connected_components(self.matrix, directed=False)
+        return Relation.from_labels(lab)
+
+    def equals(self, other: Relation) -> bool:
+        if self.n != other.n:
+            return False
+        if self.labels is not None and other.labels is not None:
+            # same partition iff the label pairs are in bijection
+            pairs = np.unique(np.stack([self.labels, other.labels], 1), axis=0)
+            return len(pairs) == len(np.unique(self.labels)) == len(np.unique(other.labels))
+        return (self.to_matrix() != other.to_matrix()).nnz == 0

@@ -1,0 +1,1 @@
+"""Readers for epistemic planning languages (mA*, E-PDDL) into grounded tasks."""

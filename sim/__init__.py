@@ -1,0 +1,1 @@
+"""Simulation: occupancy grids, communication-restricted exploration teams, search-and-rescue, experiments."""
