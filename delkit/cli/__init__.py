@@ -15,7 +15,7 @@ __all__ = ["main", "run"]
 def _build_app():
     import typer
 
-    from delkit.cli import arms_cmd, consistency_cmd, core_cmd, explore_cmd, plan_cmd
+    from delkit.cli import arms_cmd, consistency_cmd, core_cmd, explore_cmd, model_cmd, plan_cmd, puzzle_cmd
 
     app = typer.Typer(
         name="delkit",
@@ -25,6 +25,8 @@ def _build_app():
         pretty_exceptions_enable=False,
     )
     core_cmd.register(app)
+    puzzle_cmd.register(app)
+    model_cmd.register(app)
     plan_cmd.register(app)
     consistency_cmd.register(app)
     explore_cmd.register(app)
