@@ -24,6 +24,11 @@ def _build_app():
         add_completion=False,
         pretty_exceptions_enable=False,
     )
+
+    @app.callback()
+    def _root() -> None:
+        """delkit: dynamic epistemic logic for multi-agent robotics (run `delkit COMMAND --help`)."""
+
     core_cmd.register(app)
     puzzle_cmd.register(app)
     model_cmd.register(app)
@@ -36,7 +41,7 @@ def _build_app():
 
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI and return its exit status (0 ok, 1 a negative answer such as an invalid plan, 2 bad input)."""
-    import click
+    import typer
 
     from delkit.errors import DelkitError
 
@@ -47,15 +52,20 @@ def main(argv: list[str] | None = None) -> int:
     except DelkitError as exc:
         print(f"delkit: error: {exc}", file=sys.stderr)
         return 2
-    except click.exceptions.ClickException as exc:  # usage errors: unknown option, missing file, ...
-        exc.show()
-        return 2
-    except click.exceptions.Abort:
+    except typer.Exit as exc:
+        return int(getattr(exc, "exit_code", 0) or 0)
+    except typer.Abort:
         print("delkit: aborted", file=sys.stderr)
         return 1
     except KeyboardInterrupt:
         print("delkit: interrupted", file=sys.stderr)
         return 130
+    except Exception as exc:
+        # usage errors (unknown option, missing file, ...) from the click that typer bundles
+        if hasattr(exc, "show") and hasattr(exc, "exit_code"):
+            exc.show()
+            return int(exc.exit_code)
+        raise
     return result if isinstance(result, int) else 0
 
 
