@@ -22,7 +22,6 @@ from delkit.errors import ModelError
 from delkit.events import EventModel
 from delkit.formula import Formula, Prop, Update, conj, is_propositional, substitute
 
-
 __all__ = ["compose", "compose_all"]
 
 
