@@ -49,8 +49,58 @@ def _successor_sets(rel: Relation, blocks: np.ndarray) -> list[tuple[int, ...]]:
     return out
 
 
-def refine(model: KripkeModel, agents: Sequence[str] | None = None) -> np.ndarray:
-    """Canonical block number of every world under the coarsest bisimulation (w.r.t. ``agents``)."""
+_M64 = np.uint64(0xFFFFFFFFFFFFFFFF)
+
+
+def _mix(x: np.ndarray, salt: int) -> np.ndarray:
+    """splitmix64 of ``x + salt``: a fixed, well-mixed 64-bit hash of block numbers (canonical, no state)."""
+    with np.errstate(over="ignore"):
+        z = x.astype(np.uint64) + np.uint64(salt)
+        z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
+        z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
+        return z ^ (z >> np.uint64(31))
+
+
+_SALTS = (0x9E3779B97F4A7C15, 0xD1B54A32D192ED03)
+
+
+def _set_hashes(rel: Relation, blocks: np.ndarray) -> np.ndarray:
+    """(n, 2) uint64: for each world, two independent 64-bit hashes of the *set* of its successors' blocks.
+
+    A set hash is the sum (mod 2^64) of a fixed hash of each distinct block, so it depends only on the
+    set of block numbers — never on world indices — and stays canonical. Two different sets collide with
+    probability about 2^-128.
+    """
+    n = blocks.size
+    out = np.zeros((n, 2), dtype=np.uint64)
+    base = np.int64(int(blocks.max(initial=0)) + 1)
+    if rel.labels is not None:
+        lab = rel.labels
+        key = np.unique(lab.astype(np.int64) * base + blocks)
+        cls, blk = key // base, key % base
+        k = int(lab.max(initial=-1)) + 1
+        per = np.zeros((k, 2), dtype=np.uint64)
+        for j, salt in enumerate(_SALTS):
+            np.add.at(per[:, j], cls, _mix(blk, salt))
+        return per[lab]
+    m = rel.matrix
+    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(m.indptr))
+    key = np.unique(rows * base + blocks[m.indices])
+    r, blk = key // base, key % base
+    for j, salt in enumerate(_SALTS):
+        np.add.at(out[:, j], r, _mix(blk, salt))
+    # an empty successor set hashes to 0; a non-empty one almost surely not, but keep them apart exactly
+    return out
+
+
+def refine(model: KripkeModel, agents: Sequence[str] | None = None, *, exact: bool = False) -> np.ndarray:
+    """Canonical block number of every world under the coarsest bisimulation (w.r.t. ``agents``).
+
+    Partition refinement to the fixpoint. Each round, a world's signature is its block plus, per agent,
+    the set of its successors' blocks; the new block number is the rank of the signature in sorted
+    order. The default compares successor sets by 128-bit set hashes (fully vectorised);
+    ``exact=True`` compares the sets themselves (tuples, slower) — tests check that both agree.
+    """
     ags = list(model.agents if agents is None else agents)
     n = model.n_worlds
     if n == 0:
@@ -59,16 +109,28 @@ def refine(model: KripkeModel, agents: Sequence[str] | None = None) -> np.ndarra
     _, blocks = np.unique(model.valuation, axis=0, return_inverse=True)
     blocks = blocks.astype(np.int64).ravel()
     n_blocks = int(blocks.max()) + 1
+    nonempty = [model.relations[a].has_successor() for a in ags]
     while True:
-        succ = [_successor_sets(model.relations[a], blocks) for a in ags]
-        sigs = [(int(blocks[w]), *(s[w] for s in succ)) for w in range(n)]
-        uniq = sorted(set(sigs))
-        rank = {s: i for i, s in enumerate(uniq)}
-        new = np.fromiter((rank[s] for s in sigs), dtype=np.int64, count=n)
-        if len(uniq) == n_blocks:
+        if exact:
+            succ = [_successor_sets(model.relations[a], blocks) for a in ags]
+            sigs = [(int(blocks[w]), *(s[w] for s in succ)) for w in range(n)]
+            uniq = sorted(set(sigs))
+            rank = {s: i for i, s in enumerate(uniq)}
+            new = np.fromiter((rank[s] for s in sigs), dtype=np.int64, count=n)
+            count = len(uniq)
+        else:
+            cols = [blocks.astype(np.uint64)[:, None]]
+            for a, ne in zip(ags, nonempty, strict=True):
+                cols.append(_set_hashes(model.relations[a], blocks))
+                cols.append(ne.astype(np.uint64)[:, None])
+            sig = np.ascontiguousarray(np.hstack(cols))
+            _, new = np.unique(sig, axis=0, return_inverse=True)
+            new = new.astype(np.int64).ravel()
+            count = int(new.max()) + 1
+        if count == n_blocks:
             # no block split: the partition is stable (ranks are a monotone renaming of the old blocks)
             return new
-        blocks, n_blocks = new, len(uniq)
+        blocks, n_blocks = new, count
 
 
 def bisimulation_classes(model: KripkeModel) -> list[list[int]]:
@@ -102,24 +164,31 @@ def contract(model: KripkeModel, *, generated: bool = True) -> KripkeModel:
     return KripkeModel(m.props, m.agents, m.valuation[rep], rels, tuple(des))
 
 
-def canonical_form(model: KripkeModel, *, generated: bool = True) -> tuple:
+def canonical_form(model: KripkeModel, *, generated: bool = True, exact: bool = False) -> tuple:
     """A hashable canonical form: equal for two pointed models iff they are bisimilar.
 
     (Provided both have the same propositions and agents.) It lists, for every bisimulation class of
-    the generated submodel in canonical order, its valuation and its successor classes per agent, and
-    then the set of designated classes.
+    the generated submodel in canonical order, its valuation and its successor classes per agent (as
+    128-bit set hashes, or as exact tuples with ``exact=True``), then the set of designated classes.
     """
     m = model.generated() if generated else model
-    blocks = refine(m)
+    blocks = refine(m, exact=exact)
     k = int(blocks.max()) + 1 if blocks.size else 0
     rep = np.zeros(k, dtype=np.int64)
     rep[blocks[::-1]] = np.arange(m.n_worlds)[::-1]
-    succ = {a: _successor_sets(m.relations[a], blocks) for a in m.agents}
-    table = tuple(
-        (m.valuation[rep[b]].tobytes(), tuple(succ[a][rep[b]] for a in sorted(m.agents))) for b in range(k)
-    )
+    agents = sorted(m.agents)
+    if exact:
+        succ = {a: _successor_sets(m.relations[a], blocks) for a in agents}
+        table = tuple((m.valuation[rep[b]].tobytes(), tuple(succ[a][rep[b]] for a in agents)) for b in range(k))
+    else:
+        parts = [np.packbits(m.valuation[rep], axis=1).view(np.uint8)]
+        for a in agents:
+            rel = m.relations[a]
+            parts.append(_set_hashes(rel, blocks)[rep].view(np.uint8))
+            parts.append(rel.has_successor()[rep].astype(np.uint8)[:, None])
+        table = np.hstack(parts).tobytes() if k else b""
     des = tuple(sorted({int(blocks[d]) for d in m.designated}))
-    return (tuple(m.props), tuple(sorted(m.agents)), table, des)
+    return (tuple(m.props), tuple(agents), k, table, des)
 
 
 def canonical_hash(model: KripkeModel, *, generated: bool = True) -> str:
