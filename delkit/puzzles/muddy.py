@@ -1,0 +1,126 @@
+"""Muddy children, solved with public announcements on an explicit S5 model.
+
+Vocabulary ``m0 … m{N-1}`` (child i is muddy). World ``w`` is the bitmask of the muddy children
+(bit i set iff ``m_i``), so the initial model has 2^N worlds. Child i sees every forehead but its own:
+its partition label is the world index with bit i cleared, ``w & ~(1 << i)``.
+
+The protocol (Fagin, Halpern, Moses, Vardi, *Reasoning about Knowledge*, §1.1):
+
+1. the father announces ``⋁_i m_i`` ("at least one of you is muddy"): ``M | ⋁_i m_i``;
+2. in every round each child says whether it knows whether it is muddy; the round is the public
+   announcement of the conjunction of the true answers ``±Kw_i m_i`` at the actual world. While nobody
+   knows this is ``⋀_i ¬Kw_i m_i`` ("nobody knows").
+
+Literature answer: with M ≥ 1 muddy children, "nobody knows" is announced M − 1 times, the muddy children
+know in round M and the clean ones in round M + 1 (after hearing the muddy children's answers).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from delkit.errors import ModelError
+from delkit.formula import Formula, Kw, Not, Prop, conj, disj
+from delkit.kripke import KripkeModel
+from delkit.relation import Relation
+
+__all__ = ["MuddyResult", "muddy_model", "solve_muddy", "at_least_one", "nobody_knows"]
+
+
+@dataclass(frozen=True)
+class MuddyResult:
+    """Outcome of one run of the muddy children protocol.
+
+    ``nobody_knows_rounds`` is the number of "nobody knows" announcements before some child knows;
+    ``muddy_know_round`` / ``clean_know_round`` are the first rounds (1-based) in which all muddy / all
+    clean children know whether they are muddy (``None`` if there is no clean child); ``worlds`` is the
+    number of worlds after each announcement (father's first).
+    """
+
+    children: int
+    muddy: int
+    nobody_knows_rounds: int
+    muddy_know_round: int
+    clean_know_round: int | None
+    worlds: tuple[int, ...]
+    seconds: float
+
+    def as_dict(self) -> dict:
+        return {"puzzle": "muddy", "children": self.children, "muddy": self.muddy,
+                "nobody_knows_rounds": self.nobody_knows_rounds, "muddy_know_round": self.muddy_know_round,
+                "clean_know_round": self.clean_know_round, "worlds": list(self.worlds),
+                "seconds": self.seconds}
+
+
+def _props(n: int) -> tuple[str, ...]:
+    return tuple(f"m{i}" for i in range(n))
+
+
+def _agents(n: int) -> tuple[str, ...]:
+    return tuple(f"c{i}" for i in range(n))
+
+
+def muddy_model(children: int, muddy: int) -> KripkeModel:
+    """The initial S5 model: 2^N worlds (bitmasks), child i's partition ``w & ~(1<<i)``.
+
+    The actual world has children 0 … muddy−1 muddy. Built without Python loops over worlds.
+    """
+    if children < 1:
+        raise ModelError(f"muddy children: need at least one child, got {children}")
+    if not 0 <= muddy <= children:
+        raise ModelError(f"muddy children: muddy must be in 0..{children}, got {muddy}")
+    if children > 24:
+        raise ModelError(f"muddy children: {children} children means 2^{children} explicit worlds; "
+                         "use delkit.symbolic.muddy_symbolic for large N")
+    w = np.arange(1 << children, dtype=np.int64)
+    bits = np.int64(1) << np.arange(children, dtype=np.int64)
+    valuation = (w[:, None] & bits[None, :]) != 0
+    rels = {a: Relation(n=w.size, labels=w & ~bits[i]) for i, a in enumerate(_agents(children))}
+    actual = (1 << muddy) - 1
+    return KripkeModel(_props(children), _agents(children), valuation, rels, (actual,))
+
+
+def at_least_one(children: int) -> Formula:
+    """The father's announcement ⋁_i m_i."""
+    return disj(Prop(p) for p in _props(children))
+
+
+def nobody_knows(children: int) -> Formula:
+    """⋀_i ¬Kw_{c_i} m_i: no child knows whether it is muddy."""
+    return conj(Not(Kw(a, Prop(p))) for a, p in zip(_agents(children), _props(children), strict=True))
+
+
+def solve_muddy(children: int, muddy: int, *, max_rounds: int | None = None) -> MuddyResult:
+    """Run the protocol with the explicit engine (``KripkeModel.announce``) and time it."""
+    if muddy < 1:
+        raise ModelError("muddy children: the father's announcement needs at least one muddy child (--muddy >= 1)")
+    t0 = time.perf_counter()
+    model = muddy_model(children, muddy).announce(at_least_one(children))
+    worlds = [model.n_worlds]
+    agents, props = _agents(children), _props(children)
+    knows = [Kw(a, Prop(p)) for a, p in zip(agents, props, strict=True)]
+    is_muddy = np.arange(children) < muddy
+    limit = max_rounds if max_rounds is not None else children + 2
+    nobody_rounds = 0
+    muddy_round: int | None = None
+    clean_round: int | None = None
+    for rnd in range(1, limit + 1):
+        answers = np.array([model.holds(k) for k in knows])
+        if muddy_round is None and answers[is_muddy].all():
+            muddy_round = rnd
+        if clean_round is None and (~is_muddy).any() and answers[~is_muddy].all():
+            clean_round = rnd
+        if answers.all():
+            break
+        if not answers.any():
+            nobody_rounds += 1
+        # public announcement of every child's truthful answer
+        model = model.announce(conj(k if yes else Not(k) for k, yes in zip(knows, answers, strict=True)))
+        worlds.append(model.n_worlds)
+    if muddy_round is None:
+        raise ModelError(f"muddy children: no answer after {limit} rounds (raise max_rounds)")
+    return MuddyResult(children, muddy, nobody_rounds, muddy_round, clean_round, tuple(worlds),
+                       time.perf_counter() - t0)
