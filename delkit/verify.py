@@ -1,0 +1,666 @@
+"""Verification with z3: propositional validity, macro equivalence, DEL reduction, bounded model search.
+
+Four tools, all returning plain data (frozen dataclasses) and never trusting z3 blindly:
+
+1. **Propositional validity / satisfiability** (:func:`valid`, :func:`satisfiable`, :func:`equivalent`,
+   :func:`counterexample`) of pre- and postconditions. Exact (z3 is a decision procedure for SAT).
+
+2. **Macro check** (:func:`check_macro`): a macro (a composed event model E₁;…;Eₙ, see
+   :func:`delkit.compose.compose`) is compared with the sequence it replaces. Events are matched by name
+   (``e1;e2;…``); for every matched event the preconditions must be equivalent, ``⊨ pre_m ↔ pre_s``, and
+   every postcondition must agree wherever the event can happen, ``⊨ pre_s → (post_m(p) ↔ post_s(p))``;
+   relations and designated events must coincide, and an event of the sequence that the macro leaves out
+   must have an unsatisfiable precondition.
+
+3. **Reduction** (:func:`reduce`) of dynamic formulas to static ones by the reduction axioms of DEL with
+   factual change (van Ditmarsch, van der Hoek, Kooi 2007/2008; van Benthem, van Eijck, Kooi 2006)::
+
+       [E,e]p        ↔ (pre(e) → post_e(p))
+       [E,e]¬φ       ↔ (pre(e) → ¬[E,e]φ)
+       [E,e](φ ∧ ψ)  ↔ ([E,e]φ ∧ [E,e]ψ)
+       [E,e]K_a φ    ↔ (pre(e) → ⋀_{f : e Q_a f} K_a [E,f]φ)
+       [E,e]D_G φ    ↔ (pre(e) → ⋀_{f : e (⋂_{a∈G} Q_a) f} D_G [E,f]φ)
+
+   and for public announcements ``[!ψ]p ↔ (ψ → p)``, ``[!ψ]¬φ ↔ (ψ → ¬[!ψ]φ)``,
+   ``[!ψ](φ ∧ χ) ↔ ([!ψ]φ ∧ [!ψ]χ)``, ``[!ψ]K_a φ ↔ (ψ → K_a [!ψ]φ)``. There is no such axiom for C
+   (it needs relativised common knowledge), so C under a dynamic operator raises
+   :class:`VerificationError`.
+
+4. **Bounded model search** (:func:`find_model`, :func:`prove`): k symbolic worlds with boolean valuation
+   variables ``p@w`` and relation variables ``R_a(w,v)`` under the frame constraints of S5 (reflexive,
+   symmetric, transitive), KD45 (serial, transitive, euclidean) or K (none). The formula is unfolded over
+   the k worlds; ``C_G φ`` uses the transitive closure of ⋃_{a∈G} R_a computed by ⌈log₂ k⌉ squarings,
+   which is exact for k worlds; public announcements are encoded directly by relativisation to the worlds
+   where the announced formula holds (so C under [!ψ] is supported). A model z3 returns is rebuilt as a
+   :class:`~delkit.kripke.KripkeModel` and **re-checked by the explicit model checker**; if the two
+   disagree a :class:`VerificationError` is raised. A ``Verdict(valid=True)`` from :func:`prove` means "no
+   counter-model with at most k worlds" (``exact`` says whether that is a proof: it is for propositional
+   formulas; for modal ones it is a bounded answer).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from delkit.errors import DelkitError
+from delkit.events import EventModel
+from delkit.formula import (
+    And,
+    Announce,
+    Bot,
+    C,
+    D,
+    E,
+    Formula,
+    Iff,
+    Implies,
+    K,
+    Kw,
+    Not,
+    Or,
+    Prop,
+    Top,
+    Update,
+    agents_of,
+    conj,
+    is_propositional,
+    parse,
+    show,
+    subformulas,
+)
+from delkit.kripke import KripkeModel
+from delkit.relation import Relation
+
+__all__ = [
+    "VerificationError", "Verdict", "MacroCheck", "valid", "satisfiable", "equivalent", "counterexample",
+    "to_z3", "reduce", "check_macro", "find_model", "prove", "LOGICS",
+]
+
+LOGICS = ("S5", "KD45", "K")
+
+
+class VerificationError(DelkitError):
+    """A formula outside the fragment a verification tool handles, or a solver answer that failed the
+    explicit re-check (the latter is a bug: please report it with the formula)."""
+
+
+def _f(x: Formula | str) -> Formula:
+    return parse(x) if isinstance(x, str) else x
+
+
+# ============================================================================ propositional (z3)
+
+
+def to_z3(formula: Formula | str, variables: dict[str, object] | None = None):
+    """Translate a propositional formula into a z3 Boolean expression.
+
+    ``variables`` maps proposition names to z3 Booleans; missing ones are created (``z3.Bool(name)``)
+    and added to the dict.
+    """
+    import z3
+
+    f = _f(formula)
+    env: dict[str, object] = {} if variables is None else variables
+    memo: dict[Formula, object] = {}
+
+    def go(g: Formula):
+        hit = memo.get(g)
+        if hit is not None:
+            return hit
+        if isinstance(g, Top):
+            out = z3.BoolVal(True)
+        elif isinstance(g, Bot):
+            out = z3.BoolVal(False)
+        elif isinstance(g, Prop):
+            if g.name not in env:
+                env[g.name] = z3.Bool(g.name)
+            out = env[g.name]
+        elif isinstance(g, Not):
+            out = z3.Not(go(g.arg))
+        elif isinstance(g, And):
+            out = z3.And([go(a) for a in g.args]) if g.args else z3.BoolVal(True)
+        elif isinstance(g, Or):
+            out = z3.Or([go(a) for a in g.args]) if g.args else z3.BoolVal(False)
+        elif isinstance(g, Implies):
+            out = z3.Implies(go(g.left), go(g.right))
+        elif isinstance(g, Iff):
+            out = go(g.left) == go(g.right)
+        else:
+            raise VerificationError(f"{show(f)}: not propositional (contains {show(g)}); reduce dynamic "
+                                    f"operators with delkit.verify.reduce or use delkit.verify.prove for modal "
+                                    f"formulas")
+        memo[g] = out
+        return out
+
+    return go(f)
+
+
+def counterexample(formula: Formula | str) -> dict[str, bool] | None:
+    """A valuation (proposition ↦ bool) falsifying a propositional formula, or None if it is valid."""
+    import z3
+
+    env: dict[str, object] = {}
+    expr = to_z3(formula, env)
+    s = z3.Solver()
+    s.add(z3.Not(expr))
+    if s.check() != z3.sat:
+        return None
+    m = s.model()
+    return {p: bool(z3.is_true(m.eval(v, model_completion=True))) for p, v in sorted(env.items())}
+
+
+def valid(formula: Formula | str) -> bool:
+    """⊨ φ for a propositional φ (exact)."""
+    return counterexample(formula) is None
+
+
+def satisfiable(formula: Formula | str) -> bool:
+    """Is the propositional φ satisfiable? (Used by ``compose(..., prune=True)``.)"""
+    return not valid(Not(_f(formula)))
+
+
+def equivalent(a: Formula | str, b: Formula | str) -> bool:
+    """⊨ a ↔ b for propositional a, b."""
+    return valid(Iff(_f(a), _f(b)))
+
+
+# ============================================================================ reduction axioms
+
+
+def _has_c(f: Formula) -> bool:
+    return any(isinstance(g, C) for g in subformulas(f))
+
+
+def reduce(formula: Formula | str) -> Formula:
+    """An equivalent formula without ``[!ψ]`` and ``[E,e]`` (reduction axioms, innermost first).
+
+    Raises :class:`VerificationError` if a common-knowledge operator occurs under a dynamic operator
+    (or in the precondition of an event model used under one), for which no reduction axiom exists.
+    The result may be exponentially larger than the input (every K_a under [E,e] branches over the
+    events e Q_a f); shared subformulas are built once.
+    """
+    f = _f(formula)
+    memo: dict[Formula, Formula] = {}
+
+    def red(g: Formula) -> Formula:
+        hit = memo.get(g)
+        if hit is not None:
+            return hit
+        if isinstance(g, (Top, Bot, Prop)):
+            out = g
+        elif isinstance(g, Not):
+            out = Not(red(g.arg))
+        elif isinstance(g, And):
+            out = And(red(a) for a in g.args)
+        elif isinstance(g, Or):
+            out = Or(red(a) for a in g.args)
+        elif isinstance(g, Implies):
+            out = Implies(red(g.left), red(g.right))
+        elif isinstance(g, Iff):
+            out = Iff(red(g.left), red(g.right))
+        elif isinstance(g, K):
+            out = K(g.agent, red(g.arg))
+        elif isinstance(g, Kw):
+            out = Kw(g.agent, red(g.arg))
+        elif isinstance(g, (E, C, D)):
+            out = type(g)(g.group, red(g.arg))
+        elif isinstance(g, Announce):
+            psi, chi = red(g.announced), red(g.arg)
+            out = _announce(psi, chi, show(g))
+        elif isinstance(g, Update):
+            chi = red(g.arg)
+            out = _update(g.model, g.event, chi, red, show(g))
+        else:  # pragma: no cover
+            raise TypeError(f"not a formula: {g!r}")
+        memo[g] = out
+        return out
+
+    return red(f)
+
+
+def _announce(psi: Formula, chi: Formula, where: str) -> Formula:
+    """[!ψ]χ for static ψ, χ:  ψ → χ^ψ, where χ^ψ is χ read in the model restricted to ψ."""
+    memo: dict[Formula, Formula] = {}
+
+    def box(g: Formula) -> Formula:  # [!ψ]g
+        return Implies(psi, after(g))
+
+    def after(g: Formula) -> Formula:  # truth of g at w in M|ψ, for w ⊨ ψ
+        hit = memo.get(g)
+        if hit is not None:
+            return hit
+        if isinstance(g, (Top, Bot, Prop)):
+            out = g
+        elif isinstance(g, Not):
+            out = Not(after(g.arg))
+        elif isinstance(g, And):
+            out = And(after(a) for a in g.args)
+        elif isinstance(g, Or):
+            out = Or(after(a) for a in g.args)
+        elif isinstance(g, Implies):
+            out = Implies(after(g.left), after(g.right))
+        elif isinstance(g, Iff):
+            out = Iff(after(g.left), after(g.right))
+        elif isinstance(g, K):
+            out = K(g.agent, box(g.arg))
+        elif isinstance(g, Kw):
+            out = Or((K(g.agent, box(g.arg)), K(g.agent, box(Not(g.arg)))))
+        elif isinstance(g, E):
+            out = conj(K(a, box(g.arg)) for a in g.group)
+        elif isinstance(g, D):
+            out = D(g.group, box(g.arg))
+        elif isinstance(g, C):
+            raise VerificationError(f"{where}: no reduction axiom for common knowledge under a public "
+                                    f"announcement (it needs relativised C); use delkit.verify.prove, which "
+                                    f"encodes announcements directly, or the explicit model checker")
+        else:  # pragma: no cover - static input only
+            raise TypeError(f"unexpected {g!r}")
+        memo[g] = out
+        return out
+
+    return box(chi)
+
+
+def _update(model: EventModel, event: int, chi: Formula, red, where: str) -> Formula:
+    """[E,e]χ for static χ by the DEL reduction axioms with factual change."""
+    pres = [red(p) for p in model.pre]
+    for p in pres:
+        if _has_c(p):
+            raise VerificationError(f"{where}: an event precondition of {model.name!r} uses common "
+                                    f"knowledge; [E,e] cannot be reduced then")
+    memo: dict[tuple[int, Formula], Formula] = {}
+
+    def box(e: int, g: Formula) -> Formula:  # [E,e]g
+        return Implies(pres[e], after(e, g))
+
+    def after(e: int, g: Formula) -> Formula:  # truth of g at (w,e) in M⊗E, for w ⊨ pre(e)
+        key = (e, g)
+        hit = memo.get(key)
+        if hit is not None:
+            return hit
+        if isinstance(g, (Top, Bot)):
+            out = g
+        elif isinstance(g, Prop):
+            out = model.post[e].get(g.name, g)
+        elif isinstance(g, Not):
+            out = Not(after(e, g.arg))
+        elif isinstance(g, And):
+            out = And(after(e, a) for a in g.args)
+        elif isinstance(g, Or):
+            out = Or(after(e, a) for a in g.args)
+        elif isinstance(g, Implies):
+            out = Implies(after(e, g.left), after(e, g.right))
+        elif isinstance(g, Iff):
+            out = Iff(after(e, g.left), after(e, g.right))
+        elif isinstance(g, K):
+            out = _k_after(g.agent, e, g.arg)
+        elif isinstance(g, Kw):
+            out = Or((_k_after(g.agent, e, g.arg), _k_after(g.agent, e, Not(g.arg))))
+        elif isinstance(g, E):
+            out = conj(_k_after(a, e, g.arg) for a in g.group)
+        elif isinstance(g, D):
+            succ = None
+            for a in g.group:
+                s = set(int(f) for f in model.relation(a).successors(e))
+                succ = s if succ is None else succ & s
+            out = conj(D(g.group, box(f, g.arg)) for f in sorted(succ or ()))
+        elif isinstance(g, C):
+            raise VerificationError(f"{where}: no reduction axiom for common knowledge under [E,e]; "
+                                    f"use the explicit model checker")
+        else:  # pragma: no cover
+            raise TypeError(f"unexpected {g!r}")
+        memo[key] = out
+        return out
+
+    def _k_after(a: str, e: int, g: Formula) -> Formula:
+        return conj(K(a, box(int(f), g)) for f in model.relation(a).successors(e))
+
+    return box(event, chi)
+
+
+# ============================================================================ macros
+
+
+@dataclass(frozen=True)
+class MacroCheck:
+    """Result of :func:`check_macro`. ``problems`` names each mismatch (empty iff ``equivalent``);
+    ``bounded`` is True if some non-propositional precondition was compared only by bounded search."""
+
+    equivalent: bool
+    problems: tuple[str, ...] = ()
+    events_compared: int = 0
+    bounded: bool = False
+
+
+def check_macro(macro: EventModel, sequence: Sequence[EventModel], *, logic: str = "S5",
+                worlds: int = 3) -> MacroCheck:
+    """Symbolically check that ``macro`` is the composition of ``sequence`` (E₁;…;Eₙ).
+
+    The reference is ``compose_all(sequence)`` (no pruning). Events are matched by name. For every
+    matched event e: ``⊨ pre_m(e) ↔ pre_s(e)`` and ``⊨ pre_s(e) → (post_m(e)(p) ↔ post_s(e)(p))`` for
+    every proposition either side assigns; events of the reference missing from the macro need an
+    unsatisfiable precondition; relations and designated events must coincide on the common events.
+    Propositional conditions are decided by z3; others are reduced (:func:`reduce`) and, if still
+    modal, checked by :func:`prove` with ``logic``/``worlds`` (then ``bounded`` is set).
+    """
+    from delkit.compose import compose_all
+
+    ref = compose_all(list(sequence))
+    problems: list[str] = []
+    bounded = False
+
+    def is_valid(f: Formula) -> tuple[bool, str]:
+        nonlocal bounded
+        g = reduce(f)
+        if is_propositional(g):
+            cex = counterexample(g)
+            return cex is None, "" if cex is None else f" (e.g. where {_val_text(cex)})"
+        bounded = True
+        v = prove(g, logic=logic, worlds=worlds)
+        return v.valid, "" if v.valid else " (counter-model found)"
+
+    m_idx = {n: i for i, n in enumerate(macro.events)}
+    r_idx = {n: i for i, n in enumerate(ref.events)}
+    for n in macro.events:
+        if n not in r_idx:
+            problems.append(f"macro event {n!r} is not an event of the sequence (events: {list(ref.events)})")
+    common = [n for n in ref.events if n in m_idx]
+    for n in ref.events:
+        if n in m_idx:
+            continue
+        ok, why = is_valid(Not(ref.pre[r_idx[n]]))
+        if not ok:
+            problems.append(f"event {n!r} of the sequence is missing from the macro but can happen{why}")
+    for n in common:
+        i, j = m_idx[n], r_idx[n]
+        ok, why = is_valid(Iff(macro.pre[i], ref.pre[j]))
+        if not ok:
+            problems.append(f"event {n!r}: precondition {show(macro.pre[i])} differs from the sequence's "
+                            f"{show(ref.pre[j])}{why}")
+        for p in sorted(set(macro.post[i]) | set(ref.post[j])):
+            pm, pr = macro.post[i].get(p, Prop(p)), ref.post[j].get(p, Prop(p))
+            ok, why = is_valid(Implies(ref.pre[j], Iff(pm, pr)))
+            if not ok:
+                problems.append(f"event {n!r}: postcondition of {p!r} is {show(pm)} in the macro but "
+                                f"{show(pr)} in the sequence{why}")
+    if set(macro.agents) != set(ref.agents):
+        problems.append(f"agents differ: macro {sorted(macro.agents)} vs sequence {sorted(ref.agents)}")
+    else:
+        for a in ref.agents:
+            mm = macro.relation(a).to_matrix()
+            rm = ref.relation(a).to_matrix()
+            for x in common:
+                for y in common:
+                    if bool(mm[m_idx[x], m_idx[y]]) != bool(rm[r_idx[x], r_idx[y]]):
+                        problems.append(f"relation of {a!r} differs on ({x!r}, {y!r})")
+    des_m = {macro.events[d] for d in macro.designated}
+    des_r = {ref.events[d] for d in ref.designated if ref.events[d] in m_idx}
+    if des_m != des_r:
+        problems.append(f"designated events differ: macro {sorted(des_m)} vs sequence {sorted(des_r)}")
+    return MacroCheck(not problems, tuple(problems), len(common), bounded)
+
+
+def _val_text(v: dict[str, bool]) -> str:
+    return ", ".join(f"{p}={'T' if b else 'F'}" for p, b in v.items()) or "any valuation"
+
+
+# ============================================================================ bounded model search
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """Answer of :func:`prove`.
+
+    ``valid`` – no counter-model was found with at most ``worlds`` worlds (a proof if ``exact``);
+    ``counter_model`` – a pointed model (designated world 0) where the formula is false, re-checked by the
+    explicit model checker; ``logic`` – S5, KD45 or K; ``exact`` – True when the answer is a proof of
+    validity/invalidity (always for invalid; for valid only if the formula is propositional).
+    """
+
+    formula: Formula
+    valid: bool
+    counter_model: KripkeModel | None
+    logic: str
+    worlds: int
+    exact: bool
+    stats: dict = field(default_factory=dict, compare=False)
+
+    def to_dict(self) -> dict:
+        """A JSON-ready summary (the counter-model in the :mod:`delkit.io` schema)."""
+        out = {"formula": show(self.formula), "valid": self.valid, "logic": self.logic, "worlds": self.worlds,
+               "exact": self.exact}
+        if self.counter_model is not None:
+            from delkit.io import model_to_dict
+
+            out["counter_model"] = model_to_dict(self.counter_model)
+        return out
+
+
+def _symbols(f: Formula, props: Iterable[str], agents: Iterable[str]) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    ps: set[str] = set(props)
+    ags: set[str] = set(agents) | agents_of(f)
+    for g in subformulas(f):
+        if isinstance(g, Prop):
+            ps.add(g.name)
+        elif isinstance(g, Update):
+            ags |= set(g.model.agents)
+            for pre in g.model.pre:
+                ps |= {h.name for h in subformulas(pre) if isinstance(h, Prop)}
+                ags |= agents_of(pre)
+            for post in g.model.post:
+                ps |= set(post)
+                for v in post.values():
+                    ps |= {h.name for h in subformulas(v) if isinstance(h, Prop)}
+    return tuple(sorted(ps)), tuple(sorted(ags))
+
+
+def _reduce_updates(f: Formula) -> Formula:
+    """Reduce the [E,e] operators (not the announcements, which the encoding handles directly)."""
+    if not any(isinstance(g, Update) for g in subformulas(f)):
+        return f
+    memo: dict[Formula, Formula] = {}
+
+    def go(g: Formula) -> Formula:
+        hit = memo.get(g)
+        if hit is not None:
+            return hit
+        if isinstance(g, Update):
+            out = reduce(g)
+        elif isinstance(g, (Top, Bot, Prop)):
+            out = g
+        elif isinstance(g, Not):
+            out = Not(go(g.arg))
+        elif isinstance(g, (And, Or)):
+            out = type(g)(go(a) for a in g.args)
+        elif isinstance(g, (Implies, Iff)):
+            out = type(g)(go(g.left), go(g.right))
+        elif isinstance(g, (K, Kw)):
+            out = type(g)(g.agent, go(g.arg))
+        elif isinstance(g, (E, C, D)):
+            out = type(g)(g.group, go(g.arg))
+        elif isinstance(g, Announce):
+            out = Announce(go(g.announced), go(g.arg))
+        else:  # pragma: no cover
+            raise TypeError(g)
+        memo[g] = out
+        return out
+
+    return go(f)
+
+
+class _Encoding:
+    """k symbolic worlds: valuation variables, relation variables, frame constraints, formula unfolding."""
+
+    def __init__(self, k: int, props: tuple[str, ...], agents: tuple[str, ...], logic: str) -> None:
+        import z3
+
+        self.z3 = z3
+        self.k, self.props, self.agents, self.logic = k, props, agents, logic
+        self.val = {(p, w): z3.Bool(f"{p}@{w}") for p in props for w in range(k)}
+        self.rel = {(a, w, v): z3.Bool(f"R_{a}({w},{v})") for a in agents for w in range(k) for v in range(k)}
+        self.constraints: list = []
+        self.memo: dict = {}
+        self.closures: dict = {}
+        self.doms: dict[tuple[Formula, ...], list] = {(): [z3.BoolVal(True)] * k}
+        self._frame()
+
+    def _frame(self) -> None:
+        z3, k, R = self.z3, self.k, self.rel
+        ws = range(k)
+        for a in self.agents:
+            if self.logic == "S5":
+                self.constraints += [R[a, w, w] for w in ws]
+                self.constraints += [R[a, w, v] == R[a, v, w] for w in ws for v in ws if w < v]
+            if self.logic == "KD45":
+                self.constraints += [z3.Or([R[a, w, v] for v in ws]) for w in ws]
+                self.constraints += [z3.Implies(z3.And(R[a, w, v], R[a, w, u]), R[a, v, u])
+                                     for w in ws for v in ws for u in ws]
+            if self.logic in ("S5", "KD45"):
+                self.constraints += [z3.Implies(z3.And(R[a, w, v], R[a, v, u]), R[a, w, u])
+                                     for w in ws for v in ws for u in ws]
+
+    def closure(self, group: tuple[str, ...], ctx: tuple[Formula, ...]) -> list[list]:
+        """T[w][v]: v reachable from w in ≥ 1 steps of ⋃_{a∈G} R_a inside the current domain (exact)."""
+        key = (group, ctx)
+        hit = self.closures.get(key)
+        if hit is not None:
+            return hit
+        z3, k, dom = self.z3, self.k, self.doms[ctx]
+        step = [[z3.And(dom[w], dom[v], z3.Or([self.rel[a, w, v] for a in group])) for v in range(k)]
+                for w in range(k)]
+        cur = step
+        for r in range(max(1, math.ceil(math.log2(k))) if k > 1 else 0):
+            nxt = [[z3.Bool(f"T{len(self.closures)}_{r}({w},{v})") for v in range(k)] for w in range(k)]
+            for w in range(k):
+                for v in range(k):
+                    self.constraints.append(nxt[w][v] == z3.Or(
+                        cur[w][v], *[z3.And(cur[w][u], cur[u][v]) for u in range(k)]))
+            cur = nxt
+        self.closures[key] = cur
+        return cur
+
+    def dom_after(self, ctx: tuple[Formula, ...], psi: Formula) -> tuple[Formula, ...]:
+        new = (*ctx, psi)
+        if new not in self.doms:
+            dom = self.doms[ctx]
+            self.doms[new] = [self.z3.And(dom[v], self.enc(psi, v, ctx)) for v in range(self.k)]
+        return new
+
+    def enc(self, f: Formula, w: int, ctx: tuple[Formula, ...] = ()):  # noqa: C901 - one clause per operator
+        key = (f, w, ctx)
+        hit = self.memo.get(key)
+        if hit is not None:
+            return hit
+        z3, k = self.z3, self.k
+        if isinstance(f, Top):
+            out = z3.BoolVal(True)
+        elif isinstance(f, Bot):
+            out = z3.BoolVal(False)
+        elif isinstance(f, Prop):
+            out = self.val[f.name, w]
+        elif isinstance(f, Not):
+            out = z3.Not(self.enc(f.arg, w, ctx))
+        elif isinstance(f, And):
+            out = z3.And([self.enc(a, w, ctx) for a in f.args]) if f.args else z3.BoolVal(True)
+        elif isinstance(f, Or):
+            out = z3.Or([self.enc(a, w, ctx) for a in f.args]) if f.args else z3.BoolVal(False)
+        elif isinstance(f, Implies):
+            out = z3.Implies(self.enc(f.left, w, ctx), self.enc(f.right, w, ctx))
+        elif isinstance(f, Iff):
+            out = self.enc(f.left, w, ctx) == self.enc(f.right, w, ctx)
+        elif isinstance(f, K):
+            out = self._box([f.agent], f.arg, w, ctx)
+        elif isinstance(f, Kw):
+            out = z3.Or(self._box([f.agent], f.arg, w, ctx), self._box([f.agent], Not(f.arg), w, ctx))
+        elif isinstance(f, E):
+            out = z3.And([self._box([a], f.arg, w, ctx) for a in f.group])
+        elif isinstance(f, D):
+            out = self._box(list(f.group), f.arg, w, ctx)
+        elif isinstance(f, C):
+            t = self.closure(tuple(f.group), ctx)
+            out = z3.And([z3.Implies(t[w][v], self.enc(f.arg, v, ctx)) for v in range(k)])
+        elif isinstance(f, Announce):
+            pre = self.enc(f.announced, w, ctx)
+            out = z3.Implies(pre, self.enc(f.arg, w, self.dom_after(ctx, f.announced)))
+        else:  # Update is reduced beforehand
+            raise VerificationError(f"cannot encode {show(f)}")
+        self.memo[key] = out
+        return out
+
+    def _box(self, group: list[str], arg: Formula, w: int, ctx: tuple[Formula, ...]):
+        """⋀_v (dom(v) ∧ ⋀_{a∈G} R_a(w,v)) → arg(v): K_a for one agent, D_G for a group."""
+        z3, dom = self.z3, self.doms[ctx]
+        return z3.And([z3.Implies(z3.And(dom[v], *[self.rel[a, w, v] for a in group]), self.enc(arg, v, ctx))
+                       for v in range(self.k)])
+
+    def model(self, solution) -> KripkeModel:
+        z3, k = self.z3, self.k
+
+        def tv(x) -> bool:
+            return bool(z3.is_true(solution.eval(x, model_completion=True)))
+
+        val = np.array([[tv(self.val[p, w]) for p in self.props] for w in range(k)], dtype=bool).reshape(k, -1)
+        rels = {}
+        for a in self.agents:
+            r = Relation.from_pairs(k, [(w, v) for w in range(k) for v in range(k) if tv(self.rel[a, w, v])])
+            rels[a] = r.as_partition() if self.logic == "S5" else r
+        return KripkeModel(self.props, self.agents, val, rels, (0,))
+
+
+def find_model(formula: Formula | str, *, logic: str = "S5", worlds: int = 4, props: Iterable[str] = (),
+               agents: Iterable[str] = (), min_worlds: int = 1) -> KripkeModel | None:
+    """A model of the given frame class with at most ``worlds`` worlds whose world 0 satisfies ``formula``.
+
+    Tries 1, 2, …, ``worlds`` worlds (so the model returned is one of the smallest), and returns None if
+    there is none that small. The model is re-checked by the explicit model checker (and the frame
+    class by :meth:`KripkeModel.frame_violations`); :class:`VerificationError` if either disagrees.
+    [E,e] operators are reduced first (:func:`reduce`); announcements are encoded directly.
+    """
+    import z3
+
+    f = _f(formula)
+    logic = logic.upper()
+    if logic not in LOGICS:
+        raise VerificationError(f"unknown logic {logic!r}; use one of {', '.join(LOGICS)}")
+    if worlds < 1:
+        raise VerificationError(f"need at least 1 world for the model search, got {worlds}")
+    ps, ags = _symbols(f, props, agents)
+    g = _reduce_updates(f)
+    for k in range(max(1, min_worlds), worlds + 1):
+        enc = _Encoding(k, ps, ags, logic)
+        goal = enc.enc(g, 0)
+        s = z3.Solver()
+        s.add(*enc.constraints)
+        s.add(goal)
+        res = s.check()
+        if res == z3.unknown:  # pragma: no cover - propositional + finite domains: z3 decides
+            raise VerificationError(f"z3 returned unknown for {show(f)} with {k} worlds: {s.reason_unknown()}")
+        if res == z3.sat:
+            m = enc.model(s.model())
+            bad = m.frame_violations(logic)
+            if bad:
+                raise VerificationError(f"internal error: z3 model is not {logic} ({'; '.join(bad)}) for "
+                                        f"{show(f)}; please report")
+            if not bool(m.check(f)[0]):
+                raise VerificationError(f"internal error: the explicit checker rejects the z3 model of "
+                                        f"{show(f)} ({m.summary()}); please report")
+            return m
+    return None
+
+
+def prove(formula: Formula | str, *, logic: str = "S5", worlds: int = 4, props: Iterable[str] = (),
+          agents: Iterable[str] = ()) -> Verdict:
+    """Is ``formula`` valid on the frames of ``logic``? Searches a counter-model of at most ``worlds``
+    worlds (a model of ¬φ at world 0, re-checked explicitly). Propositional formulas are decided exactly
+    (one world suffices: a counter-valuation)."""
+    f = _f(formula)
+    prop = is_propositional(f)
+    k = 1 if prop else worlds
+    m = find_model(Not(f), logic=logic, worlds=k, props=props, agents=agents)
+    if m is not None and not prop and not bool((~m.check(f))[0]):  # pragma: no cover - re-checked above
+        raise VerificationError("internal error: counter-model does not falsify the formula")
+    return Verdict(f, m is None, m, logic.upper(), k, exact=prop or m is not None)
