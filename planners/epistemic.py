@@ -1,0 +1,280 @@
+"""Search for epistemic plans: BFS (optimal length), GBFS and A* over bisimulation-contracted states.
+
+A state is a pointed Kripke model; successors are the product updates M ⊗ E_A (seed 004 §2.1, the
+transition function Φ) for every action A executable at the pointed world. States are contracted to
+their bisimulation quotient and deduplicated by a canonical key (equal iff the pointed models are
+bisimilar), so that bisimilar states are expanded once.
+
+Two state spaces implement the same transition function:
+
+* :class:`DelSpace` — the generic one: ``delkit.update.product_update`` + ``delkit.bisim.contract`` +
+  ``delkit.bisim.canonical_form`` on :class:`~delkit.kripke.KripkeModel` objects;
+* :class:`planners.fastdel.FastSpace` — a specialised representation (states as canonical tuples,
+  event models compiled once per observer configuration) that the search uses by default; its
+  equivalence with :class:`DelSpace` is tested differentially on every benchmark plan.
+
+No vacuous success: a state where some agent has no accessible world at the pointed world (it believes
+⊥) is a dead end and is not expanded (``allow_inconsistent=True`` keeps it).
+
+BFS tests the goal when a state is generated; since every action costs 1 the first plan found is of
+minimal length. A* uses an admissible heuristic (0 on goal states, 1 elsewhere, tightened by the number
+of goal conjuncts that no single action can make true at once is *not* attempted — see ``h_admissible``);
+GBFS uses the goal-count heuristic (number of unsatisfied top-level goal conjuncts).
+"""
+
+from __future__ import annotations
+
+import heapq
+import resource
+import time
+from collections import deque
+from collections.abc import Callable, Hashable, Iterator
+from dataclasses import dataclass, field
+from typing import Any, Literal, Protocol
+
+from delkit.bisim import canonical_form, contract
+from delkit.errors import PlanningError
+from delkit.formula import And, Formula
+from delkit.kripke import KripkeModel
+from delkit.update import product_update
+from planners.task import Task
+
+__all__ = ["SearchResult", "Limits", "DelSpace", "plan", "bfs", "best_first", "StateSpace", "goal_conjuncts"]
+
+Status = Literal["solved", "unsolvable", "limit"]
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Resource limits of a search: wall seconds, expanded nodes, resident memory (MiB)."""
+
+    timeout: float | None = 60.0
+    max_expanded: int | None = None
+    max_memory_mb: float | None = 8192.0
+
+
+@dataclass(frozen=True)
+class SearchResult:
+    """Outcome of a search. ``status`` is "solved" (``plan`` is a plan), "unsolvable" (the reachable
+    state space was exhausted: no plan exists) or "limit" (a limit was hit: *no plan within limits*)."""
+
+    status: Status
+    plan: tuple[str, ...] | None
+    expanded: int
+    generated: int
+    seconds: float
+    search: str
+    reason: str = ""
+    dead_ends: int = 0
+    distinct_states: int = 0
+
+    @property
+    def solved(self) -> bool:
+        return self.status == "solved"
+
+    @property
+    def length(self) -> int | None:
+        return None if self.plan is None else len(self.plan)
+
+    def to_json(self) -> dict[str, Any]:
+        return {"status": self.status, "plan": list(self.plan) if self.plan is not None else None,
+                "length": self.length, "expanded": self.expanded, "generated": self.generated,
+                "seconds": round(self.seconds, 4), "search": self.search, "reason": self.reason,
+                "dead_ends": self.dead_ends, "distinct_states": self.distinct_states}
+
+
+class StateSpace(Protocol):
+    """What the search needs from a state representation."""
+
+    def initial(self) -> tuple[Any, Hashable]: ...
+
+    def successors(self, state: Any) -> Iterator[tuple[str, Any, Hashable]]: ...
+
+    def is_goal(self, state: Any) -> bool: ...
+
+    def goal_count(self, state: Any) -> int: ...
+
+    dead_ends: int
+
+
+def goal_conjuncts(goal: Formula) -> tuple[Formula, ...]:
+    """Top-level conjuncts of the goal."""
+    if isinstance(goal, And):
+        out: list[Formula] = []
+        for g in goal.args:
+            out.extend(goal_conjuncts(g))
+        return tuple(out)
+    return (goal,)
+
+
+@dataclass
+class DelSpace:
+    """The generic state space on :class:`KripkeModel` via ``delkit`` (reference semantics)."""
+
+    task: Task
+    allow_inconsistent: bool = False
+    dead_ends: int = 0
+    _conj: tuple[Formula, ...] = field(default=(), init=False)
+
+    def __post_init__(self) -> None:
+        self._conj = goal_conjuncts(self.task.goal)
+
+    def initial(self) -> tuple[KripkeModel, Hashable]:
+        m = contract(self.task.initial)
+        return m, canonical_form(m, generated=False)
+
+    def step(self, model: KripkeModel, name: str) -> KripkeModel | None:
+        """M ⊗ E_A for the action ``name`` if executable and the result has a pointed world, else None."""
+        act = self.task.action(name)
+        if not self.task.executable(act, model):
+            return None
+        new = product_update(model, self.task.event_model(act, model))
+        return new if new.designated else None
+
+    def successors(self, model: KripkeModel) -> Iterator[tuple[str, KripkeModel, Hashable]]:
+        for act in self.task.actions:
+            new = self.step(model, act.name)
+            if new is None:
+                continue
+            if not self.allow_inconsistent and new.inconsistent_agents():
+                self.dead_ends += 1
+                continue
+            c = contract(new)
+            yield act.name, c, canonical_form(c, generated=False)
+
+    def is_goal(self, model: KripkeModel) -> bool:
+        return model.holds(self.task.goal)
+
+    def goal_count(self, model: KripkeModel) -> int:
+        return sum(0 if model.holds(g) else 1 for g in self._conj)
+
+
+class _Budget:
+    def __init__(self, limits: Limits) -> None:
+        self.limits = limits
+        self.t0 = time.perf_counter()
+        self.base_rss = _rss_mb()
+
+    def exceeded(self, expanded: int) -> str:
+        lim = self.limits
+        if lim.max_expanded is not None and expanded >= lim.max_expanded:
+            return f"expanded-node limit {lim.max_expanded} reached"
+        if lim.timeout is not None and time.perf_counter() - self.t0 > lim.timeout:
+            return f"time limit {lim.timeout:g} s reached"
+        if lim.max_memory_mb is not None and expanded % 64 == 0 and _rss_mb() > lim.max_memory_mb:
+            return f"memory limit {lim.max_memory_mb:g} MiB reached"
+        return ""
+
+    @property
+    def seconds(self) -> float:
+        return time.perf_counter() - self.t0
+
+
+def _rss_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def _path(parent: dict, key: Hashable) -> tuple[str, ...]:
+    out: list[str] = []
+    while parent[key] is not None:
+        key, act = parent[key]
+        out.append(act)
+    return tuple(reversed(out))
+
+
+def bfs(space: StateSpace, limits: Limits = Limits()) -> SearchResult:
+    """Breadth-first search with duplicate detection; goal test at generation (optimal length)."""
+    budget = _Budget(limits)
+    s0, k0 = space.initial()
+    if space.is_goal(s0):
+        return SearchResult("solved", (), 0, 1, budget.seconds, "bfs", "the goal holds initially",
+                            distinct_states=1)
+    parent: dict[Hashable, Any] = {k0: None}
+    frontier: deque = deque([(s0, k0)])
+    expanded = generated = 0
+    while frontier:
+        why = budget.exceeded(expanded)
+        if why:
+            return SearchResult("limit", None, expanded, generated, budget.seconds, "bfs", "no plan within "
+                                "limits: " + why, space.dead_ends, len(parent))
+        state, key = frontier.popleft()
+        expanded += 1
+        for name, nxt, nkey in space.successors(state):
+            generated += 1
+            if nkey in parent:
+                continue
+            parent[nkey] = (key, name)
+            if space.is_goal(nxt):
+                return SearchResult("solved", _path(parent, nkey), expanded, generated, budget.seconds, "bfs",
+                                    "", space.dead_ends, len(parent))
+            frontier.append((nxt, nkey))
+    return SearchResult("unsolvable", None, expanded, generated, budget.seconds, "bfs",
+                        "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
+
+
+def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["gbfs", "astar"] = "gbfs",
+               h: Callable[[Any], float] | None = None) -> SearchResult:
+    """GBFS (f = h) or A* (f = g + h) with duplicate detection.
+
+    Default heuristics: GBFS uses the goal count h_gc (unsatisfied top-level goal conjuncts; informative,
+    not admissible); A* uses h_0/1 (0 on goal states, else 1), which is admissible, so A* returns plans of
+    optimal length. Goal test at expansion.
+    """
+    budget = _Budget(limits)
+    if h is None:
+        h = space.goal_count if kind == "gbfs" else (lambda s: 0.0 if space.is_goal(s) else 1.0)
+    s0, k0 = space.initial()
+    best_g: dict[Hashable, int] = {k0: 0}
+    parent: dict[Hashable, Any] = {k0: None}
+    counter = 0
+    heap: list = [(h(s0), 0, counter, s0, k0)]
+    expanded = generated = 0
+    closed: set[Hashable] = set()
+    while heap:
+        why = budget.exceeded(expanded)
+        if why:
+            return SearchResult("limit", None, expanded, generated, budget.seconds, kind,
+                                "no plan within limits: " + why, space.dead_ends, len(parent))
+        _, g, _, state, key = heapq.heappop(heap)
+        if key in closed:
+            continue
+        if space.is_goal(state):
+            return SearchResult("solved", _path(parent, key), expanded, generated, budget.seconds, kind, "",
+                                space.dead_ends, len(parent))
+        closed.add(key)
+        expanded += 1
+        for name, nxt, nkey in space.successors(state):
+            generated += 1
+            ng = g + 1
+            if nkey in closed or best_g.get(nkey, 1 << 60) <= ng:
+                continue
+            best_g[nkey] = ng
+            parent[nkey] = (key, name)
+            counter += 1
+            hv = h(nxt)
+            f = hv if kind == "gbfs" else ng + hv
+            heapq.heappush(heap, (f, ng, counter, nxt, nkey))
+    return SearchResult("unsolvable", None, expanded, generated, budget.seconds, kind,
+                        "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
+
+
+def make_space(task: Task, *, engine: Literal["fast", "del"] = "fast", allow_inconsistent: bool = False) -> Any:
+    """The state space for ``task``: the specialised one (default) or the generic delkit one."""
+    if engine == "del":
+        return DelSpace(task, allow_inconsistent=allow_inconsistent)
+    if engine == "fast":
+        from planners.fastdel import FastSpace
+
+        return FastSpace(task, allow_inconsistent=allow_inconsistent)
+    raise PlanningError(f"unknown engine {engine!r}; use 'fast' or 'del'")
+
+
+def plan(task: Task, *, search: Literal["bfs", "gbfs", "astar"] = "bfs", limits: Limits = Limits(),
+         engine: Literal["fast", "del"] = "fast", allow_inconsistent: bool = False) -> SearchResult:
+    """Plan for ``task`` with the chosen search; never raises on a failed search (see ``status``)."""
+    space = make_space(task, engine=engine, allow_inconsistent=allow_inconsistent)
+    if search == "bfs":
+        return bfs(space, limits)
+    if search in ("gbfs", "astar"):
+        return best_first(space, limits, kind=search)
+    raise PlanningError(f"unknown search {search!r}; use bfs, gbfs or astar")

@@ -1,0 +1,153 @@
+"""Grounded multi-agent epistemic planning tasks (seed 004, Definition 2.1: D = ⟨F, AG, A, φ_ini, φ_goal⟩).
+
+Both spec readers (mA* and E-PDDL) produce a :class:`Task`: the fluents, the agents, the initial pointed
+Kripke model, the grounded actions and the goal formula. An :class:`ActionSpec` keeps the mA* description
+of an action (type, executability, effects, observers with their conditions); :meth:`Task.event_model`
+turns it into the delkit event model that applies in a given state.
+
+Semantics (the mA* frames, as in EFP with its default ``EXE_POINTED__COND_WORLD`` mode):
+
+* executability is checked at the pointed world: M, s ⊨ exe(A);
+* observability conditions ``ag observes A if φ`` / ``ag aware_of A if φ`` are evaluated at the pointed
+  world; agents that are neither fully nor partially observant are oblivious;
+* ontic ``A causes l if φ``: one event whose postcondition sets l where φ holds, *per world*
+  (p ↦ (φ ∧ v) ∨ (¬φ ∧ p)); full observers see it, oblivious agents relate it to the skip event ε;
+* sensing ``A determines φ``: one event per truth assignment of the sensed formulas, full observers
+  distinguish them, partial observers do not, oblivious agents see ε; all are designated (the actual
+  one survives);
+* announcement ``A announces φ``: events φ (designated) and ¬φ, observers as for sensing. Announcing a
+  φ that is false at the pointed world is not executable (truthful announcement).
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass, field
+from typing import Literal
+
+from delkit.errors import PlanningError
+from delkit.events import EventModel, action, ontic
+from delkit.formula import TOP, Formula, Not, Prop, conj, show
+from delkit.kripke import KripkeModel
+
+__all__ = ["ActionSpec", "Task", "ActionKind"]
+
+ActionKind = Literal["ontic", "sensing", "announcement"]
+
+
+@dataclass(frozen=True)
+class ActionSpec:
+    """A grounded mA* action.
+
+    ``effects`` (ontic): ``(fluent, value, condition)``; ``sensed`` (sensing/announcement):
+    ``(formula, condition)``; ``full``/``partial``: ``(agent, condition)`` observability statements.
+    Several statements for one agent are read as a disjunction of their conditions.
+    """
+
+    name: str
+    kind: ActionKind = "ontic"
+    executable: Formula = TOP
+    effects: tuple[tuple[str, bool, Formula], ...] = ()
+    sensed: tuple[tuple[Formula, Formula], ...] = ()
+    full: tuple[tuple[str, Formula], ...] = ()
+    partial: tuple[tuple[str, Formula], ...] = ()
+    where: str = ""
+
+    def observers(self, model: KripkeModel, agents: tuple[str, ...]) -> tuple[frozenset[str], frozenset[str]]:
+        """(fully, partially) observant agents, conditions evaluated at the pointed world(s)."""
+        full = {a for a, cond in self.full if model.holds(cond)}
+        partial = {a for a, cond in self.partial if model.holds(cond)} - full
+        return frozenset(full), frozenset(partial)
+
+    def active_sensed(self, model: KripkeModel) -> tuple[Formula, ...]:
+        """Sensed/announced formulas whose condition holds at the pointed world."""
+        return tuple(f for f, cond in self.sensed if model.holds(cond))
+
+
+@dataclass(frozen=True)
+class Task:
+    """A grounded epistemic planning task."""
+
+    name: str
+    props: tuple[str, ...]
+    agents: tuple[str, ...]
+    initial: KripkeModel
+    actions: tuple[ActionSpec, ...]
+    goal: Formula
+    source: str = "<task>"
+    _cache: dict = field(default_factory=dict, repr=False, compare=False, hash=False)
+
+    def action(self, name: str) -> ActionSpec:
+        """The action called ``name`` (:class:`PlanningError` listing the names if there is none)."""
+        idx = self._cache.get("__idx")
+        if idx is None:
+            idx = {a.name: a for a in self.actions}
+            self._cache["__idx"] = idx
+        try:
+            return idx[name]
+        except KeyError:
+            close = [n for n in idx if n.startswith(name[:3])][:8]
+            raise PlanningError(f"{self.source}: no action named {name!r}"
+                                + (f"; similar: {', '.join(close)}" if close else "")) from None
+
+    def executable(self, act: ActionSpec, model: KripkeModel) -> bool:
+        """M, s ⊨ exe(A) at the pointed world(s)."""
+        return model.holds(act.executable)
+
+    def event_model(self, act: ActionSpec, model: KripkeModel) -> EventModel:
+        """The event model of ``act`` in the state ``model`` (observers decided at the pointed world).
+
+        Event models are cached per (action, full observers, partial observers, active sensed formulas).
+        """
+        full, partial = act.observers(model, self.agents)
+        sensed = act.active_sensed(model) if act.kind != "ontic" else ()
+        key = (act.name, full, partial, sensed)
+        em = self._cache.get(key)
+        if em is None:
+            em = build_event_model(act, self.agents, full, partial, sensed)
+            self._cache[key] = em
+        return em
+
+
+def build_event_model(act: ActionSpec, agents: tuple[str, ...], full: frozenset[str], partial: frozenset[str],
+                      sensed: tuple[Formula, ...]) -> EventModel:
+    """The mA* event model of one action for given observer sets (see the module docstring)."""
+    full_l = [a for a in agents if a in full]
+    part_l = [a for a in agents if a in partial]
+    if act.kind == "ontic":
+        if part_l:
+            raise PlanningError(f"{act.where}: agent(s) {part_l} partially observe the ontic action {act.name!r}; "
+                                f"partial observability is not defined for ontic actions in mA* (make them "
+                                f"fully observant or oblivious)")
+        effects = [(p, v, c) for p, v, c in act.effects]
+        return ontic(effects, agents, full=full_l, name=act.name)
+    if act.kind == "sensing":
+        if not sensed:
+            return action(agents, [("e", TOP, {})], full=full_l, partial=part_l, name=act.name)
+        outcomes = []
+        for bits in itertools.product((True, False), repeat=len(sensed)):
+            pre = conj([f if b else Not(f) for f, b in zip(sensed, bits, strict=True)])
+            label = "".join("1" if b else "0" for b in bits)
+            outcomes.append((f"s{label}", pre, {}))
+        return action(agents, outcomes, full=full_l, partial=part_l, name=act.name)
+    if act.kind == "announcement":
+        phi = conj(list(sensed)) if sensed else TOP
+        return action(agents, [("yes", phi, {}), ("no", Not(phi), {})], full=full_l, partial=part_l,
+                      designated=["yes"], name=act.name)
+    raise PlanningError(f"{act.where}: unknown action type {act.kind!r}")
+
+
+def describe(act: ActionSpec) -> str:
+    """One-line human description of an action (used by the checker's messages)."""
+    parts = [f"{act.name} ({act.kind})", f"executable if {show(act.executable)}"]
+    if act.effects:
+        parts.append("effects " + ", ".join(("" if v else "¬") + p + ("" if c == TOP else f" if {show(c)}")
+                                             for p, v, c in act.effects))
+    if act.sensed:
+        parts.append(("senses " if act.kind == "sensing" else "announces ")
+                     + ", ".join(show(f) for f, _ in act.sensed))
+    return "; ".join(parts)
+
+
+def literal(p: str, value: bool) -> Formula:
+    return Prop(p) if value else Not(Prop(p))
