@@ -1,0 +1,476 @@
+"""Symbolic (BDD) backend: knowledge structures and knowledge transformers (S5), with ``dd.cudd``.
+
+A *knowledge structure* (van Benthem, van Eijck, Gattinger, Su, *Symbolic model checking for Dynamic
+Epistemic Logic*, LORI 2015; Gattinger, PhD thesis 2018, Ch. 2) is ``F = (V, θ, O_1 … O_n)``: a
+vocabulary V, a state law θ (a BDD over V) and, per agent, the observed variables O_i ⊆ V. The states
+are the assignments s ⊆ V satisfying θ; agent i cannot tell s and t apart iff they agree on O_i. A
+*scenario* adds a set of actual states (here the BDD ``actual``, so structures are multi-pointed like
+:class:`~delkit.kripke.KripkeModel`).
+
+Truth sets ``||φ||_F`` are BDDs over V:
+
+* ``||K_i φ||   = ∀(V∖O_i)(θ → ||φ||)``                      (Def. 2.2.2 of the thesis)
+* ``||D_G φ||   = ∀(V∖⋃_{i∈G}O_i)(θ → ||φ||)``
+* ``||C_G φ||   = gfp X. ⋀_{i∈G} ∀(V∖O_i)(θ → (||φ|| ∧ X))``   (one or more steps, as in the explicit engine)
+* ``||[!φ]ψ||   = ||φ||_F → ||ψ||_{F|φ}`` with ``F|φ = (V, θ ∧ ||φ||_F, O)``
+* ``||[E,e]ψ||``  through the transformer translation of the (S5) event model E (below).
+
+A *knowledge transformer with factual change* ``X = (V⁺, θ⁺, V₋, θ₋, O⁺)`` has fresh event variables V⁺,
+an event law θ⁺ over V ∪ V⁺, changed variables V₋ ⊆ V with post-conditions θ₋(q) over V ∪ V⁺ and
+observed event variables O⁺_i ⊆ V⁺. The product ``F × X`` (Gattinger 2018, Def. 2.8.x; SMCDEL's
+``Transformer`` update) keeps the old values of V₋ in fresh copies V₋°:
+
+    V^× = V ∪ V⁺ ∪ V₋°
+    θ^× = [V₋ ↦ V₋°](θ ∧ ||θ⁺||_F) ∧ ⋀_{q∈V₋} (q ↔ [V₋ ↦ V₋°] ||θ₋(q)||_F)
+    O_i^× = [V₋ ↦ V₋°] O_i ∪ O⁺_i
+
+so agent i still observes the *old* values of the variables it observed, exactly as in the explicit
+product update ((w,e) R_i (v,f) iff w R_i v and e Q_i f).
+
+Translations: :func:`from_kripke` encodes an S5 Kripke model (vocabulary = its propositions plus, per
+agent, binary *label bits* of its partition class, observed by that agent; θ = the disjunction of the
+worlds' full assignments), :meth:`KnowledgeStructure.to_kripke` enumerates states back into a model,
+:func:`transformer_from_event_model` encodes an S5 event model the same way.
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from delkit.errors import ModelError, UnknownSymbolError
+from delkit.formula import (
+    TOP,
+    And,
+    Announce,
+    Bot,
+    C,
+    D,
+    E,
+    Formula,
+    Iff,
+    Implies,
+    K,
+    Kw,
+    Not,
+    Or,
+    Prop,
+    Top,
+    Update,
+    conj,
+    disj,
+    parse,
+)
+from delkit.kripke import KripkeModel
+from delkit.relation import Relation
+
+__all__ = ["KnowledgeStructure", "Transformer", "from_kripke", "transformer_from_event_model", "new_manager",
+           "muddy_symbolic", "SymbolicMuddyResult"]
+
+_FRESH = itertools.count()
+
+
+def new_manager() -> Any:
+    """A fresh ``dd.cudd.BDD`` manager (dynamic reordering on)."""
+    import dd.cudd
+
+    return dd.cudd.BDD()
+
+
+def _fresh(prefix: str, taken: set[str]) -> str:
+    while True:
+        name = f"{prefix}{next(_FRESH)}"
+        if name not in taken:
+            return name
+
+
+def _bits_needed(k: int) -> int:
+    return max(0, int(k - 1).bit_length())
+
+
+@dataclass(frozen=True, eq=False)
+class Transformer:
+    """A knowledge transformer with factual change ``(V⁺, θ⁺, V₋, θ₋, O⁺)`` and designated events.
+
+    ``law`` θ⁺ and the ``changes`` θ₋(q) are formulas over V ∪ V⁺ (epistemic parts only over V);
+    ``designated`` is a propositional formula over V⁺ selecting the actual events.
+    """
+
+    vocabulary: tuple[str, ...]
+    law: Formula
+    changes: Mapping[str, Formula]
+    observed: Mapping[str, tuple[str, ...]]
+    designated: Formula = TOP
+
+
+@dataclass(frozen=True, eq=False)
+class KnowledgeStructure:
+    """``F = (V, θ, O)`` plus the BDD ``actual`` of actual states (default: all states).
+
+    Build with :meth:`create` or :func:`from_kripke`. Immutable; operations return new structures that
+    share the BDD manager ``bdd``.
+    """
+
+    bdd: Any
+    vocabulary: tuple[str, ...]
+    law: Any
+    observed: Mapping[str, tuple[str, ...]]
+    actual: Any
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
+
+    # ------------------------------------------------------------------ construction
+    @staticmethod
+    def create(vocabulary: Iterable[str], law: Formula | str = TOP,
+               observed: Mapping[str, Iterable[str]] | None = None, actual: Formula | str | None = None,
+               *, bdd: Any = None) -> KnowledgeStructure:
+        """Structure from a vocabulary, a propositional state law and observed variables per agent."""
+        voc = tuple(dict.fromkeys(vocabulary))
+        obs = {a: tuple(v) for a, v in (observed or {}).items()}
+        for a, vs in obs.items():
+            bad = sorted(set(vs) - set(voc))
+            if bad:
+                raise UnknownSymbolError(f"agent {a!r} observes {bad}, not in the vocabulary {list(voc)}")
+        mgr = bdd if bdd is not None else new_manager()
+        if voc:
+            mgr.declare(*voc)
+        bare = KnowledgeStructure(mgr, voc, mgr.true, obs, mgr.true)
+        law_node = bare._propositional(law)
+        act = law_node if actual is None else law_node & bare._propositional(actual)
+        return KnowledgeStructure(mgr, voc, law_node, obs, act)
+
+    def _propositional(self, f: Formula | str) -> Any:
+        return self.evaluate(parse(f) if isinstance(f, str) else f)
+
+    # ------------------------------------------------------------------ views
+    @property
+    def agents(self) -> tuple[str, ...]:
+        return tuple(self.observed)
+
+    def count_states(self) -> int:
+        """Number of states (assignments of V satisfying θ)."""
+        return int(self.bdd.count(self.law, nvars=len(self.vocabulary))) if self.vocabulary else \
+            int(self.law == self.bdd.true)
+
+    def states(self, node: Any = None) -> list[dict[str, bool]]:
+        """All states (or all assignments in ``node`` ∧ θ) as dicts var ↦ bool, in a deterministic order."""
+        u = self.law if node is None else node & self.law
+        out = [dict(s) for s in self.bdd.pick_iter(u, care_vars=set(self.vocabulary))]
+        out.sort(key=lambda s: tuple(s[v] for v in self.vocabulary))
+        return out
+
+    def node_size(self) -> int:
+        """Number of BDD nodes of the state law."""
+        return len(self.law)
+
+    # ------------------------------------------------------------------ truth
+    def evaluate(self, formula: Formula | str) -> Any:
+        """``||φ||_F``: the BDD of the assignments where φ holds (meaningful on states, i.e. under θ)."""
+        f = parse(formula) if isinstance(formula, str) else formula
+        hit = self._cache.get(f)
+        if hit is None:
+            hit = self._eval(f)
+            self._cache[f] = hit
+        return hit
+
+    def holds(self, formula: Formula | str) -> bool:
+        """True iff φ holds at every actual state."""
+        return (self.actual & ~self.evaluate(formula)) == self.bdd.false
+
+    def truth(self, formula: Formula | str, state: Mapping[str, bool]) -> bool:
+        """Truth of φ at one state (a full assignment of the vocabulary)."""
+        return self.bdd.let({v: bool(state[v]) for v in self.vocabulary}, self.evaluate(formula)) == self.bdd.true
+
+    def valid(self, formula: Formula | str) -> bool:
+        """True iff φ holds at every state of F."""
+        return (self.law & ~self.evaluate(formula)) == self.bdd.false
+
+    def _unobserved(self, agents: Iterable[str]) -> set[str]:
+        seen: set[str] = set()
+        for a in agents:
+            if a not in self.observed:
+                raise UnknownSymbolError(f"unknown agent {a!r}; the structure has {list(self.observed)}")
+            seen |= set(self.observed[a])
+        return set(self.vocabulary) - seen
+
+    def _box(self, agents: Iterable[str], u: Any) -> Any:
+        """∀(V ∖ ⋃O)(θ → u)."""
+        hidden = self._unobserved(agents)
+        body = ~self.law | u
+        return self.bdd.forall(hidden, body) if hidden else body
+
+    def _eval(self, f: Formula) -> Any:  # noqa: C901 - one clause per operator
+        b = self.bdd
+        if isinstance(f, Prop):
+            if f.name not in b.vars:
+                raise UnknownSymbolError(f"unknown proposition {f.name!r}; the vocabulary is {list(self.vocabulary)}")
+            return b.var(f.name)
+        if isinstance(f, Top):
+            return b.true
+        if isinstance(f, Bot):
+            return b.false
+        if isinstance(f, Not):
+            return ~self.evaluate(f.arg)
+        if isinstance(f, And):
+            out = b.true
+            for a in f.args:
+                out = out & self.evaluate(a)
+            return out
+        if isinstance(f, Or):
+            out = b.false
+            for a in f.args:
+                out = out | self.evaluate(a)
+            return out
+        if isinstance(f, Implies):
+            return ~self.evaluate(f.left) | self.evaluate(f.right)
+        if isinstance(f, Iff):
+            return b.apply("<=>", self.evaluate(f.left), self.evaluate(f.right))
+        if isinstance(f, K):
+            return self._box([f.agent], self.evaluate(f.arg))
+        if isinstance(f, Kw):
+            u = self.evaluate(f.arg)
+            return self._box([f.agent], u) | self._box([f.agent], ~u)
+        if isinstance(f, E):
+            u = self.evaluate(f.arg)
+            out = b.true
+            for a in f.group:
+                out = out & self._box([a], u)
+            return out
+        if isinstance(f, D):
+            return self._box(f.group, self.evaluate(f.arg))
+        if isinstance(f, C):
+            u = self.evaluate(f.arg)
+            x = b.true
+            while True:
+                target = u & x
+                nxt = b.true
+                for a in f.group:
+                    nxt = nxt & self._box([a], target)
+                if nxt == x:
+                    return x
+                x = nxt
+        if isinstance(f, Announce):
+            pre = self.evaluate(f.announced)
+            return ~pre | self.announce(f.announced).evaluate(f.arg)
+        if isinstance(f, Update):
+            return self._eval_update(f)
+        raise TypeError(f"cannot evaluate {f!r}")
+
+    # ------------------------------------------------------------------ updates
+    def announce(self, formula: Formula | str) -> KnowledgeStructure:
+        """Public announcement ``F|φ = (V, θ ∧ ||φ||_F, O)``; actual states outside φ drop out."""
+        u = self.evaluate(formula)
+        return KnowledgeStructure(self.bdd, self.vocabulary, self.law & u, self.observed, self.actual & u)
+
+    def transform(self, x: Transformer) -> KnowledgeStructure:
+        """``F × X`` (module docstring); actual states: old actual ones paired with designated events."""
+        new, _ = self._product(x)
+        return new
+
+    def _product(self, x: Transformer) -> tuple[KnowledgeStructure, dict[str, str]]:
+        b = self.bdd
+        clash = sorted(set(x.vocabulary) & set(self.vocabulary))
+        if clash:
+            raise ModelError(f"transformer variables {clash} are already in the vocabulary; use fresh names")
+        missing = [a for a in self.observed if a not in x.observed]
+        if missing:
+            raise ModelError(f"transformer gives no observed event variables for agent(s) {missing} "
+                             "(use an empty tuple for an agent who observes no event variable)")
+        unknown = sorted(set(x.changes) - set(self.vocabulary))
+        if unknown:
+            raise UnknownSymbolError(f"transformer changes {unknown}, not in the vocabulary {list(self.vocabulary)}")
+        if x.vocabulary:
+            b.declare(*x.vocabulary)
+        taken = set(b.vars)
+        copies = {q: _fresh(f"{q}'", taken) for q in x.changes}
+        if copies:
+            b.declare(*copies.values())
+        to_copy = {q: b.var(c) for q, c in copies.items()}
+
+        def shift(u: Any) -> Any:
+            return b.let(to_copy, u) if to_copy else u
+
+        law = shift(self.law & self.evaluate(x.law))
+        for q, post in x.changes.items():
+            law = law & b.apply("<=>", b.var(q), shift(self.evaluate(post)))
+        actual = shift(self.actual) & self.evaluate(x.designated) & law
+        observed = {a: tuple(copies.get(v, v) for v in vs) + tuple(x.observed[a]) for a, vs in self.observed.items()}
+        voc = self.vocabulary + tuple(x.vocabulary) + tuple(copies.values())
+        return KnowledgeStructure(b, voc, law, observed, actual), copies
+
+    def _eval_update(self, f: Update) -> Any:
+        """||[E,e]ψ|| = ||pre(e)|| → ψ^×[V⁺ := code(e), V₋° := V₋, q := ||post_e(q)||] (simultaneously)."""
+        b = self.bdd
+        x, codes = transformer_from_event_model(f.model, self)
+        new, copies = self._product(x)
+        psi = new.evaluate(f.arg)
+        event = f.event
+        pre = self.evaluate(f.model.pre[event])
+        subst: dict[str, Any] = {v: b.true if val else b.false for v, val in codes[event].items()}
+        for q, c in copies.items():
+            subst[c] = b.var(q)
+            subst[q] = self.evaluate(f.model.post[event].get(q, Prop(q)))
+        return ~pre | b.let(subst, psi)
+
+    # ------------------------------------------------------------------ translation back
+    def to_kripke(self, props: Sequence[str] | None = None) -> KripkeModel:
+        """The explicit S5 model: one world per state; i relates states agreeing on O_i.
+
+        ``props`` picks the valuation columns (default: the whole vocabulary; worlds stay one per state).
+        """
+        states = self.states()
+        voc = self.vocabulary
+        full = np.array([[s[v] for v in voc] for s in states], dtype=bool).reshape(len(states), len(voc))
+        col = {v: j for j, v in enumerate(voc)}
+        rels = {}
+        for a, obs in self.observed.items():
+            cols = full[:, [col[v] for v in obs]]
+            _, lab = np.unique(cols, axis=0, return_inverse=True) if cols.shape[1] else (None, np.zeros(len(states)))
+            rels[a] = Relation.from_labels(np.asarray(lab).ravel())
+        keep = tuple(voc if props is None else props)
+        val = full[:, [col[p] for p in keep]]
+        actual_states = self.states(self.actual)
+        index = {tuple(s[v] for v in voc): i for i, s in enumerate(states)}
+        des = tuple(index[tuple(s[v] for v in voc)] for s in actual_states)
+        return KripkeModel(keep, self.agents, val, rels, des)
+
+
+def from_kripke(model: KripkeModel, *, bdd: Any = None) -> tuple[KnowledgeStructure, list[dict[str, bool]]]:
+    """Encode an S5 Kripke model; returns the structure and the state of each world.
+
+    Vocabulary: the model's propositions and, per agent a, ``⌈log2 k_a⌉`` label bits ``_a<name>_<j>`` of
+    its partition class, observed by a. θ = ⋁_w (valuation(w) ∧ labels(w)). Worlds with equal valuation
+    and equal classes for every agent map to one state (they are bisimilar).
+    """
+    for a, r in model.relations.items():
+        if not r.is_partition and r.as_partition().labels is None:
+            raise ModelError(f"from_kripke needs an S5 model; the relation of agent {a!r} is not an equivalence "
+                             "(knowledge structures are S5)")
+    mgr = bdd if bdd is not None else new_manager()
+    taken = set(model.props) | set(mgr.vars)
+    columns = [model.valuation]
+    voc = list(model.props)
+    observed: dict[str, tuple[str, ...]] = {}
+    for a in model.agents:
+        lab = model.relations[a].as_partition().labels
+        width = _bits_needed(int(lab.max(initial=0)) + 1)
+        names = tuple(_fresh(f"_{a}", taken) for _ in range(width))
+        taken |= set(names)
+        voc += names
+        observed[a] = names
+        columns.append(((lab[:, None] >> np.arange(width)[None, :]) & 1).astype(bool))
+    full = np.concatenate(columns, axis=1)
+    mgr.declare(*voc)
+    states = [dict(zip(voc, (bool(x) for x in row), strict=True)) for row in full]
+    cubes = [mgr.cube(s) for s in states]
+    law = mgr.false
+    for c in cubes:
+        law = law | c
+    actual = mgr.false
+    for w in model.designated:
+        actual = actual | cubes[w]
+    return KnowledgeStructure(mgr, tuple(voc), law, observed, actual), states
+
+
+def transformer_from_event_model(events, structure: KnowledgeStructure) \
+        -> tuple[Transformer, list[dict[str, bool]]]:
+    """Encode an S5 event model as a transformer with fresh variables; returns it and each event's code.
+
+    V⁺: ``⌈log2 k⌉`` event bits plus per-agent label bits (observed by that agent);
+    θ⁺ = ⋁_e (code(e) ∧ labels(e) ∧ pre(e)); θ₋(q) = ⋁_e (code(e) ∧ post_e(q)) for every q some event
+    changes; designated = ⋁_{e designated} code(e).
+    """
+    for a in structure.agents:
+        if a not in events.relations:
+            raise ModelError(f"event model {events.name!r} has no relation for agent {a!r}")
+        r = events.relations[a]
+        if not r.is_partition and r.as_partition().labels is None:
+            raise ModelError(f"event model {events.name!r}: the relation of {a!r} is not an equivalence; "
+                             "knowledge transformers encode S5 event models only")
+    taken = set(structure.bdd.vars)
+    k = events.n_events
+    ev_bits = tuple(_fresh("_ev", taken) for _ in range(_bits_needed(k)))
+    taken |= set(ev_bits)
+    codes: list[dict[str, bool]] = [{v: bool((e >> j) & 1) for j, v in enumerate(ev_bits)} for e in range(k)]
+    observed: dict[str, tuple[str, ...]] = {}
+    vocab = list(ev_bits)
+    for a in structure.agents:
+        lab = events.relations[a].as_partition().labels
+        width = _bits_needed(int(lab.max(initial=0)) + 1)
+        names = tuple(_fresh(f"_ev{a}", taken) for _ in range(width))
+        taken |= set(names)
+        vocab += names
+        observed[a] = names
+        for e in range(k):
+            codes[e].update({v: bool((int(lab[e]) >> j) & 1) for j, v in enumerate(names)})
+    code_f = [conj(Prop(v) if val else Not(Prop(v)) for v, val in c.items()) for c in codes]
+    law = disj(conj([code_f[e], events.pre[e]]) for e in range(k))
+    changed = sorted(events.changed_props() & set(structure.vocabulary))
+    missing = sorted(events.changed_props() - set(structure.vocabulary))
+    if missing:
+        raise UnknownSymbolError(f"event model {events.name!r} changes {missing}, not in the vocabulary")
+    changes = {q: disj(conj([code_f[e], events.post[e].get(q, Prop(q))]) for e in range(k)) for q in changed}
+    designated = disj(code_f[e] for e in events.designated)
+    return Transformer(tuple(vocab), law, changes, observed, designated), codes
+
+
+# ----------------------------------------------------------------------------- muddy children, symbolically
+
+
+@dataclass(frozen=True)
+class SymbolicMuddyResult:
+    """As :class:`delkit.puzzles.muddy.MuddyResult`, with the BDD size of the final state law."""
+
+    children: int
+    muddy: int
+    nobody_knows_rounds: int
+    muddy_know_round: int
+    clean_know_round: int | None
+    law_nodes: int
+    seconds: float
+
+    def as_dict(self) -> dict:
+        return {"puzzle": "muddy", "engine": "symbolic", "children": self.children, "muddy": self.muddy,
+                "nobody_knows_rounds": self.nobody_knows_rounds, "muddy_know_round": self.muddy_know_round,
+                "clean_know_round": self.clean_know_round, "law_nodes": self.law_nodes, "seconds": self.seconds}
+
+
+def muddy_symbolic(children: int, muddy: int, *, max_rounds: int | None = None) -> SymbolicMuddyResult:
+    """Muddy children on a knowledge structure: V = {m_i}, θ = ⊤, O_i = V ∖ {m_i}; same protocol as
+    :func:`delkit.puzzles.muddy.solve_muddy` (father's ⋁ m_i, then rounds of truthful ±Kw_i m_i)."""
+    if children < 1 or not 1 <= muddy <= children:
+        raise ModelError(f"muddy children: need 1 <= muddy <= children, got children={children}, muddy={muddy}")
+    t0 = time.perf_counter()
+    props = [f"m{i}" for i in range(children)]
+    agents = [f"c{i}" for i in range(children)]
+    actual = conj(Prop(p) if i < muddy else Not(Prop(p)) for i, p in enumerate(props))
+    f = KnowledgeStructure.create(props, TOP, {a: [q for q in props if q != p] for a, p in zip(agents, props,
+                                                                                                strict=True)},
+                                  actual=actual)
+    f = f.announce(disj(Prop(p) for p in props))
+    knows = [Kw(a, Prop(p)) for a, p in zip(agents, props, strict=True)]
+    is_muddy = np.arange(children) < muddy
+    limit = max_rounds if max_rounds is not None else children + 2
+    nobody = 0
+    muddy_round: int | None = None
+    clean_round: int | None = None
+    for rnd in range(1, limit + 1):
+        answers = np.array([f.holds(k) for k in knows])
+        if muddy_round is None and answers[is_muddy].all():
+            muddy_round = rnd
+        if clean_round is None and (~is_muddy).any() and answers[~is_muddy].all():
+            clean_round = rnd
+        if answers.all():
+            break
+        if not answers.any():
+            nobody += 1
+        f = f.announce(conj(k if yes else Not(k) for k, yes in zip(knows, answers, strict=True)))
+    if muddy_round is None:
+        raise ModelError(f"muddy children: no answer after {limit} rounds")
+    return SymbolicMuddyResult(children, muddy, nobody, muddy_round, clean_round, f.node_size(),
+                               time.perf_counter() - t0)
+
