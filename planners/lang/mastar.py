@@ -28,7 +28,7 @@ from delkit.formula import TOP, C, D, E, Formula, K, Not, Or, Prop, conj
 from planners.lang.initial import finitary_s5
 from planners.task import ActionSpec, Task
 
-__all__ = ["parse_mastar", "load_mastar", "Tok", "tokenize"]
+__all__ = ["parse_mastar", "load_mastar", "parse_mastar_formula", "Tok", "tokenize"]
 
 
 @dataclass(frozen=True)
@@ -338,6 +338,17 @@ def _merge(obs: list[tuple[str, Formula]]) -> list[tuple[str, Formula]]:
 def parse_mastar(text: str, source: str = "<mA*>") -> Task:
     """Parse mA* ``text`` into a grounded :class:`Task` (errors name ``source``, line and column)."""
     return _Parser(text, source).parse()
+
+
+def parse_mastar_formula(text: str, task: Task, *, source: str = "<formula>") -> Formula:
+    """One mA* formula over the fluents and agents of ``task``."""
+    p = _Parser(text, source)
+    p.fluents, p.agents = list(task.props), list(task.agents)
+    p._fl, p._ag, p._ac = set(task.props), set(task.agents), {a.name for a in task.actions}
+    f = p.formula()
+    if p.tok.kind != "eof":
+        raise p.err(f"found {p.tok.text!r} after the formula", expected=["end of formula"])
+    return f
 
 
 def load_mastar(path: str | Path) -> Task:

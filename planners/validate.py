@@ -1,0 +1,274 @@
+"""Plan and property checker: replay a plan in DEL semantics and say why it fails.
+
+The replay uses the *generic* delkit update (``delkit.update.product_update``; no contraction, no
+planner-specific representation), so a plan found by the planner is checked independently of the
+planner's own state code. For each step A_i the checker verifies, in order:
+
+1. the action exists;
+2. M_{i-1}, s ⊨ exe(A_i) at the pointed world — if not, it names the failing conjunct and, for a belief
+   B_a φ, the world that agent a considers possible where φ fails (recursively);
+3. the update has a pointed world (a truthful announcement of a false φ has none);
+4. no agent has an empty belief set at the pointed world of M_i (no vacuous success: B_a ⊥);
+5. the properties: ``always φ`` on every M_0..M_n, ``eventually φ`` on some M_i, ``at end φ`` on M_n;
+
+and finally the goal on M_n. The first failure is reported with its step (0 = initial state).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Literal
+
+import numpy as np
+
+from delkit.errors import DelkitError, ParseError
+from delkit.formula import And, C, E, Formula, K, Kw, Not, Or, Prop, show
+from delkit.kripke import KripkeModel
+from delkit.update import product_update
+from planners.task import Task
+
+__all__ = ["Property", "CheckResult", "check_plan", "parse_property", "read_plan", "parse_plan_text", "explain"]
+
+PropertyKind = Literal["always", "eventually", "at end"]
+
+
+@dataclass(frozen=True)
+class Property:
+    """A temporal property over the states M_0..M_n of a plan's execution."""
+
+    kind: PropertyKind
+    formula: Formula
+    text: str = ""
+
+    def __str__(self) -> str:
+        return self.text or f"{self.kind} {show(self.formula)}"
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    """``valid`` or the first failure: its step (0 = initial state), action, kind and reason."""
+
+    valid: bool
+    steps: int
+    step: int | None = None
+    action: str | None = None
+    kind: str | None = None
+    reason: str = ""
+    agent: str | None = None
+    world: str | None = None
+    details: dict = field(default_factory=dict)
+
+    def to_json(self) -> dict[str, Any]:
+        if self.valid:
+            return {"valid": True, "steps": self.steps}
+        out: dict[str, Any] = {"valid": False, "step": self.step, "action": self.action, "kind": self.kind,
+                               "reason": self.reason}
+        if self.agent is not None:
+            out["agent"] = self.agent
+        if self.world is not None:
+            out["world"] = self.world
+        out.update(self.details)
+        return out
+
+
+# ----------------------------------------------------------------------------- inputs
+
+_PDDL_STEP = re.compile(r"\(\s*([^()]+?)\s*\)")
+
+
+def parse_plan_text(text: str) -> list[str]:
+    """Action names from plan text: one per line, or separated by commas/whitespace; ``#``/``;``/``%``
+    start comments except EFP's ``%%% Executed actions: ... %%%`` header; ``(open a)`` means ``open_a``."""
+    names: list[str] = []
+    for raw in text.splitlines():
+        line = raw.strip()
+        m = re.match(r"%%%\s*Executed actions:(.*?)%%%", line)
+        if m:
+            line = m.group(1)
+        else:
+            line = re.split(r"[#;%]", line, maxsplit=1)[0]
+        line = _PDDL_STEP.sub(lambda mm: "_".join(mm.group(1).split()), line)
+        names.extend(t for t in re.split(r"[\s,]+", line) if t)
+    return names
+
+
+def read_plan(path: str | Path) -> list[str]:
+    """Read a plan file (see :func:`parse_plan_text`)."""
+    p = Path(path)
+    try:
+        return parse_plan_text(p.read_text())
+    except OSError as exc:
+        raise ParseError(f"cannot read the plan file: {exc.strerror}", source=str(p)) from None
+
+
+_PROP_RE = re.compile(r"^\s*(always|eventually|at\s+end)\s+(.+)$", re.S)
+
+
+def parse_property(text: str, task: Task) -> Property:
+    """``always φ`` / ``eventually φ`` / ``at end φ``; φ in delkit syntax (``K_a p``, ``C{a,b} p``) or mA*
+    syntax (``B(a, p)``, ``C([a,b], p)``, ``-p``)."""
+    m = _PROP_RE.match(text)
+    if not m:
+        raise ParseError(f"property {text!r} must start with 'always', 'eventually' or 'at end'",
+                         source="--property", line=1, column=1, expected=["always φ", "eventually φ", "at end φ"])
+    kind = "at end" if m.group(1).startswith("at") else m.group(1)
+    body = m.group(2).strip()
+    f = parse_formula(body, task, source="--property")
+    return Property(kind, f, text.strip())  # type: ignore[arg-type]
+
+
+def parse_formula(body: str, task: Task, *, source: str = "<formula>") -> Formula:
+    """A formula over the task's fluents/agents, in delkit or mA* syntax; unknown symbols are errors."""
+    from delkit.formula import parse
+
+    from planners.lang.mastar import parse_mastar_formula
+
+    try:
+        f = parse(body, source=source)
+        task.initial.validate_symbols(f)
+        return f
+    except DelkitError as first:
+        try:
+            return parse_mastar_formula(body, task, source=source)
+        except ParseError:
+            raise first from None
+
+
+# ----------------------------------------------------------------------------- explanations
+
+def _world_text(m: KripkeModel, w: int) -> str:
+    true = sorted(m.true_props(w))
+    return f"w{w}{{{', '.join(true)}}}"
+
+
+def explain(m: KripkeModel, f: Formula, w: int, depth: int = 0) -> tuple[str, str | None, str | None]:
+    """Why ``f`` is false at world ``w`` of ``m``: (text, agent, world) naming whose belief and which world."""
+    if depth > 6:
+        return f"{show(f)} is false at {_world_text(m, w)}", None, _world_text(m, w)
+    if isinstance(f, And):
+        for g in f.args:
+            if not m.check(g)[w]:
+                return explain(m, g, w, depth + 1)
+    if isinstance(f, Prop):
+        return f"fluent {f.name} is false at {_world_text(m, w)}", None, _world_text(m, w)
+    if isinstance(f, Not) and isinstance(f.arg, Prop):
+        return f"fluent {f.arg.name} is true at {_world_text(m, w)}", None, _world_text(m, w)
+    if isinstance(f, K):
+        bad = [int(v) for v in m.relation(f.agent).successors(w) if not m.check(f.arg)[v]]
+        if bad:
+            inner, _, _ = explain(m, f.arg, bad[0], depth + 1)
+            return (f"agent {f.agent} does not believe {show(f.arg)}: at {_world_text(m, w)} it considers "
+                    f"possible {_world_text(m, bad[0])}, where {inner}", f.agent, _world_text(m, bad[0]))
+    if isinstance(f, Kw):
+        return f"agent {f.agent} does not know whether {show(f.arg)} at {_world_text(m, w)}", f.agent, \
+            _world_text(m, w)
+    if isinstance(f, Not) and isinstance(f.arg, K):
+        return (f"agent {f.arg.agent} believes {show(f.arg.arg)} at {_world_text(m, w)} (the formula requires it "
+                f"not to)", f.arg.agent, _world_text(m, w))
+    if isinstance(f, (C, E)):
+        reach = m.reachable([w], f.group) if isinstance(f, C) else None
+        for a in f.group:
+            for v in m.relation(a).successors(w):
+                if not m.check(f.arg)[int(v)]:
+                    inner, _, _ = explain(m, f.arg, int(v), depth + 1)
+                    return (f"{show(f)} fails: agent {a} considers possible {_world_text(m, int(v))}, where "
+                            f"{inner}", a, _world_text(m, int(v)))
+        if reach is not None:
+            good = m.check(f.arg)
+            bad = [int(v) for v in np.flatnonzero(reach & ~good) if v != w]
+            if bad:
+                return (f"{show(f)} fails: {_world_text(m, bad[0])} is reachable through the beliefs of "
+                        f"{', '.join(f.group)} and there {show(f.arg)} is false", None, _world_text(m, bad[0]))
+    if isinstance(f, Or):
+        return f"none of the alternatives of {show(f)} holds at {_world_text(m, w)}", None, _world_text(m, w)
+    return f"{show(f)} is false at {_world_text(m, w)}", None, _world_text(m, w)
+
+
+# ----------------------------------------------------------------------------- replay
+
+def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[Property] | tuple = (), *,
+               allow_inconsistent: bool = False, require_goal: bool = True) -> CheckResult:
+    """Replay ``plan`` from the task's initial state with delkit's product update (see module docstring)."""
+    names = {a.name for a in task.actions}
+    for i, name in enumerate(plan, 1):
+        if name not in names:
+            from delkit.errors import PlanningError
+
+            task.action(name)  # raises with suggestions
+            raise PlanningError(f"step {i}: unknown action {name!r}")
+    model = task.initial
+    n = len(plan)
+    seen_eventually = [False] * len(properties)
+
+    def props_at(step: int, m: KripkeModel, act: str | None) -> CheckResult | None:
+        for j, pr in enumerate(properties):
+            ok = m.holds(pr.formula)
+            if pr.kind == "always" and not ok:
+                why, ag, wd = explain(m, pr.formula, m.designated[0])
+                return CheckResult(False, n, step, act, "property", f"'{pr}' is violated after step {step}: {why}",
+                                   ag, wd, {"property": str(pr)})
+            if pr.kind == "eventually" and ok:
+                seen_eventually[j] = True
+        return None
+
+    bad = props_at(0, model, None)
+    if bad:
+        return bad
+    for i, name in enumerate(plan, 1):
+        act = task.action(name)
+        point = model.designated[0]
+        if not model.holds(act.executable):
+            why, ag, wd = explain(model, act.executable, point)
+            return CheckResult(False, n, i, name, "precondition",
+                               f"step {i} ({name}) is not executable: precondition {show(act.executable)} fails — "
+                               f"{why}", ag, wd, {"precondition": show(act.executable)})
+        em = task.event_model(act, model)
+        new = product_update(model, em)
+        if not new.designated:
+            sensed = ", ".join(show(f) for f in act.active_sensed(model))
+            return CheckResult(False, n, i, name, "not-applicable",
+                               f"step {i} ({name}): no event of the action can happen at the actual world "
+                               f"(announced {sensed} is false there)", None, _world_text(model, point))
+        if not allow_inconsistent:
+            inc = new.inconsistent_agents()
+            if inc:
+                ag, w = inc[0]
+                return CheckResult(False, n, i, name, "inconsistent-belief",
+                                   f"step {i} ({name}) leaves agent {ag} with no accessible world at the actual "
+                                   f"world: {ag} believes ⊥ (everything), so no belief goal may count as reached",
+                                   ag, _world_text(new, w))
+        model = new
+        bad = props_at(i, model, name)
+        if bad:
+            return bad
+    for j, pr in enumerate(properties):
+        if pr.kind == "eventually" and not seen_eventually[j]:
+            return CheckResult(False, n, n, plan[-1] if plan else None, "property",
+                               f"'{pr}' never holds along the plan", details={"property": str(pr)})
+        if pr.kind == "at end" and not model.holds(pr.formula):
+            why, ag, wd = explain(model, pr.formula, model.designated[0])
+            return CheckResult(False, n, n, plan[-1] if plan else None, "property",
+                               f"'{pr}' fails in the final state: {why}", ag, wd, {"property": str(pr)})
+    if require_goal and not model.holds(task.goal):
+        why, ag, wd = explain(model, task.goal, model.designated[0])
+        return CheckResult(False, n, n, plan[-1] if plan else None, "goal",
+                           f"the goal {show(task.goal)} does not hold after the plan: {why}", ag, wd)
+    return CheckResult(True, n)
+
+
+def final_state(task: Task, plan: list[str]) -> KripkeModel:
+    """The state after executing ``plan`` (raises if a step is not executable)."""
+    from delkit.errors import PlanningError
+
+    model = task.initial
+    for i, name in enumerate(plan, 1):
+        act = task.action(name)
+        if not model.holds(act.executable):
+            raise PlanningError(f"step {i} ({name}) is not executable")
+        model = product_update(model, task.event_model(act, model))
+        if not model.designated:
+            raise PlanningError(f"step {i} ({name}) has no event at the actual world")
+    return model
+
