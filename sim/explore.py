@@ -1,0 +1,720 @@
+"""Communication-restricted exploration with epistemic task allocation (seed 000, §5–6, Case Studies I–II).
+
+Three team methods share the map, sensing, motion and task model:
+
+* ``epistemic`` — the paper's method. Each robot keeps its own log-odds map, belief records (timestamps Q)
+  and task knowledge. While the whole team is connected (one connected component of the r_c disk graph),
+  every step is a *global announcement* (eq. 15: all particles reset to the true states); when it breaks,
+  every robot propagates the same common belief set C (:class:`sim.particles.CommonBelief`) and follows
+  its empathy particle's frontier goal (§5.2). Robots that meet exchange maps, tasks, allocations and belief
+  records (the *local announcement*, eq. 19: p_ji,i ← x_i, and the most recent record per robot wins).
+  A robot that finds a task runs Algorithms 1–3 for its connected group, bidding on behalf of the
+  others from its beliefs; gossipers travel to the believed particle of the robot they must tell; if it is
+  not there, that robot is excluded and the task is re-auctioned (ruleset 1 of §5.3.2); a task that a
+  common-belief particle of another robot covered earlier is assumed to be handled by that robot (ruleset 2).
+* ``ideal`` — unlimited communication: one shared map, Voronoi frontier assignment with the true positions,
+  immediate allocation (Algorithms 1–2) of every discovered task.
+* ``flock`` — the team never leaves the communication range: a virtual leader follows the A* path to the
+  frontier (or task) nearest to it, the robots hold formation slots within r_c/2 of it, so every pair stays
+  within r_c. The leader waits when a robot lags.
+
+Statuses: exploring / gossiping / task / home. Case I: one task needing an unknown number of robots;
+the mission ends when it is done and every robot is home. Case II: an unknown number of tasks with
+Σ N_τ ≤ N_a; the whole map must be covered, all tasks done, all robots home.
+"""
+
+from __future__ import annotations
+
+import time as _time
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from scipy.sparse.csgraph import connected_components
+
+from delkit.errors import SimulationError
+from planners.allocation import Robot as BidRobot
+from planners.allocation import Task as AllocTask
+from planners.allocation import allocate, euclidean_cost
+from sim.grid import LidarModel, OccupancyGrid, WorldMap, frontier_mask, random_map, read_movingai
+from sim.motion import GridGraph, integrate
+from sim.particles import BeliefRecord, CommonBelief, Navigator, believed_position, obstacle_points, select_frontier
+
+__all__ = ["MissionConfig", "TaskSpec", "MissionResult", "MissionHistory", "Mission", "run_mission",
+           "make_scenario", "METHODS", "STATUSES"]
+
+METHODS = ("epistemic", "flock", "ideal")
+STATUSES = ("exploring", "gossiping", "task", "home")
+
+
+@dataclass(frozen=True)
+class MissionConfig:
+    """All parameters of one mission (defaults: seed 000 §6)."""
+
+    case: int = 2
+    n_robots: int = 3
+    method: str = "epistemic"
+    seed: int = 0
+    size: float = 50.0
+    resolution: float = 0.5
+    dt: float = 0.5
+    v_max: float = 3.0
+    lidar_range: float = 5.0
+    lidar_rays: int = 90
+    comm_range: float = 10.0
+    task_radius: float = 1.0
+    noise_std: float = 0.2
+    eta_g: float = 1.0
+    eta_o: float = 5.0
+    rho_o: float = 1.0
+    delta: float = 20.0
+    t_max: float = 1500.0
+    wait_timeout: float = 120.0
+    map_path: str | None = None
+    record: bool = True
+
+    def validate(self) -> None:
+        if self.method not in METHODS:
+            raise SimulationError(f"unknown method {self.method!r}; use one of {', '.join(METHODS)}")
+        if self.case not in (1, 2):
+            raise SimulationError(f"unknown case study {self.case}; use 1 (single task) or 2 (multiple tasks)")
+        if not 1 <= self.n_robots <= 32:
+            raise SimulationError(f"--robots must be between 1 and 32 (got {self.n_robots})")
+        if self.dt <= 0 or self.t_max <= 0:
+            raise SimulationError("dt and t_max must be positive")
+
+
+@dataclass(frozen=True)
+class TaskSpec:
+    """Ground-truth task: position, number of robots N_τ and reward λ_τ."""
+
+    id: int
+    xy: tuple[float, float]
+    n_required: int
+    reward: float = 100.0
+
+
+@dataclass(frozen=True)
+class MissionHistory:
+    """Recorded trajectories for plots: times, robot positions, statuses, common-belief particles, events."""
+
+    world: WorldMap
+    tasks: tuple[TaskSpec, ...]
+    home: tuple[float, float]
+    times: np.ndarray
+    positions: np.ndarray
+    statuses: np.ndarray
+    particles: np.ndarray
+    events: tuple[tuple[float, str, str], ...]
+    explored: np.ndarray
+
+
+@dataclass(frozen=True)
+class MissionResult:
+    """Outcome of one mission (the row of the experiment CSV) and, optionally, its history."""
+
+    method: str
+    case: int
+    n_robots: int
+    seed: int
+    mission_time: float
+    distance: float
+    tasks_done: int
+    n_tasks: int
+    communications: int
+    success: bool
+    all_home: bool
+    collisions: int
+    min_completers_ok: bool
+    explored: float
+    wall_time: float
+    task_completers: tuple[tuple[int, ...], ...] = ()
+    history: MissionHistory | None = field(default=None, repr=False, compare=False)
+
+    def row(self) -> dict:
+        return {k: getattr(self, k) for k in ("method", "case", "n_robots", "seed", "mission_time", "distance",
+                                              "tasks_done", "n_tasks", "communications", "success", "all_home",
+                                              "collisions", "min_completers_ok", "explored", "wall_time")}
+
+
+def make_scenario(cfg: MissionConfig) -> tuple[WorldMap, tuple[TaskSpec, ...], np.ndarray, np.ndarray]:
+    """World map, tasks, home base and start positions for ``cfg`` (all from ``cfg.seed``).
+
+    Home base is at (3, 3) m; robots start on a small arc around it. Case I: one task with N_τ ~ U{1..N_a}
+    (≥ 2 when N_a ≥ 2, a multi-robot task). Case II: tasks with N_τ ~ U{1..min(3, N_a)} drawn until the next
+    one would break Σ N_τ ≤ N_a (at most 4 tasks). Tasks lie in free space at least 12 m from home.
+    """
+    rng = np.random.default_rng([cfg.seed, 7])
+    home = np.array([3.0, 3.0])
+    if cfg.map_path:
+        world = read_movingai(cfg.map_path, cfg.resolution)
+    else:
+        world = random_map(cfg.seed, size=cfg.size, resolution=cfg.resolution, keep_free=[(3.0, 3.0, 3.0)])
+    n = cfg.n_robots
+    ang = np.linspace(0, np.pi / 2, n + 2)[1:-1]
+    starts = home[None, :] + 1.5 * np.stack([np.cos(ang), np.sin(ang)], 1)
+    w, h = world.size
+    if cfg.case == 1:
+        reqs = [int(rng.integers(2 if n >= 2 else 1, n + 1))]
+    else:
+        reqs, total = [], 0
+        while len(reqs) < 4:
+            k = int(rng.integers(1, min(3, n) + 1))
+            if total + k > n:
+                break
+            reqs.append(k)
+            total += k
+    tasks = []
+    free = ~world.occupied
+    for tid, k in enumerate(reqs):
+        for _ in range(1000):
+            xy = rng.uniform([2.0, 2.0], [w - 2.0, h - 2.0])
+            rc = world.cell(xy)
+            r0, c0 = int(rc[0]), int(rc[1])
+            if np.hypot(*(xy - home)) < 12 or not free[max(r0 - 3, 0):r0 + 4, max(c0 - 3, 0):c0 + 4].all():
+                continue
+            if any(np.hypot(xy[0] - t.xy[0], xy[1] - t.xy[1]) < 5 for t in tasks):
+                continue
+            tasks.append(TaskSpec(tid, (float(xy[0]), float(xy[1])), k))
+            break
+        else:
+            raise SimulationError(f"no room for task {tid} on map {world.name}")
+    return world, tuple(tasks), home, starts
+
+
+@dataclass
+class _TaskKnowledge:
+    spec: TaskSpec
+    completed: bool = False
+    assigned: tuple[int, ...] = ()
+    version: float = -1.0
+    eta: dict[int, float] = field(default_factory=dict)
+    assumed_by: int | None = None
+
+    def merged(self, other: _TaskKnowledge) -> _TaskKnowledge:
+        best = other if other.version > self.version else self
+        out = replace(best, completed=self.completed or other.completed, eta=dict(best.eta))
+        if out.assumed_by is None and best is other:
+            out.assumed_by = self.assumed_by
+        return out
+
+
+class _Robot:
+    def __init__(self, i: int, xy: np.ndarray, grid: OccupancyGrid, n: int) -> None:
+        self.id = i
+        self.xy = xy.astype(float)
+        self.status = "exploring"
+        self.nav = Navigator(grid.resolution)
+        self.map = grid
+        self.graph: GridGraph | None = None
+        self.graph_version = -1
+        self.tasks: dict[int, _TaskKnowledge] = {}
+        self.gossip: list[int] = []
+        self.records: dict[int, BeliefRecord] = {}
+        self.excluded: set[int] = set()
+        self.wait_since: float | None = None
+        self.gave_up: set[int] = set()
+        self.done_exploring = False
+        self.blacklist: set[int] = set()
+        self.distance = 0.0
+        self.target: tuple[float, float] | None = None
+
+    def bundle(self) -> list[int]:
+        mine = [t for t, k in self.tasks.items() if not k.completed and self.id in k.assigned
+                and t not in self.gave_up]
+        return sorted(mine, key=lambda t: (self.tasks[t].eta.get(self.id, 0.0), t))
+
+
+class Mission:
+    """One simulated mission; call :meth:`run` (or :meth:`step` repeatedly)."""
+
+    def __init__(self, cfg: MissionConfig) -> None:
+        cfg.validate()
+        self.cfg = cfg
+        self.world, self.task_specs, self.home, starts = make_scenario(cfg)
+        if self.world.is_occupied(starts).any():
+            raise SimulationError("a start position lies in an obstacle")
+        self.rng = np.random.default_rng([cfg.seed, 11, cfg.n_robots, METHODS.index(cfg.method)])
+        self.lidar = LidarModel(cfg.lidar_range, cfg.lidar_rays, self.world.resolution)
+        self.shape = self.world.shape
+        self.res = self.world.resolution
+        self.n = cfg.n_robots
+        self.t = 0.0
+        shared = OccupancyGrid(self.shape, self.res) if cfg.method != "epistemic" else None
+        self.robots = [_Robot(i, starts[i], shared if shared is not None else OccupancyGrid(self.shape, self.res),
+                              self.n) for i in range(self.n)]
+        for r in self.robots:
+            r.records = {j: BeliefRecord(0.0, tuple(starts[j]), "exploring") for j in range(self.n)}
+        self.task_cells = np.array([int(self.world.cell(np.array(t.xy))[0] * self.shape[1]
+                                        + self.world.cell(np.array(t.xy))[1]) for t in self.task_specs], dtype=int)
+        self.completed = [False] * len(self.task_specs)
+        self.completers: list[tuple[int, ...]] = [()] * len(self.task_specs)
+        self.common: CommonBelief | None = None
+        self.components = np.zeros(self.n, dtype=int)
+        self.prev_adj = np.ones((self.n, self.n), dtype=bool)
+        self.communications = 0
+        self.collisions = 0
+        self.events: list[tuple[float, str, str]] = []
+        self.cost = euclidean_cost(cfg.v_max)
+        self.done = False
+        self.anchor = self.robots[0].xy.copy() if self.n else self.home.copy()
+        self.anchor_nav = Navigator(self.res)
+        self._hist_t: list[float] = []
+        self._hist_x: list[np.ndarray] = []
+        self._hist_s: list[np.ndarray] = []
+        self._hist_p: list[np.ndarray] = []
+        for r in self.robots:
+            self._scan(r)
+
+    # ------------------------------------------------------------------ helpers
+    def _cell(self, xy: np.ndarray) -> int:
+        rc = self.world.cell(xy)
+        return int(rc[0] * self.shape[1] + rc[1])
+
+    def _graph(self, r: _Robot) -> GridGraph:
+        if r.graph is None or r.graph_version != r.map.version:
+            if self.cfg.method != "epistemic" and r.id != 0:
+                g0 = self._graph(self.robots[0])
+                r.graph, r.graph_version = g0, r.map.version
+            else:
+                r.graph, r.graph_version = GridGraph(r.map.occupied_mask(), self.res), r.map.version
+        return r.graph
+
+    def _event(self, kind: str, detail: str) -> None:
+        self.events.append((round(self.t, 3), kind, detail))
+
+    def _scan(self, r: _Robot) -> None:
+        free, hit = self.lidar.scan(self.world.occupied, r.xy)
+        r.map.update(free, hit)
+        seen = np.isin(self.task_cells, free)
+        for k in np.flatnonzero(seen):
+            spec = self.task_specs[k]
+            if spec.id not in r.tasks:
+                r.tasks[spec.id] = _TaskKnowledge(spec)
+                self._event("discover", f"robot {r.id} finds task {spec.id} (N={spec.n_required})")
+                self._on_discovery(r, spec)
+            if self.completed[k]:
+                r.tasks[spec.id].completed = True  # perceive(completed τ)
+
+    def _at_home(self, r: _Robot) -> bool:
+        return bool(np.hypot(*(r.xy - self.home)) < 2.5)
+
+    def _mission_over_for(self, r: _Robot) -> bool:
+        """Case I: the single task is known to be done, or allocated to others (then go home)."""
+        if self.cfg.case != 1:
+            return False
+        for k in r.tasks.values():
+            if k.completed or (k.assigned and r.id not in k.assigned):
+                return True
+        return False
+
+    # ------------------------------------------------------------------ communication
+    def _adjacency(self) -> np.ndarray:
+        x = np.array([r.xy for r in self.robots])
+        if self.cfg.method != "epistemic":
+            return np.ones((self.n, self.n), dtype=bool)
+        d = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
+        return d <= self.cfg.comm_range
+
+    def _record(self, r: _Robot) -> BeliefRecord:
+        return BeliefRecord(self.t, (float(r.xy[0]), float(r.xy[1])), r.status, r.target)
+
+    def _share(self, members: list[int]) -> None:
+        """Local announcement to a connected group (eq. 19 and the Q revision of §5.3.1)."""
+        group = [self.robots[m] for m in members]
+        if self.cfg.method == "epistemic":
+            for a in group[1:]:
+                group[0].map.merge(a.map)
+            for a in group[1:]:
+                a.map.logodds[:] = group[0].map.logodds
+                a.map.observed[:] = group[0].map.observed
+                a.map.version = max(a.map.version, group[0].map.version) + (1 if a.graph_version >= 0 else 0)
+        tids = set().union(*(a.tasks.keys() for a in group))
+        for tid in tids:
+            ks = [a.tasks[tid] for a in group if tid in a.tasks]
+            best = ks[0]
+            for k in ks[1:]:
+                best = best.merged(k)
+            for a in group:
+                a.tasks[tid] = replace(best, eta=dict(best.eta))
+        for j in range(self.n):
+            latest = max((a.records[j] for a in group), key=lambda rec: rec.time)
+            for a in group:
+                a.records[j] = latest
+        for a in group:
+            rec = self._record(a)
+            for b in group:
+                b.records[a.id] = rec
+            a.gossip = [g for g in a.gossip if g not in members]
+            a.excluded -= set(members)
+
+    def _communicate(self) -> None:
+        adj = self._adjacency()
+        ncomp, labels = connected_components(adj, directed=False)
+        self.components = labels
+        new_links = adj & ~self.prev_adj
+        if new_links.any() and self.cfg.method == "epistemic":
+            self.communications += int(new_links.sum() // 2)
+            for i, j in zip(*np.nonzero(np.triu(new_links, 1)), strict=True):
+                self._event("connect", f"robots {i} and {j} connect")
+        self.prev_adj = adj
+        if self.cfg.method == "epistemic":
+            if ncomp == 1:
+                if self.common is not None:
+                    self._event("global", "all robots connected: global announcement (eq. 15)")
+                    self.communications += 1
+                    for r in self.robots:
+                        r.done_exploring = False
+                self.common = None
+            elif self.common is None:
+                self._start_common_belief()
+        for c in range(ncomp):
+            members = [int(m) for m in np.flatnonzero(labels == c)]
+            if len(members) > 1 or self.cfg.method != "epistemic":
+                self._share(members)
+            if self.cfg.method == "epistemic" and len(members) > 1:
+                self._allocate_pending(self.robots[members[0]], members)
+        if ncomp == 1 and self.cfg.method == "epistemic":
+            for r in self.robots:  # eq. 15: every particle at the true state
+                r.records = {j: self._record(self.robots[j]) for j in range(self.n)}
+
+    def _start_common_belief(self) -> None:
+        base = self.robots[0].map
+        queues, homing = [], []
+        for r in self.robots:
+            queues.append([np.array(r.tasks[t].spec.xy) for t in r.bundle()])
+            homing.append(r.done_exploring or self._mission_over_for(r))
+        self.common = CommonBelief(self.t, base, np.array([r.xy for r in self.robots]), queues, self.home,
+                                   self.lidar, delta=self.cfg.delta, eta_g=self.cfg.eta_g, eta_o=self.cfg.eta_o,
+                                   rho_o=self.cfg.rho_o, v_max=self.cfg.v_max, homing=homing)
+        self._event("disconnect", "team splits: common belief set C propagated from here")
+
+    # ------------------------------------------------------------------ allocation
+    def _believed_xy(self, r: _Robot, j: int, members: list[int]) -> np.ndarray:
+        if j in members or self.cfg.method != "epistemic":
+            return self.robots[j].xy.copy()
+        return believed_position(r.records[j], self.common, j, self.t, self.cfg.v_max)
+
+    def _on_discovery(self, r: _Robot, spec: TaskSpec) -> None:
+        if self.cfg.method == "epistemic" and self.common is not None:
+            c = self.task_cells[spec.id]
+            j = int(self.common.seen_by.ravel()[c])
+            seen = self.common.seen_time.ravel()[c]
+            if j not in (-1, r.id) and seen < self.t and r.records[j].time <= self.common.t0:
+                r.tasks[spec.id].assumed_by = j  # ruleset 2: j's particle covered it first
+                self._event("assume", f"robot {r.id} assumes robot {j} handles task {spec.id}")
+                return
+        members = [int(m) for m in np.flatnonzero(self.components == self.components[r.id])]
+        self._allocate_pending(r, members)
+
+    def _allocate_pending(self, r: _Robot, members: list[int]) -> None:
+        """Algorithms 1–3 run by robot r for its connected group ``members``."""
+        new = [k for k in r.tasks.values() if not k.completed and not k.assigned and k.assumed_by is None]
+        if not new:
+            return
+        avail = [j for j in range(self.n) if j not in r.excluded]
+        new = [k for k in new if k.spec.n_required <= len(avail)]
+        if not new:
+            return
+        bidders = [BidRobot(j, tuple(self._believed_xy(r, j, members))) for j in avail]
+        current = {j: [] for j in avail}
+        for tid, k in r.tasks.items():
+            if not k.completed and k.assigned:
+                for j in k.assigned:
+                    if j in current:
+                        current[j].append(tid)
+        for j in current:
+            current[j].sort(key=lambda t: (r.tasks[t].eta.get(j, 0.0), t))
+        context = [AllocTask(t, r.tasks[t].spec.xy, r.tasks[t].spec.n_required, r.tasks[t].spec.reward)
+                   for t in sorted({t for b in current.values() for t in b})]
+        todo = [AllocTask(k.spec.id, k.spec.xy, k.spec.n_required, k.spec.reward) for k in new]
+        locked = {j: b for j, b in current.items() if j not in members}
+        informer = {j: (j if j in members else r.id) for j in avail}
+        newly = {t.id for t in todo}
+        if self.cfg.case == 1:
+            must = [j for j in range(self.n)]
+        else:
+            must = None
+        alloc = allocate(bidders, todo, self.cost, connected=[m for m in members if m in avail] or [r.id],
+                         informer=informer, locked=locked, initial=current, context=context, must_know=must)
+        if must is None:
+            need = [j for j, b in alloc.bundles.items() if set(b) & newly]
+            from planners.allocation import gossip_auction
+            pos = {b.id: b.xy for b in bidders}
+            alloc = replace(alloc, gossip=gossip_auction([m for m in members if m in avail] or [r.id], need,
+                                                         pos, self.cost))
+        version = self.t + 1e-6 * (r.id + 1)
+        for tid in {t for b in alloc.bundles.values() for t in b}:
+            k = r.tasks[tid]
+            k.assigned = tuple(sorted(j for j, b in alloc.bundles.items() if tid in b))
+            k.version = version
+            k.eta = {j: alloc.start.get(tid, 0.0) + 1e-3 * b.index(tid) for j, b in alloc.bundles.items()
+                     if tid in b}
+        for m in members:
+            self.robots[m].gossip += [g for g in alloc.gossip.get(m, ()) if g not in self.robots[m].gossip]
+        self._event("allocate", f"robot {r.id} allocates {sorted(newly)}: "
+                    + ", ".join(f"{j}:{list(b)}" for j, b in alloc.bundles.items() if b)
+                    + (f"; gossip {dict(alloc.gossip)}" if alloc.gossip else ""))
+        if len(members) > 1 or self.cfg.method != "epistemic":
+            self._share(members)
+
+    def _exclude(self, r: _Robot, j: int) -> None:
+        """Ruleset 1: robot j was not at its believed state — exclude it and re-auction its untold tasks."""
+        r.excluded.add(j)
+        self._event("exclude", f"robot {r.id} does not find robot {j}; excludes it")
+        for k in r.tasks.values():
+            if not k.completed and j in k.assigned:
+                k.assigned, k.eta = (), {}
+        members = [int(m) for m in np.flatnonzero(self.components == self.components[r.id])]
+        self._allocate_pending(r, members)
+
+    # ------------------------------------------------------------------ control
+    def _goto(self, r: _Robot, goal_xy: np.ndarray, tol: float = 2.0) -> None:
+        g = self._graph(r)
+        need = (r.nav.goal_xy is None or np.hypot(*(r.nav.goal_xy - goal_xy)) > tol
+                or r.nav.version != r.map.version)
+        if need:
+            sp = g.from_cell(self._cell(r.xy))
+            cell = self._cell(goal_xy)
+            if not np.isfinite(sp.dist[cell]):
+                r.nav.clear()
+                return
+            r.nav.set_path(sp, cell, self.shape, r.map.version, goal_xy=goal_xy)
+
+    def _explore_goal(self, r: _Robot, members: list[int]) -> bool:
+        """Pick/keep a frontier goal for r (eqs. 9–12); False when nothing is left to explore.
+
+        Disconnected (epistemic): the frontier is that of r's own map with the cells that the *other*
+        robots' common-belief particles have covered counted as explored, the Voronoi sites are the common
+        belief particles C_i, and the utility is r's path length (+Δ outside its cell). Connected (or the
+        ideal method): the sites are the true positions and the map is the shared one.
+        """
+        state = r.map.state
+        sites = np.array([self._believed_xy(r, j, members) for j in range(self.n)])
+        if self.common is not None and self.cfg.method == "epistemic":
+            others = self.common.observed & (self.common.seen_by != r.id)
+            state = state.copy()
+            state[(state == 0) & others] = 1
+            sites = self.common.positions
+        fmask = frontier_mask(state).ravel()
+        if r.nav.goal is not None and fmask[r.nav.goal] and r.nav.goal not in r.blacklist \
+                and r.nav.version == r.map.version:
+            if np.hypot(*(r.nav.goal_xy - r.xy)) < 0.6:
+                r.blacklist.add(r.nav.goal)
+            else:
+                return True
+        if r.blacklist:
+            fmask[list(r.blacklist)] = False
+        frontier = np.flatnonzero(fmask)
+        sp = self._graph(r).from_cell(self._cell(r.xy))
+        goal = select_frontier(sp, frontier, sites, r.id, self.cfg.delta, self.shape, self.res)
+        if goal is None:
+            return False
+        r.nav.set_path(sp, goal, self.shape, r.map.version)
+        return True
+
+    def _decide(self, r: _Robot) -> None:
+        members = [int(m) for m in np.flatnonzero(self.components == self.components[r.id])]
+        r.target = None
+        while r.gossip:
+            j = r.gossip[0]
+            if j in members:
+                r.gossip.pop(0)
+                continue
+            bxy = self._believed_xy(r, j, members)
+            if np.hypot(*(bxy - r.xy)) < 2.0:
+                r.gossip.pop(0)
+                self._exclude(r, j)
+                continue
+            r.status = "gossiping"
+            self._goto(r, bxy)
+            return
+        bundle = r.bundle()
+        if bundle:
+            k = r.tasks[bundle[0]]
+            txy = np.array(k.spec.xy)
+            r.status = "task"
+            r.target = k.spec.xy
+            if np.hypot(*(txy - r.xy)) <= self.cfg.task_radius * 0.6:
+                r.nav.clear()
+                if r.wait_since is None:
+                    r.wait_since = self.t
+                elif self.t - r.wait_since > self.cfg.wait_timeout:
+                    r.gave_up.add(k.spec.id)
+                    self._event("timeout", f"robot {r.id} stops waiting at task {k.spec.id}")
+                    r.wait_since = None
+                return
+            r.wait_since = None
+            self._goto(r, txy, tol=0.1)
+            return
+        r.wait_since = None
+        if not r.done_exploring and not self._mission_over_for(r):
+            if self._explore_goal(r, members):
+                r.status = "exploring"
+                return
+            r.done_exploring = True
+            self._event("done", f"robot {r.id} sees nothing left to explore; heads home")
+        r.status = "home"
+        r.target = (float(self.home[0]), float(self.home[1]))
+        self._goto(r, self.home, tol=0.5)
+
+    # ------------------------------------------------------------------ flock
+    def _flock_step(self) -> list[np.ndarray]:
+        lead = self.robots[0]
+        xs = np.array([r.xy for r in self.robots])
+        pending = sorted({t for r in self.robots for t in r.bundle()},
+                         key=lambda t: (min(lead.tasks[t].eta.values(), default=0.0), t))
+        g = self._graph(lead)
+        goal_xy: np.ndarray | None = None
+        task_here: int | None = None
+        if pending:
+            goal_xy = np.array(lead.tasks[pending[0]].spec.xy)
+            if np.hypot(*(goal_xy - self.anchor)) < 1.0:
+                task_here = pending[0]
+        elif not lead.done_exploring and not self._mission_over_for(lead):
+            fmask = frontier_mask(lead.map.state).ravel()
+            if self.anchor_nav.goal is not None and fmask[self.anchor_nav.goal] \
+                    and self.anchor_nav.version == lead.map.version:
+                goal_xy = self.anchor_nav.goal_xy
+            else:
+                sp = g.from_cell(self._cell(self.anchor))
+                cell = select_frontier(sp, np.flatnonzero(fmask), self.anchor[None, :], 0, 0.0, self.shape,
+                                       self.res)
+                if cell is None:
+                    for r in self.robots:
+                        r.done_exploring = True
+                    self._event("done", "flock: nothing left to explore; heads home")
+                else:
+                    self.anchor_nav.set_path(sp, cell, self.shape, lead.map.version)
+                    goal_xy = self.anchor_nav.goal_xy
+        if goal_xy is None:
+            goal_xy = self.home
+        if self.anchor_nav.goal_xy is None or np.hypot(*(self.anchor_nav.goal_xy - goal_xy)) > 0.5 \
+                or self.anchor_nav.version != lead.map.version:
+            sp = g.from_cell(self._cell(self.anchor))
+            self.anchor_nav.set_path(sp, self._cell(goal_xy), self.shape, lead.map.version, goal_xy=goal_xy)
+        spread = np.linalg.norm(xs - self.anchor[None, :], axis=1).max()
+        if spread < self.cfg.comm_range / 2 - 1.0:
+            u = self.anchor_nav.control(self.anchor, lead.map.occupied_mask(), eta_g=self.cfg.eta_g,
+                                        eta_o=self.cfg.eta_o, rho_o=self.cfg.rho_o, v_max=0.7 * self.cfg.v_max)
+            self.anchor = integrate(self.anchor, u, self.cfg.dt, self.world.is_occupied, None)
+        slots = []
+        for k, r in enumerate(self.robots):
+            ang = 2 * np.pi * k / max(self.n, 1)
+            slot = self.anchor + (2.5 if self.n > 1 else 0.0) * np.array([np.cos(ang), np.sin(ang)])
+            r.status = "exploring" if not pending and not r.done_exploring else ("task" if pending else "home")
+            if task_here is not None and r.id in lead.tasks[task_here].assigned:
+                slot = np.array(lead.tasks[task_here].spec.xy)
+            slots.append(slot)
+        return slots
+
+    # ------------------------------------------------------------------ main loop
+    def _tasks_step(self) -> None:
+        for k, spec in enumerate(self.task_specs):
+            if self.completed[k]:
+                continue
+            near = [r.id for r in self.robots if np.hypot(r.xy[0] - spec.xy[0], r.xy[1] - spec.xy[1])
+                    <= self.cfg.task_radius]
+            if len(near) >= spec.n_required:
+                self.completed[k] = True
+                self.completers[k] = tuple(near)
+                self._event("complete", f"task {spec.id} completed by robots {near}")
+                for r in self.robots:
+                    if r.id in near and spec.id in r.tasks:
+                        r.tasks[spec.id].completed = True
+
+    def _finished(self) -> bool:
+        if not all(self._at_home(r) for r in self.robots):
+            return False
+        if self.cfg.method == "epistemic" and len(set(self.components.tolist())) > 1:
+            return False
+        r0 = self.robots[0]
+        if self.cfg.case == 1:
+            return all(self.completed)
+        if any(not k.completed for k in r0.tasks.values()):
+            pending_possible = [k for k in r0.tasks.values() if not k.completed]
+            for r in self.robots:
+                r.gave_up.clear()
+                r.done_exploring = False
+            for k in pending_possible:
+                k.assigned, k.eta = (), {}
+            for r in self.robots:
+                r.excluded.clear()
+            self._allocate_pending(r0, list(range(self.n)))
+            return False
+        fmask = frontier_mask(r0.map.state)
+        sp = self._graph(r0).from_cell(self._cell(r0.xy))
+        if np.isfinite(sp.dist[np.flatnonzero(fmask)]).any():
+            for r in self.robots:
+                r.done_exploring = False
+            return False
+        return True
+
+    def step(self) -> None:
+        cfg = self.cfg
+        self._communicate()
+        if self.common is not None:
+            self.common.step(cfg.dt)
+        slots = self._flock_step() if cfg.method == "flock" else None
+        for r in self.robots:
+            if slots is None:
+                self._decide(r)
+                u = r.nav.control(r.xy, r.map.occupied_mask(), eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
+                                  v_max=cfg.v_max)
+            else:
+                from sim.motion import apf_velocity
+                obs = obstacle_points(r.map.occupied_mask(), self.res, r.xy, cfg.rho_o)
+                u = apf_velocity(r.xy, slots[r.id], obs, eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
+                                 v_max=cfg.v_max)
+            new = integrate(r.xy, u, cfg.dt, self.world.is_occupied, self.rng, cfg.noise_std)
+            r.distance += float(np.hypot(*(new - r.xy)))
+            r.xy = new
+            if self.world.is_occupied(r.xy[None, :]).any():
+                self.collisions += 1
+            self._scan(r)
+        self._tasks_step()
+        self.t += cfg.dt
+        if cfg.record:
+            self._hist_t.append(self.t)
+            self._hist_x.append(np.array([r.xy for r in self.robots]))
+            self._hist_s.append(np.array([STATUSES.index(r.status) for r in self.robots], dtype=np.int8))
+            self._hist_p.append(self.common.positions if self.common is not None
+                                else np.full((self.n, 2), np.nan))
+        if self._finished():
+            self.done = True
+
+    def run(self, progress: Callable[[float, float], None] | None = None) -> MissionResult:
+        wall = _time.perf_counter()
+        while not self.done and self.t < self.cfg.t_max:
+            self.step()
+            if progress is not None:
+                progress(self.t, self.cfg.t_max)
+        return self.result(_time.perf_counter() - wall)
+
+    def result(self, wall: float) -> MissionResult:
+        hist = None
+        if self.cfg.record:
+            explored = np.zeros(self.shape, dtype=bool)
+            for r in self.robots:
+                explored |= r.map.observed
+            hist = MissionHistory(self.world, self.task_specs, (float(self.home[0]), float(self.home[1])),
+                                  np.array(self._hist_t), np.array(self._hist_x).reshape(-1, self.n, 2),
+                                  np.array(self._hist_s).reshape(-1, self.n),
+                                  np.array(self._hist_p).reshape(-1, self.n, 2), tuple(self.events), explored)
+        free = ~self.world.occupied
+        explored = np.zeros(self.shape, dtype=bool)
+        for r in self.robots:
+            explored |= r.map.observed
+        ok = all(len(c) >= s.n_required for c, s in zip(self.completers, self.task_specs, strict=True)
+                 if c) and all(self.completed)
+        return MissionResult(self.cfg.method, self.cfg.case, self.n, self.cfg.seed, round(self.t, 3),
+                             round(sum(r.distance for r in self.robots), 3), sum(self.completed),
+                             len(self.task_specs), self.communications, bool(self.done),
+                             all(self._at_home(r) for r in self.robots), self.collisions, ok,
+                             round(float((explored & free).sum() / free.sum()), 4), round(wall, 3),
+                             tuple(self.completers), hist)
+
+
+def run_mission(cfg: MissionConfig, progress: Callable[[float, float], None] | None = None) -> MissionResult:
+    """Build and run one mission."""
+    return Mission(cfg).run(progress)
