@@ -1,0 +1,359 @@
+"""Run a primitive plan in MuJoCo physics and check the world against the symbolic state after each action.
+
+Control: every ``control_dt`` (10 ms) one mink QP step (both arms, TCP frame tasks, posture,
+configuration and velocity limits, arm–arm collision avoidance) gives the joint set-points q*, which the
+position servos of the scene track for ``control_dt / timestep`` physics steps. A Cartesian move follows
+a minimum-jerk profile s(τ) = 10τ³ − 15τ⁴ + 6τ⁵ along the SE(3) geodesic from the commanded pose to the
+target. The idle arm holds its TCP pose (its frame task stays on).
+
+Verification: after action *i* the symbolic state s_i (``arms.plan.symbolic_trace``) says where every
+block must be; the executor measures every block's centre in the simulation and fails the run at the
+first block farther than ``tolerance`` (default 1 cm) from its symbolic place, naming the action, the
+block and the distance. A held block must be within ``tolerance`` of its grasp pose on the TCP.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+import mink
+import mujoco
+import numpy as np
+
+from arms.ik import DualArmIK, pose_error
+from arms.plan import Action, Plan, apply_action
+from arms.scene import FINGER_OPEN, Scene, build_scene
+from arms.skills import pick, place
+from arms.world import COLORS, ArmsError, PlanError, SymbolicState, World, initial_state
+
+__all__ = ["ActionOutcome", "RunResult", "Executor", "MotionError", "run_plan"]
+
+
+class MotionError(ArmsError):
+    """A move that the arm could not complete (IK residual or tracking error too large)."""
+
+
+@dataclass(frozen=True)
+class ActionOutcome:
+    """What happened to one action: success, the worst block error after it, and a message."""
+
+    index: int
+    action: str
+    robot: str
+    success: bool
+    message: str
+    max_block_error: float
+    worst_block: str | None
+    sim_time: float
+    observed: Mapping[str, str] = field(default_factory=dict)
+
+    def to_json(self) -> dict:
+        return {"index": self.index, "action": self.action, "robot": self.robot, "success": self.success,
+                "message": self.message, "max_block_error_m": self.max_block_error,
+                "worst_block": self.worst_block, "sim_time_s": self.sim_time, "observed": dict(self.observed)}
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """The whole run: success, per-action outcomes, final block poses, timing, rendered files."""
+
+    success: bool
+    actions: tuple[ActionOutcome, ...]
+    final_poses: Mapping[str, Mapping[str, list[float]]]
+    sim_seconds: float
+    wall_seconds: float
+    arm_contacts: int
+    grasp: str
+    failure: str | None = None
+    files: Mapping[str, str] = field(default_factory=dict)
+
+    @property
+    def realtime_factor(self) -> float:
+        """Simulated seconds per wall-clock second."""
+        return self.sim_seconds / self.wall_seconds if self.wall_seconds > 0 else float("inf")
+
+    def to_json(self) -> dict:
+        return {"success": self.success, "failure": self.failure, "grasp": self.grasp,
+                "actions": [a.to_json() for a in self.actions], "final_poses": {
+                    b: dict(p) for b, p in self.final_poses.items()},
+                "sim_seconds": self.sim_seconds, "wall_seconds": self.wall_seconds,
+                "realtime_factor": self.realtime_factor, "arm_contacts": self.arm_contacts,
+                "files": dict(self.files)}
+
+
+def _min_jerk(tau: float) -> float:
+    return tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau)
+
+
+def _nearest_colour(rgba: np.ndarray) -> str:
+    return min(COLORS, key=lambda c: float(np.sum((np.array(COLORS[c][:3]) - rgba[:3]) ** 2)))
+
+
+class Executor:
+    """Physics, control and verification for one world (see module docstring)."""
+
+    def __init__(self, world: World, *, grasp: str = "weld", tolerance: float = 0.01,
+                 control_dt: float = 0.01, record_fps: float = 0.0) -> None:
+        self.world = world
+        self.scene: Scene = build_scene(world, grasp=grasp)
+        self.model = self.scene.model
+        self.data = mujoco.MjData(self.model)
+        mujoco.mj_resetDataKeyframe(self.model, self.data, self.model.key("home").id)
+        mujoco.mj_forward(self.model, self.data)
+        self.grasp = grasp
+        self.tolerance = tolerance
+        self.control_dt = control_dt
+        self.n_sub = max(1, round(control_dt / self.model.opt.timestep))
+        self.ik = DualArmIK(world.robots, world.layout)
+        self.q_ik = self.ik.full_q()
+        self.tcp_cmd = {r: self.ik.tcp_pose(self.q_ik, r) for r in world.robots}
+        self.held: dict[str, str] = {}
+        self.record_fps = record_fps
+        self.frames: list[np.ndarray] = []
+        self._next_frame = 0.0
+        self.arm_contacts = 0
+        g1, g2 = (set(self.scene.arm_geoms(r)) for r in world.robots)
+        self._arm_pairs = (g1, g2)
+        self._arm_adr = {r: self.scene.arm_qpos_adr(r) for r in world.robots}
+        self._arm_act = {r: self.scene.arm_actuators(r) for r in world.robots}
+        self._tcp_id = {r: self.model.body(self.scene.tcp_body(r)).id for r in world.robots}
+        self._record()
+
+    # -- low level -----------------------------------------------------------------------------------
+    def _record(self) -> None:
+        if self.record_fps > 0 and self.data.time >= self._next_frame - 1e-9:
+            self.frames.append(self.data.qpos.copy())
+            self._next_frame += 1.0 / self.record_fps
+
+    def _physics(self, n: int) -> None:
+        m, d = self.model, self.data
+        g1, g2 = self._arm_pairs
+        for _ in range(n):
+            mujoco.mj_step(m, d)
+            for c in d.contact[: d.ncon]:
+                if (c.geom1 in g1 and c.geom2 in g2) or (c.geom1 in g2 and c.geom2 in g1):
+                    self.arm_contacts += 1
+            self._record()
+
+    def _tick(self, targets: Mapping[str, np.ndarray]) -> None:
+        self.q_ik = self.ik.step(self.q_ik, targets, self.control_dt)
+        for r in self.world.robots:
+            self.data.ctrl[self._arm_act[r]] = self.q_ik[self.ik.qadr[r]]
+        self._physics(self.n_sub)
+
+    def _hold_targets(self) -> dict[str, np.ndarray]:
+        return dict(self.tcp_cmd)
+
+    # -- the Motion protocol used by arms.skills -------------------------------------------------------
+    def tcp(self, robot: str) -> np.ndarray:
+        """Commanded TCP pose (4×4)."""
+        return self.tcp_cmd[robot]
+
+    def tcp_actual(self, robot: str) -> np.ndarray:
+        t = np.eye(4)
+        t[:3, :3] = self.data.xmat[self._tcp_id[robot]].reshape(3, 3)
+        t[:3, 3] = self.data.xpos[self._tcp_id[robot]]
+        return t
+
+    def block_position(self, block: str) -> np.ndarray:
+        return self.data.xpos[self.scene.block_body(block)].copy()
+
+    def move(self, robot: str, target: np.ndarray, *, speed: float = 0.3) -> float:
+        """Cartesian min-jerk move of one TCP; returns the final IK position error (m)."""
+        start = mink.SE3.from_matrix(self.tcp_cmd[robot])
+        goal = mink.SE3.from_matrix(np.asarray(target, dtype=float))
+        dp, dr = pose_error(self.tcp_cmd[robot], target)
+        duration = max(0.25, dp / speed, dr / 1.0)
+        n = max(1, math.ceil(duration / self.control_dt))
+        targets = self._hold_targets()
+        for k in range(1, n + 1):
+            targets[robot] = start.interpolate(goal, _min_jerk(k / n)).as_matrix()
+            self._tick(targets)
+        targets[robot] = np.asarray(target, dtype=float)
+        self.tcp_cmd[robot] = targets[robot]
+        err = np.inf
+        for _ in range(100):  # settle: at most 1 s more
+            err, _rot = pose_error(self.ik.tcp_pose(self.q_ik, robot), targets[robot])
+            track = np.max(np.abs(self.data.qpos[self._arm_adr[robot]] - self.data.ctrl[self._arm_act[robot]]))
+            if err < 2e-4 and track < 2e-3:
+                break
+            self._tick(targets)
+        if err > 5e-3:
+            raise MotionError(f"{robot} cannot reach {np.round(targets[robot][:3, 3], 3).tolist()} "
+                              f"(IK residual {err * 1000:.1f} mm)")
+        return float(err)
+
+    def wait(self, seconds: float) -> None:
+        targets = self._hold_targets()
+        for _ in range(max(1, round(seconds / self.control_dt))):
+            self._tick(targets)
+
+    def gripper(self, robot: str, opening: float) -> None:
+        """Command the finger opening (m per finger, 0 … 0.04) and wait until the fingers stop."""
+        self.data.ctrl[self.scene.gripper_actuator(robot)] = float(np.clip(opening, 0.0, FINGER_OPEN))
+        adr = self.scene.finger_qpos_adr(robot)
+        prev = self.data.qpos[adr].copy()
+        for _ in range(60):
+            self.wait(self.control_dt)
+            now = self.data.qpos[adr].copy()
+            if np.max(np.abs(now - prev)) < 2e-5 and self.data.time > 0:
+                break
+            prev = now
+        self.wait(0.05)
+
+    def attach(self, robot: str, block: str) -> None:
+        """Grasp: the block must lie between the fingers; with ``weld`` the weld is switched on here."""
+        tcp = self.tcp_actual(robot)
+        off = self.block_position(block) - tcp[:3, 3]
+        if np.linalg.norm(off) > 0.015:
+            raise MotionError(f"{robot} missed {block!r}: the block centre is {np.linalg.norm(off) * 1000:.1f} mm"
+                              " from the TCP at closing")
+        if self.grasp == "weld":
+            eq = self.scene.weld_id(robot, block)
+            b1, b2 = self._tcp_id[robot], self.scene.block_body(block)
+            r1 = self.data.xmat[b1].reshape(3, 3)
+            relpos = r1.T @ (self.data.xpos[b2] - self.data.xpos[b1])
+            q1inv = np.zeros(4)
+            mujoco.mju_negQuat(q1inv, self.data.xquat[b1])
+            relquat = np.zeros(4)
+            mujoco.mju_mulQuat(relquat, q1inv, self.data.xquat[b2])
+            self.model.eq_data[eq, 0:3] = 0.0
+            self.model.eq_data[eq, 3:6] = relpos
+            self.model.eq_data[eq, 6:10] = relquat
+            self.model.eq_data[eq, 10] = 1.0
+            self.data.eq_active[eq] = 1
+        self.held[robot] = block
+        self.wait(0.05)
+
+    def detach(self, robot: str) -> None:
+        block = self.held.pop(robot, None)
+        if block is not None and self.grasp == "weld":
+            self.data.eq_active[self.scene.weld_id(robot, block)] = 0
+
+    def held_offset(self, robot: str) -> np.ndarray:
+        """Block centre minus TCP position of the held block (world frame)."""
+        return self.block_position(self.held[robot]) - self.tcp_actual(robot)[:3, 3]
+
+    # -- verification --------------------------------------------------------------------------------
+    def block_errors(self, state: SymbolicState) -> dict[str, float]:
+        """Distance (m) of every block's centre from where the symbolic state puts it."""
+        out: dict[str, float] = {}
+        for b, loc in state.places.items():
+            actual = self.block_position(b)
+            if loc.kind == "held":
+                expected = self.tcp_actual(loc.robot)[:3, 3]
+                out[b] = max(0.0, float(np.linalg.norm(actual - expected)) - 0.5 * self.tolerance)
+            else:
+                out[b] = float(np.linalg.norm(actual - self.world.position(loc)))
+        return out
+
+    def final_poses(self) -> dict[str, dict[str, list[float]]]:
+        return {b: {"pos": self.block_position(b).round(5).tolist(),
+                    "quat": self.data.xquat[self.scene.block_body(b)].round(5).tolist()}
+                for b in self.world.blocks}
+
+    # -- actions -------------------------------------------------------------------------------------
+    def _travel_z(self, state: SymbolicState) -> float:
+        lay = self.world.layout
+        tops = [loc.level for loc in state.places.values() if loc.kind != "held"]
+        return lay.table_z + lay.block_size * (max(tops, default=0) + 2) + 0.08
+
+    def _sense(self, action: Action, state: SymbolicState) -> dict[str, str]:
+        """Read the colours of the named block, or of every block in the named / all stacks of the robot."""
+        a = action.args
+        if "block" in a:
+            names = [a["block"]]
+        else:
+            names = [b for b, loc in state.places.items()
+                     if loc.kind == "stack" and loc.robot == action.robot
+                     and ("stack" not in a or loc.stack == a["stack"])]
+        out = {}
+        for b in names:
+            if b not in state.places:
+                raise PlanError(f"sense: unknown block {b!r}")
+            gid = self.model.geom(f"block/{b}").id
+            out[b] = _nearest_colour(self.model.geom_rgba[gid])
+        return out
+
+    def execute(self, action: Action, state: SymbolicState) -> dict[str, str]:
+        """Drive the arms through one action (no checking); returns sensed colours for ``sense``."""
+        r, a = action.robot, action.args
+        travel = self._travel_z(state)
+        if action.name in ("pick", "take_from_barrier"):
+            pick(self, r, a["block"], travel)
+        elif action.name in ("place", "put_on_barrier"):
+            nxt = apply_action(self.world, state, action)
+            target = self.world.position(nxt.places[a["block"]])
+            offset = self.held_offset(r)
+            place(self, r, target - offset, travel)
+            if action.name == "put_on_barrier":  # clear the shared table for the other arm
+                lay = self.world.layout
+                home = lay.stack_xy(self.world.robot_index(r), 1, len(self.world.stacks[r]))
+                self.move(r, _down_pose([home[0] - 0.12, home[1], travel]))
+            self.wait(0.2)
+        elif action.name == "sense":
+            return self._sense(action, state)
+        return {}
+
+    def run(self, plan: Plan, *, progress: Callable[[int, Action], None] | None = None) -> RunResult:
+        """Execute every action, verify after each, stop at the first failure."""
+        if plan.world is not self.world and plan.world != self.world:
+            raise ArmsError("the plan's world is not the executor's world")
+        t0 = time.perf_counter()
+        state = initial_state(self.world)
+        outcomes: list[ActionOutcome] = []
+        failure = None
+        errs = self.block_errors(state)
+        if errs and max(errs.values()) > self.tolerance:
+            b = max(errs, key=errs.get)
+            failure = f"initial state: block {b!r} is {errs[b] * 100:.2f} cm off"
+        for i, act in enumerate(plan.actions if failure is None else ()):
+            if progress is not None:
+                progress(i, act)
+            observed: dict[str, str] = {}
+            try:
+                nxt = apply_action(self.world, state, act)
+                observed = self.execute(act, state)
+            except (PlanError, MotionError) as exc:
+                kind = "precondition" if isinstance(exc, PlanError) else "motion"
+                msg = f"action {i} ({act}) failed ({kind}): {exc}"
+                outcomes.append(ActionOutcome(i, act.name, act.robot, False, msg, float("nan"), None,
+                                              float(self.data.time), observed))
+                failure = msg
+                break
+            errs = self.block_errors(nxt)
+            worst = max(errs, key=errs.get) if errs else None
+            worst_err = errs[worst] if worst else 0.0
+            ok = worst_err <= self.tolerance
+            if ok:
+                msg = f"ok ({act})"
+            else:
+                want = nxt.places[worst]
+                msg = (f"action {i} ({act}): block {worst!r} is {worst_err * 100:.2f} cm from its symbolic "
+                       f"place ({want.describe()}); tolerance {self.tolerance * 100:.1f} cm")
+            outcomes.append(ActionOutcome(i, act.name, act.robot, ok, msg, worst_err, worst,
+                                          float(self.data.time), observed))
+            state = nxt
+            if not ok:
+                failure = msg
+                break
+        return RunResult(success=failure is None and len(outcomes) == len(plan.actions),
+                         actions=tuple(outcomes), final_poses=self.final_poses(),
+                         sim_seconds=float(self.data.time), wall_seconds=time.perf_counter() - t0,
+                         arm_contacts=self.arm_contacts, grasp=self.grasp, failure=failure)
+
+
+def _down_pose(xyz) -> np.ndarray:
+    from arms.ik import pose
+
+    return pose(xyz)
+
+
+def run_plan(plan: Plan, *, grasp: str = "weld", tolerance: float = 0.01, record_fps: float = 0.0,
+             progress: Callable[[int, Action], None] | None = None) -> tuple[RunResult, Executor]:
+    """Build the scene for the plan's world and run it; returns the result and the executor."""
+    ex = Executor(plan.world, grasp=grasp, tolerance=tolerance, record_fps=record_fps)
+    return ex.run(plan, progress=progress), ex

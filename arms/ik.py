@@ -1,0 +1,372 @@
+"""Inverse kinematics for the two Pandas: one mink QP for both arms, and a pinocchio CLIK fallback.
+
+**mink (differential IK as a QP).** At configuration q, with body twist error e_i = log(T_i(q)⁻¹ T*_i) of
+the TCP of arm i (the right-minus of mink's ``FrameTask``), one step solves
+
+    min_Δq  Σ_i ‖J_i(q) Δq + e_i‖²_{W_i} + w_p ‖Δq − (q_post − q)‖² + λ‖Δq‖²
+    s.t.    q_min ≤ q + Δq ≤ q_max                         (ConfigurationLimit)
+            |Δq_j| ≤ v_max,j · dt                           (VelocityLimit)
+            ḋ_k(q)·dt ≥ −ξ (d_k − d_s)/(d_i − d_s)  for every arm-1/arm-2 geom pair with d_k < d_i
+                                                            (CollisionAvoidanceLimit)
+
+and integrates q ← q ⊕ Δq. The collision constraint is a *linearisation* that only switches on once a
+pair is closer than the detection distance d_i; the velocity limit keeps each step shorter than d_i, which
+is what keeps the arms from stepping through each other (``tests/arms/test_ik.py`` shows both cases).
+To reach a pose exactly, the posture task (which biases the fixed point by O(w_p)) is dropped once the
+error is below 1 cm ("polish" phase), so the residual goes to the QP's tolerance.
+
+**pinocchio.** The same URDF, loaded with ``pin.buildModelFromUrdf``: forward kinematics of every
+solution is compared with MuJoCo's (they agree to ~1e-15 m), and a damped-least-squares CLIK
+(Δq = Jᵀ(JJᵀ + λI)⁻¹ e with e = log₆(T(q)⁻¹T*) in the local frame, clipped to the limits) serves as a
+fallback solver. Both solvers restart from random configurations within the joint limits until the
+time budget is spent; the result says whether they converged and the residual.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import mink
+import mujoco
+import numpy as np
+import pinocchio as pin
+
+from arms.scene import ARM_JOINTS, TCP_BODY, build_scene, panda_urdf_path
+from arms.world import Layout
+
+__all__ = [
+    "IKResult", "PinocchioArm", "DualArmIK", "pose", "pose_error", "random_reachable_poses",
+    "VELOCITY_LIMITS", "POS_TOL", "ROT_TOL",
+]
+
+#: Panda joint velocity limits (rad/s), from the URDF.
+VELOCITY_LIMITS = np.array([2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61])
+POS_TOL = 1e-5
+ROT_TOL = 1e-4
+#: TCP pointing straight down (z_tcp = −z_world), fingers opening along world x (y_tcp = x_world), so that
+#: the 20 cm wide hand lies across the row of stacks (which runs along y), not over the neighbours.
+DOWN = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, -1.0]])
+
+
+def pose(position, rotation=DOWN) -> np.ndarray:
+    """4×4 homogeneous transform from a position and a rotation matrix."""
+    t = np.eye(4)
+    t[:3, :3] = np.asarray(rotation, dtype=float)
+    t[:3, 3] = np.asarray(position, dtype=float)
+    return t
+
+
+def pose_error(current: np.ndarray, target: np.ndarray) -> tuple[float, float]:
+    """(‖p − p*‖ in m, ‖log(Rᵀ R*)‖ in rad) between two 4×4 poses."""
+    dp = float(np.linalg.norm(current[:3, 3] - target[:3, 3]))
+    r = current[:3, :3].T @ target[:3, :3]
+    c = np.clip((np.trace(r) - 1.0) / 2.0, -1.0, 1.0)
+    ang = float(np.arccos(c))
+    if ang < 1e-6:  # arccos loses precision near 0: use the skew part
+        ang = float(np.linalg.norm([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]]) / 2.0)
+    return dp, ang
+
+
+def _score(dp: float, dr: float, pos_tol: float, rot_tol: float) -> float:
+    """Residual in units of the tolerances (< 1 for both ⇔ converged); used to keep the best iterate."""
+    return max(dp / pos_tol, dr / rot_tol)
+
+
+@dataclass(frozen=True)
+class IKResult:
+    """Outcome of an IK solve: joint angles per robot, whether every TCP is within tolerance, residuals."""
+
+    q: Mapping[str, np.ndarray]
+    converged: bool
+    position_error: float
+    orientation_error: float
+    iterations: int
+    restarts: int
+    seconds: float
+    solver: str
+    fk_disagreement: float = float("nan")
+    extra: Mapping[str, float] = field(default_factory=dict)
+
+
+class PinocchioArm:
+    """One Panda in pinocchio (same URDF), at a base pose: FK of the TCP and a DLS CLIK solver."""
+
+    def __init__(self, base: np.ndarray | None = None) -> None:
+        self.model = pin.buildModelFromUrdf(str(panda_urdf_path()))
+        self.data = self.model.createData()
+        self.frame = self.model.getFrameId(TCP_BODY)
+        self.base = pin.SE3(np.eye(4) if base is None else np.asarray(base, dtype=float))
+        self.lower = self.model.lowerPositionLimit[:7].copy()
+        self.upper = self.model.upperPositionLimit[:7].copy()
+        self._q = pin.neutral(self.model)
+
+    def _fk_se3(self, q7: np.ndarray) -> pin.SE3:
+        self._q[:7] = q7
+        pin.framesForwardKinematics(self.model, self.data, self._q)
+        return self.base * self.data.oMf[self.frame]
+
+    def fk(self, q7: np.ndarray) -> np.ndarray:
+        """World pose (4×4) of ``panda_hand_tcp`` for the seven arm angles."""
+        return self._fk_se3(np.asarray(q7, dtype=float)).homogeneous
+
+    def random_q(self, rng: np.random.Generator) -> np.ndarray:
+        return rng.uniform(self.lower, self.upper)
+
+    def clik(self, target: np.ndarray, q0: np.ndarray | None = None, *, budget: float = 0.005,
+             seed: int = 0, damping: float = 1e-6, max_iter: int = 40, stall: int = 5,
+             pos_tol: float = POS_TOL, rot_tol: float = ROT_TOL) -> IKResult:
+        """Damped least squares CLIK with random restarts inside ``budget`` seconds.
+
+        Iteration (Levenberg–Marquardt with error-adaptive damping): e = log₆(T(q)⁻¹ T*) (local frame),
+        J = local frame Jacobian, λ = λ₀ + ‖e‖², Δq = Jᵀ (J Jᵀ + λ I)⁻¹ e, q ← clip(q + Δq, q_min, q_max).
+        A restart draws q uniformly within the limits after ``max_iter`` iterations, or when the error
+        has not dropped by 10 % over the last ``stall`` iterations (stuck at a joint limit or a
+        singularity). The first start is ``q0`` or the middle of the joint ranges (TRAC-IK's seed).
+        """
+        t0 = time.perf_counter()
+        rng = np.random.default_rng(seed)
+        target_se3 = pin.SE3(np.asarray(target, dtype=float))
+        q = (self.lower + self.upper) / 2.0 if q0 is None else np.array(q0, dtype=float)
+        best = (np.inf, np.inf, q.copy())
+        iters = restarts = k = 0
+        history: list[float] = []
+        eye6 = np.eye(6)
+        model, data, frame, qf = self.model, self.data, self.frame, self._q
+        base = self.base
+        while True:
+            qf[:7] = q
+            pin.computeJointJacobians(model, data, qf)  # FK and joint Jacobians in one pass
+            pin.updateFramePlacement(model, data, frame)
+            cur = base * data.oMf[frame]
+            err_se3 = cur.actInv(target_se3)
+            e = pin.log6(err_se3).vector
+            dp = float(np.linalg.norm(cur.translation - target_se3.translation))
+            dr = float(np.linalg.norm(e[3:]))
+            done = dp < pos_tol and dr < rot_tol
+            if done or _score(dp, dr, pos_tol, rot_tol) < _score(best[0], best[1], pos_tol, rot_tol):
+                best = (dp, dr, q.copy())
+            if done or time.perf_counter() - t0 > budget:
+                break
+            history.append(dp + dr)
+            if k >= max_iter or (k > stall and history[-1] > 0.9 * history[-1 - stall]):
+                q = self.random_q(rng)
+                restarts += 1
+                k = 0
+                history.clear()
+                continue
+            jac = pin.getFrameJacobian(model, data, frame, pin.LOCAL)[:, :7]
+            dq = jac.T @ np.linalg.solve(jac @ jac.T + (damping + float(e @ e)) * eye6, e)
+            q = np.clip(q + dq, self.lower, self.upper)
+            iters += 1
+            k += 1
+        dp, dr, qb = best
+        return IKResult(q={"arm": qb}, converged=bool(dp < pos_tol and dr < rot_tol), position_error=dp,
+                        orientation_error=dr, iterations=iters, restarts=restarts,
+                        seconds=time.perf_counter() - t0, solver="pinocchio-clik")
+
+
+class DualArmIK:
+    """mink IK over both arms at once (one QP): TCP frame tasks, posture, limits, arm–arm avoidance.
+
+    ``robots`` may name one arm only (used by the benchmark). Joint vectors passed in and out are the
+    seven arm angles per robot; fingers are held where they are.
+    """
+
+    def __init__(self, robots: tuple[str, ...] = ("robot1", "robot2"), layout: Layout | None = None, *,
+                 velocity_limit: bool = True, collision: bool = True, posture_cost: float = 1e-2,
+                 min_distance: float = 0.02, detection_distance: float = 0.12,
+                 lm_damping: float = 1e-6) -> None:
+        from arms.world import World
+
+        layout = layout or Layout()
+        self.robots = tuple(robots)
+        self.layout = layout
+        # a world with no blocks only carries the layout; cell=False keeps only the arms.
+        world = World(robots=("robot1", "robot2"), stacks={"robot1": ((),), "robot2": ((),)},
+                      layout=layout)
+        self.scene = build_scene(world, cell=False) if len(self.robots) == 2 else None
+        if self.scene is None:
+            self.scene = _single_arm_scene(layout, self.robots[0])
+        self.model = self.scene.model
+        self.configuration = mink.Configuration(self.model)
+        self.qadr = {r: self.scene.arm_qpos_adr(r) for r in self.robots}
+        self.frame_tasks = {r: mink.FrameTask(f"{r}/{TCP_BODY}", "body", position_cost=1.0,
+                                              orientation_cost=1.0, lm_damping=lm_damping)
+                            for r in self.robots}
+        self.posture = mink.PostureTask(self.model, cost=posture_cost)
+        q_home = self.model.key("home").qpos.copy()
+        self.q_home = q_home
+        self.posture.set_target(q_home)
+        self.limits: list = [mink.ConfigurationLimit(self.model)]
+        if velocity_limit:
+            vel = {f"{r}/{j}": float(v) for r in self.robots for j, v in zip(ARM_JOINTS, VELOCITY_LIMITS,
+                                                                             strict=True)}
+            self.limits.append(mink.VelocityLimit(self.model, vel))
+        self.collision_limit = None
+        if collision and len(self.robots) == 2:
+            g1, g2 = (self.scene.arm_geoms(r) for r in self.robots)
+            self.collision_limit = mink.CollisionAvoidanceLimit(
+                self.model, [(g1, g2)], minimum_distance_from_collisions=min_distance,
+                collision_detection_distance=detection_distance)
+            self.limits.append(self.collision_limit)
+        self.pin = {r: PinocchioArm(pose(layout.base_pos(i), np.eye(3)))
+                    for i, r in enumerate(("robot1", "robot2")) if r in self.robots}
+        self._geoms = ([self.scene.arm_geoms(r) for r in self.robots] if len(self.robots) == 2 else None)
+
+    # -- configuration helpers -------------------------------------------------------------------------
+    def full_q(self, arms: Mapping[str, np.ndarray] | None = None) -> np.ndarray:
+        """Full model configuration with the given arm angles (others at home)."""
+        q = self.q_home.copy()
+        for r, qa in (arms or {}).items():
+            q[self.qadr[r]] = qa
+        return q
+
+    def arms_of(self, q: np.ndarray) -> dict[str, np.ndarray]:
+        return {r: q[self.qadr[r]].copy() for r in self.robots}
+
+    def tcp_pose(self, q: np.ndarray, robot: str) -> np.ndarray:
+        """MuJoCo FK: world pose of the robot's TCP at full configuration q."""
+        self.configuration.update(q)
+        return self.configuration.get_transform_frame_to_world(f"{robot}/{TCP_BODY}", "body").as_matrix()
+
+    def fk_disagreement(self, q: np.ndarray) -> float:
+        """max over arms of ‖p_MuJoCo − p_pinocchio‖ (m) plus the rotation-matrix difference (Frobenius)."""
+        worst = 0.0
+        for r in self.robots:
+            a = self.tcp_pose(q, r)
+            b = self.pin[r].fk(q[self.qadr[r]])
+            worst = max(worst, float(np.linalg.norm(a[:3, 3] - b[:3, 3])),
+                        float(np.linalg.norm(a[:3, :3] - b[:3, :3])))
+        return worst
+
+    def min_arm_distance(self, q: np.ndarray) -> float:
+        """Smallest signed distance between a geom of arm 1 and one of arm 2 (negative: penetration)."""
+        if self._geoms is None:
+            return float("inf")
+        self.configuration.update(q)
+        m, d = self.model, self.configuration.data
+        best = np.inf
+        fromto = np.zeros(6)
+        for g1 in self._geoms[0]:
+            for g2 in self._geoms[1]:
+                best = min(best, mujoco.mj_geomDistance(m, d, g1, g2, 0.5, fromto))
+        return float(best)
+
+    # -- one QP step ---------------------------------------------------------------------------------
+    def set_targets(self, targets: Mapping[str, np.ndarray]) -> None:
+        for r, t in targets.items():
+            self.frame_tasks[r].set_target(mink.SE3.from_matrix(np.asarray(t, dtype=float)))
+
+    def step(self, q: np.ndarray, targets: Mapping[str, np.ndarray] | None, dt: float, *,
+             posture: bool = True, limits: bool = True) -> np.ndarray:
+        """One differential-IK step from full configuration q towards the TCP targets; returns new q."""
+        if targets:
+            self.set_targets(targets)
+        self.configuration.update(q)
+        tasks = [self.frame_tasks[r] for r in self.robots]
+        if posture:
+            tasks.append(self.posture)
+        v = mink.solve_ik(self.configuration, tasks, dt, "daqp", damping=1e-9,
+                          limits=self.limits if limits else [self.limits[0]])
+        self.configuration.integrate_inplace(v, dt)
+        return self.configuration.q.copy()
+
+    def _errors(self, q: np.ndarray, targets: Mapping[str, np.ndarray]) -> tuple[float, float]:
+        self.configuration.update(q)
+        ep = er = 0.0
+        for r, t in targets.items():
+            cur = self.configuration.get_transform_frame_to_world(f"{r}/{TCP_BODY}", "body").as_matrix()
+            dp, dr = pose_error(cur, t)
+            ep, er = max(ep, dp), max(er, dr)
+        return ep, er
+
+    def solve(self, targets: Mapping[str, np.ndarray], q0: Mapping[str, np.ndarray] | None = None, *,
+              budget: float = 0.05, seed: int = 0, dt: float = 0.1, max_iter: int = 40, stall: int = 5,
+              pos_tol: float = POS_TOL, rot_tol: float = ROT_TOL, check_fk: bool = True) -> IKResult:
+        """Iterate :meth:`step` until every TCP is within tolerance; random restarts within ``budget`` s.
+
+        Phase 1 (error ≥ 1 cm): frame tasks + posture. Phase 2 (polish): frame tasks alone, so that the
+        fixed point is the exact target. The result carries the pinocchio/MuJoCo FK disagreement of the
+        returned configuration.
+        """
+        t0 = time.perf_counter()
+        rng = np.random.default_rng(seed)
+        q = self.full_q(q0)
+        best = (np.inf, np.inf, q.copy())
+        iters = restarts = k = 0
+        history: list[float] = []
+        lows = {r: self.pin[r].lower for r in self.robots}
+        highs = {r: self.pin[r].upper for r in self.robots}
+        self.set_targets(targets)
+        while True:
+            ep, er = self._errors(q, targets)
+            done = ep < pos_tol and er < rot_tol
+            if done or _score(ep, er, pos_tol, rot_tol) < _score(best[0], best[1], pos_tol, rot_tol):
+                best = (ep, er, q.copy())
+            if done or time.perf_counter() - t0 > budget:
+                break
+            history.append(ep + er)
+            if k >= max_iter or (k > stall and history[-1] > 0.9 * history[-1 - stall]):
+                q = self.full_q({r: rng.uniform(lows[r], highs[r]) for r in self.robots})
+                restarts += 1
+                k = 0
+                history.clear()
+                continue
+            try:
+                q = self.step(q, None, dt, posture=ep >= 1e-2)
+            except mink.NoSolutionFound:
+                k = max_iter
+            iters += 1
+            k += 1
+        ep, er, qb = best
+        disagreement = self.fk_disagreement(qb) if check_fk else float("nan")
+        return IKResult(q=self.arms_of(qb), converged=bool(ep < pos_tol and er < rot_tol),
+                        position_error=ep, orientation_error=er, iterations=iters, restarts=restarts,
+                        seconds=time.perf_counter() - t0, solver="mink", fk_disagreement=disagreement)
+
+    def solve_clik(self, targets: Mapping[str, np.ndarray], q0: Mapping[str, np.ndarray] | None = None, *,
+                   budget: float = 0.005, seed: int = 0) -> IKResult:
+        """The pinocchio CLIK fallback, arm by arm (it knows nothing of the other arm)."""
+        t0 = time.perf_counter()
+        qs: dict[str, np.ndarray] = {}
+        ep = er = 0.0
+        conv = True
+        iters = restarts = 0
+        for r, t in targets.items():
+            res = self.pin[r].clik(t, None if q0 is None else q0.get(r), budget=budget, seed=seed)
+            qs[r] = res.q["arm"]
+            ep, er = max(ep, res.position_error), max(er, res.orientation_error)
+            conv = conv and res.converged
+            iters += res.iterations
+            restarts += res.restarts
+        full = self.full_q(qs)
+        return IKResult(q=qs, converged=conv, position_error=ep, orientation_error=er, iterations=iters,
+                        restarts=restarts, seconds=time.perf_counter() - t0, solver="pinocchio-clik",
+                        fk_disagreement=self.fk_disagreement(full))
+
+
+def _single_arm_scene(layout: Layout, robot: str):
+    """Arms-only scene with one arm, at robot1's base pose (used by the single-arm benchmark)."""
+    if robot != "robot1":
+        raise ValueError("the single-arm IK model is robot1's")
+    from arms.world import World
+
+    world = World(robots=("robot1", "robot2"), stacks={"robot1": ((),), "robot2": ((),)}, layout=layout)
+    return build_scene(world, robots=("robot1",), cell=False)
+
+
+def random_reachable_poses(n: int, seed: int = 0, robot_index: int = 0, layout: Layout | None = None,
+                           ) -> tuple[np.ndarray, np.ndarray]:
+    """n random joint vectors within the limits and their TCP poses (pinocchio FK): reachable targets.
+
+    This is TRAC-IK's benchmark protocol (random q in the limits → FK → solve IK for that pose).
+    """
+    layout = layout or Layout()
+    arm = PinocchioArm(pose(layout.base_pos(robot_index), np.eye(3)))
+    rng = np.random.default_rng(seed)
+    qs = np.array([arm.random_q(rng) for _ in range(n)])
+    poses = np.array([arm.fk(q) for q in qs])
+    return qs, poses
+

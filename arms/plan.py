@@ -1,0 +1,169 @@
+"""The primitive-plan JSON format (what the e-PICO pipeline emits and ``delkit arms run`` executes).
+
+::
+
+    {"format": "delkit.arms.plan/1",
+     "world": {"robots": ["robot1", "robot2"],
+               "stacks": {"robot1": [["green"], ["red", "black"], []], "robot2": [["blue"], [], []]},
+               "barrier": [],
+               "colors": {"green": "green", "red": "red", "black": "black", "blue": [0.1, 0.2, 0.9]}},
+     "actions": [
+        {"robot": "robot1", "action": "sense", "stack": 1},
+        {"robot": "robot1", "action": "pick", "args": ["black", "red", 1, 1]},
+        {"robot": "robot1", "action": "place", "block": "black", "onto": "green", "level": 1, "stack": 0},
+        {"robot": "robot1", "action": "pick", "args": ["red", "table", 0, 1]},
+        {"robot": "robot1", "action": "put_on_barrier", "args": ["red"]},
+        {"robot": "robot1", "action": "announce", "args": ["red"], "to": ["robot2"]},
+        {"robot": "robot2", "action": "take_from_barrier", "args": ["red"]},
+        {"robot": "robot2", "action": "place", "args": ["red", "table", 0, 1]}]}
+
+The positional ``args`` follow seed 004, Listing 5: ``pick(block, on, level, stack)``,
+``place(block, onto, level, stack)``, ``put_on_barrier(block)``, ``take_from_barrier(block)``; keyword
+fields (``block``, ``on``/``onto``, ``level``, ``stack``) may be given instead. ``announce`` and
+``sense`` are purely epistemic: they change no block. Stacks and levels are 0-based.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any
+
+from arms.world import (
+    ArmsError,
+    PlanError,
+    SymbolicState,
+    World,
+    initial_state,
+    pick_effect,
+    place_effect,
+)
+
+__all__ = ["Action", "Plan", "ACTIONS", "load_plan", "parse_plan", "apply_action", "symbolic_trace"]
+
+FORMAT = "delkit.arms.plan/1"
+#: action name ↦ names of its positional arguments
+ACTIONS: Mapping[str, tuple[str, ...]] = MappingProxyType({
+    "pick": ("block", "on", "level", "stack"),
+    "place": ("block", "onto", "level", "stack"),
+    "put_on_barrier": ("block",),
+    "take_from_barrier": ("block",),
+    "announce": ("block",),
+    "sense": ("block",),
+})
+ONTIC = frozenset({"pick", "place", "put_on_barrier", "take_from_barrier"})
+
+
+@dataclass(frozen=True)
+class Action:
+    """One primitive action of a robot, with its arguments by name."""
+
+    robot: str
+    name: str
+    args: Mapping[str, Any] = field(default_factory=dict)
+
+    def __str__(self) -> str:
+        pos = [str(self.args[a]) for a in ACTIONS[self.name] if a in self.args]
+        return f"{self.robot}: {self.name}({', '.join(pos)})"
+
+    def to_json(self) -> dict:
+        return {"robot": self.robot, "action": self.name, **dict(self.args)}
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A world description and the primitive actions to run in it."""
+
+    world: World
+    actions: tuple[Action, ...]
+
+    def to_json(self) -> dict:
+        return {"format": FORMAT, "world": self.world.to_json(), "actions": [a.to_json() for a in self.actions]}
+
+
+def _action(obj: Any, i: int, world: World, source: str) -> Action:
+    where = f"{source}: action {i}"
+    if not isinstance(obj, Mapping):
+        raise ArmsError(f"{where}: must be an object with 'robot' and 'action'")
+    name = obj.get("action")
+    if name not in ACTIONS:
+        raise ArmsError(f"{where}: unknown action {name!r}; known: {', '.join(ACTIONS)}")
+    robot = obj.get("robot")
+    if robot not in world.robots:
+        raise ArmsError(f"{where}: 'robot' must be one of {', '.join(world.robots)}, got {robot!r}")
+    args: dict[str, Any] = {k: v for k, v in obj.items() if k not in ("robot", "action", "args")}
+    pos = obj.get("args", [])
+    if not isinstance(pos, list) or len(pos) > len(ACTIONS[name]) and name in ONTIC:
+        raise ArmsError(f"{where}: 'args' must be a list of at most {len(ACTIONS[name])} values "
+                        f"({', '.join(ACTIONS[name])})")
+    for key, val in zip(ACTIONS[name], pos, strict=False):
+        args.setdefault(key, val)
+    if name in ONTIC and "block" not in args:
+        raise ArmsError(f"{where}: {name} needs a block")
+    for key in ("level", "stack"):
+        if key in args:
+            try:
+                args[key] = int(args[key])
+            except (TypeError, ValueError):
+                raise ArmsError(f"{where}: '{key}' must be an integer, got {args[key]!r}") from None
+    if name in ("place",) and "stack" not in args:
+        raise ArmsError(f"{where}: place needs a 'stack'")
+    return Action(robot=robot, name=name, args=MappingProxyType(args))
+
+
+def parse_plan(obj: Any, *, source: str = "<plan>") -> Plan:
+    """Validate a plan object (see module docstring); errors say which field of which action."""
+    if not isinstance(obj, Mapping):
+        raise ArmsError(f"{source}: a plan is a JSON object with 'world' and 'actions'")
+    fmt = obj.get("format", FORMAT)
+    if fmt != FORMAT:
+        raise ArmsError(f"{source}: unsupported format {fmt!r}; this reader knows {FORMAT!r}")
+    if "world" not in obj or "actions" not in obj:
+        raise ArmsError(f"{source}: a plan needs both 'world' and 'actions'")
+    world = World.from_json(obj["world"], source=f"{source}: world")
+    acts = obj["actions"]
+    if not isinstance(acts, list):
+        raise ArmsError(f"{source}: 'actions' must be a list")
+    return Plan(world=world, actions=tuple(_action(a, i, world, source) for i, a in enumerate(acts)))
+
+
+def load_plan(path: str | Path) -> Plan:
+    """Read a plan file."""
+    path = Path(path)
+    try:
+        obj = json.loads(path.read_text())
+    except FileNotFoundError:
+        raise ArmsError(f"{path}: no such plan file") from None
+    except json.JSONDecodeError as exc:
+        raise ArmsError(f"{path}:{exc.lineno}:{exc.colno}: not valid JSON ({exc.msg})") from None
+    return parse_plan(obj, source=str(path))
+
+
+def apply_action(world: World, state: SymbolicState, action: Action) -> SymbolicState:
+    """Symbolic effect of one action (epistemic actions leave the block places unchanged)."""
+    a = action.args
+    if action.name == "pick":
+        return pick_effect(world, state, action.robot, a["block"], on=a.get("on"), level=a.get("level"),
+                           stack=a.get("stack"))
+    if action.name == "take_from_barrier":
+        return pick_effect(world, state, action.robot, a["block"], from_barrier=True)
+    if action.name == "place":
+        return place_effect(world, state, action.robot, a["block"], onto=a.get("onto"),
+                            level=a.get("level"), stack=a.get("stack"))
+    if action.name == "put_on_barrier":
+        return place_effect(world, state, action.robot, a["block"], on_barrier=True)
+    return state
+
+
+def symbolic_trace(plan: Plan) -> list[SymbolicState]:
+    """States s₀, s₁, …, s_n of the plan; raises :class:`PlanError` naming the first inapplicable action."""
+    states = [initial_state(plan.world)]
+    for i, act in enumerate(plan.actions):
+        try:
+            states.append(apply_action(plan.world, states[-1], act))
+        except PlanError as exc:
+            raise PlanError(f"action {i} ({act}): {exc}") from None
+    return states
