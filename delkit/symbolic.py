@@ -93,6 +93,16 @@ def _bits_needed(k: int) -> int:
     return max(0, int(k - 1).bit_length())
 
 
+def _label_bits(rel: Relation, prefix: str, taken: set[str]) -> tuple[tuple[str, ...], np.ndarray]:
+    """Fresh names for the ⌈log2 k⌉ binary digits of a partition's class labels, and the points × bits
+    matrix of those digits (``taken`` is extended with the new names)."""
+    lab = rel.as_partition().labels
+    width = _bits_needed(int(lab.max(initial=0)) + 1)
+    names = tuple(_fresh(prefix, taken) for _ in range(width))
+    taken |= set(names)
+    return names, ((lab[:, None] >> np.arange(width)[None, :]) & 1).astype(bool)
+
+
 @dataclass(frozen=True, eq=False)
 class Transformer:
     """A knowledge transformer with factual change ``(V⁺, θ⁺, V₋, θ₋, O⁺)`` and designated events.
@@ -356,13 +366,10 @@ def from_kripke(model: KripkeModel, *, bdd: Any = None) -> tuple[KnowledgeStruct
     voc = list(model.props)
     observed: dict[str, tuple[str, ...]] = {}
     for a in model.agents:
-        lab = model.relations[a].as_partition().labels
-        width = _bits_needed(int(lab.max(initial=0)) + 1)
-        names = tuple(_fresh(f"_{a}", taken) for _ in range(width))
-        taken |= set(names)
+        names, bits = _label_bits(model.relations[a], f"_{a}", taken)
         voc += names
         observed[a] = names
-        columns.append(((lab[:, None] >> np.arange(width)[None, :]) & 1).astype(bool))
+        columns.append(bits)
     full = np.concatenate(columns, axis=1)
     mgr.declare(*voc)
     states = [dict(zip(voc, (bool(x) for x in row), strict=True)) for row in full]
@@ -399,14 +406,11 @@ def transformer_from_event_model(events, structure: KnowledgeStructure) \
     observed: dict[str, tuple[str, ...]] = {}
     vocab = list(ev_bits)
     for a in structure.agents:
-        lab = events.relations[a].as_partition().labels
-        width = _bits_needed(int(lab.max(initial=0)) + 1)
-        names = tuple(_fresh(f"_ev{a}", taken) for _ in range(width))
-        taken |= set(names)
+        names, bits = _label_bits(events.relations[a], f"_ev{a}", taken)
         vocab += names
         observed[a] = names
         for e in range(k):
-            codes[e].update({v: bool((int(lab[e]) >> j) & 1) for j, v in enumerate(names)})
+            codes[e].update(zip(names, (bool(x) for x in bits[e]), strict=True))
     code_f = [conj(Prop(v) if val else Not(Prop(v)) for v, val in c.items()) for c in codes]
     law = disj(conj([code_f[e], events.pre[e]]) for e in range(k))
     changed = sorted(events.changed_props() & set(structure.vocabulary))
@@ -451,26 +455,10 @@ def muddy_symbolic(children: int, muddy: int, *, max_rounds: int | None = None) 
     f = KnowledgeStructure.create(props, TOP, {a: [q for q in props if q != p] for a, p in zip(agents, props,
                                                                                                 strict=True)},
                                   actual=actual)
-    f = f.announce(disj(Prop(p) for p in props))
-    knows = [Kw(a, Prop(p)) for a, p in zip(agents, props, strict=True)]
-    is_muddy = np.arange(children) < muddy
-    limit = max_rounds if max_rounds is not None else children + 2
-    nobody = 0
-    muddy_round: int | None = None
-    clean_round: int | None = None
-    for rnd in range(1, limit + 1):
-        answers = np.array([f.holds(k) for k in knows])
-        if muddy_round is None and answers[is_muddy].all():
-            muddy_round = rnd
-        if clean_round is None and (~is_muddy).any() and answers[~is_muddy].all():
-            clean_round = rnd
-        if answers.all():
-            break
-        if not answers.any():
-            nobody += 1
-        f = f.announce(conj(k if yes else Not(k) for k, yes in zip(knows, answers, strict=True)))
-    if muddy_round is None:
-        raise ModelError(f"muddy children: no answer after {limit} rounds")
+    from delkit.puzzles.muddy import at_least_one, run_rounds
+
+    f, nobody, muddy_round, clean_round, _ = run_rounds(f.announce(at_least_one(children)), children, muddy,
+                                                        max_rounds=max_rounds, size=KnowledgeStructure.node_size)
     return SymbolicMuddyResult(children, muddy, nobody, muddy_round, clean_round, f.node_size(),
                                time.perf_counter() - t0)
 

@@ -18,7 +18,9 @@ know in round M and the clean ones in round M + 1 (after hearing the muddy child
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -27,7 +29,7 @@ from delkit.formula import Formula, Kw, Not, Prop, conj, disj
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
-__all__ = ["MuddyResult", "muddy_model", "solve_muddy", "at_least_one", "nobody_knows"]
+__all__ = ["MuddyResult", "muddy_model", "solve_muddy", "at_least_one", "nobody_knows", "run_rounds"]
 
 
 @dataclass(frozen=True)
@@ -93,22 +95,24 @@ def nobody_knows(children: int) -> Formula:
     return conj(Not(Kw(a, Prop(p))) for a, p in zip(_agents(children), _props(children), strict=True))
 
 
-def solve_muddy(children: int, muddy: int, *, max_rounds: int | None = None) -> MuddyResult:
-    """Run the protocol with the explicit engine (``KripkeModel.announce``) and time it."""
-    if muddy < 1:
-        raise ModelError("muddy children: the father's announcement needs at least one muddy child (--muddy >= 1)")
-    t0 = time.perf_counter()
-    model = muddy_model(children, muddy).announce(at_least_one(children))
-    worlds = [model.n_worlds]
+def run_rounds(state: Any, children: int, muddy: int, *, max_rounds: int | None = None,
+               size: Callable[[Any], int] = len) -> tuple[Any, int, int, int | None, list[int]]:
+    """The protocol after the father's announcement, on any structure with ``holds`` and ``announce``
+    (a :class:`KripkeModel` or a :class:`delkit.symbolic.KnowledgeStructure`).
+
+    Returns the final state, the number of "nobody knows" rounds, the rounds in which all muddy / all
+    clean children know, and ``size(state)`` after each announcement.
+    """
     agents, props = _agents(children), _props(children)
     knows = [Kw(a, Prop(p)) for a, p in zip(agents, props, strict=True)]
     is_muddy = np.arange(children) < muddy
     limit = max_rounds if max_rounds is not None else children + 2
+    sizes: list[int] = []
     nobody_rounds = 0
     muddy_round: int | None = None
     clean_round: int | None = None
     for rnd in range(1, limit + 1):
-        answers = np.array([model.holds(k) for k in knows])
+        answers = np.array([state.holds(k) for k in knows])
         if muddy_round is None and answers[is_muddy].all():
             muddy_round = rnd
         if clean_round is None and (~is_muddy).any() and answers[~is_muddy].all():
@@ -118,9 +122,19 @@ def solve_muddy(children: int, muddy: int, *, max_rounds: int | None = None) -> 
         if not answers.any():
             nobody_rounds += 1
         # public announcement of every child's truthful answer
-        model = model.announce(conj(k if yes else Not(k) for k, yes in zip(knows, answers, strict=True)))
-        worlds.append(model.n_worlds)
+        state = state.announce(conj(k if yes else Not(k) for k, yes in zip(knows, answers, strict=True)))
+        sizes.append(size(state))
     if muddy_round is None:
         raise ModelError(f"muddy children: no answer after {limit} rounds (raise max_rounds)")
-    return MuddyResult(children, muddy, nobody_rounds, muddy_round, clean_round, tuple(worlds),
+    return state, nobody_rounds, muddy_round, clean_round, sizes
+
+
+def solve_muddy(children: int, muddy: int, *, max_rounds: int | None = None) -> MuddyResult:
+    """Run the protocol with the explicit engine (``KripkeModel.announce``) and time it."""
+    if muddy < 1:
+        raise ModelError("muddy children: the father's announcement needs at least one muddy child (--muddy >= 1)")
+    t0 = time.perf_counter()
+    model = muddy_model(children, muddy).announce(at_least_one(children))
+    _, nobody, muddy_round, clean_round, sizes = run_rounds(model, children, muddy, max_rounds=max_rounds)
+    return MuddyResult(children, muddy, nobody, muddy_round, clean_round, (model.n_worlds, *sizes),
                        time.perf_counter() - t0)

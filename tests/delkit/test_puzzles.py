@@ -1,0 +1,221 @@
+"""Literature answers of the epistemic puzzles, each solved with delkit's explicit DEL engine."""
+
+from __future__ import annotations
+
+import itertools
+import json
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from delkit.cli import main
+from delkit.formula import C, K, Kw, Not, Prop
+from delkit.puzzles import (
+    solve_cheryl,
+    solve_dining,
+    solve_drinking,
+    solve_muddy,
+    solve_russian_cards,
+    solve_sum_product,
+    summary_table,
+)
+from delkit.puzzles._common import knows_which, value_of
+from delkit.puzzles.cheryl import cheryl_model
+from delkit.puzzles.dining import anonymity_formula, dining_model, said
+from delkit.puzzles.muddy import at_least_one, muddy_model, nobody_knows
+from delkit.puzzles.russian_cards import is_good, russian_cards_model
+from delkit.puzzles.sum_product import sum_product_model
+
+# ----------------------------------------------------------------------------- muddy children
+
+
+@pytest.mark.parametrize(("n", "m"), [(1, 1), (2, 1), (2, 2), (3, 1), (3, 2), (3, 3), (4, 2), (5, 5), (6, 3),
+                                      (8, 1), (9, 7)])
+def test_muddy_children_know_after_m_minus_one_rounds(n: int, m: int) -> None:
+    r = solve_muddy(n, m)
+    assert r.nobody_knows_rounds == m - 1
+    assert r.muddy_know_round == m
+    assert r.clean_know_round == (None if m == n else m + 1)
+    assert r.worlds[0] == 2 ** n - 1
+
+
+def test_muddy_initial_model_is_the_bitmask_cube() -> None:
+    model = muddy_model(4, 2)
+    assert model.n_worlds == 16 and model.designated == (3,)
+    # child 0 confuses exactly the worlds that differ in bit 0
+    assert model.successors("c0", 5) == [4, 5]
+    assert model.holds(Not(Kw("c0", Prop("m0"))))  # before the father speaks, nobody knows
+    assert model.holds(K("c0", Prop("m1")))  # child 0 sees child 1's muddy forehead
+
+
+def test_muddy_father_announcement_makes_single_muddy_child_know() -> None:
+    model = muddy_model(3, 1).announce(at_least_one(3))
+    assert model.holds(Kw("c0", Prop("m0")))
+    assert not model.holds(nobody_knows(3))
+    # ... while without the father nobody would learn anything from "nobody knows"
+    silent = muddy_model(3, 1)
+    assert silent.announce(nobody_knows(3)).n_worlds == silent.n_worlds
+
+
+def test_muddy_n14_is_fast_enough_for_the_benchmark() -> None:
+    r = solve_muddy(14, 14)
+    assert r.nobody_knows_rounds == 13
+    assert r.seconds < 5.0  # generous: the benchmark target is 1 s; this only catches a blow-up
+
+
+# ----------------------------------------------------------------------------- sum and product
+
+
+def test_sum_and_product_unique_solution_4_13() -> None:
+    r = solve_sum_product()
+    assert r.solutions == ((4, 13),)
+    # intermediate sizes reported by van Ditmarsch, Ruan & Verbrugge (2008): 145 and 86 pairs
+    assert r.worlds == (2352, 145, 86, 1)
+
+
+def test_sum_and_product_model_relations() -> None:
+    model = sum_product_model(100)
+    assert model.n_worlds == 2352
+    nx = sum(p.startswith("x") for p in model.props)
+    xs, ys = value_of(model.valuation[:, :nx]), value_of(model.valuation[:, nx:])
+    world = {(int(x), int(y)): w for w, (x, y) in enumerate(zip(xs, ys, strict=True))}
+    assert len(world) == 2352 and min(xs) == 2 and max(xs + ys) == 100
+    assert model.successors("S", world[(2, 5)]) == sorted([world[(2, 5)], world[(3, 4)]])
+    assert world[(3, 4)] in model.successors("P", world[(2, 6)])
+    assert model.holds(knows_which("P", model.props), [world[(2, 3)]])  # product 6 = 2·3 only
+
+
+# ----------------------------------------------------------------------------- Cheryl
+
+
+def test_cheryl_birthday_is_july_16() -> None:
+    r = solve_cheryl()
+    assert r.solutions == ("July 16",)
+    assert r.worlds == (10, 5, 3, 1)
+
+
+def test_cheryl_initial_knowledge() -> None:
+    model = cheryl_model()
+    assert not model.check(knows_which("Albert", model.props)).any()
+    bernard = model.check(knows_which("Bernard", model.props))
+    assert sorted(model.world_name(int(w)) for w in np.flatnonzero(bernard)) == ["June 18", "May 19"]
+
+
+# ----------------------------------------------------------------------------- Russian cards
+
+
+def test_russian_cards_102_safe_announcements() -> None:
+    r = solve_russian_cards()
+    assert len(r.safe_announcements) == 102
+    assert r.by_size == {5: 60, 6: 36, 7: 6}
+    assert all((0, 1, 2) in x for x in r.safe_announcements)
+    assert ((0, 1, 2), (0, 3, 4), (0, 5, 6), (1, 3, 5), (2, 4, 6)) in r.safe_announcements
+
+
+def test_russian_cards_model_has_140_deals() -> None:
+    model = russian_cards_model()
+    assert model.n_worlds == 140
+    assert model.world_name(model.designated[0]) == "012|345|6"
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.sampled_from(list(itertools.combinations(range(7), 3))), min_size=4, max_size=6, unique=True))
+def test_russian_cards_candidates_outside_cliques_are_not_good(others: list[tuple[int, ...]]) -> None:
+    """The clique pruning is sound: announcements with two hands sharing two cards are never good."""
+    hands = tuple(sorted({(0, 1, 2), *others}))
+    shares_two = any(len(set(h) & set(g)) >= 2 for h, g in itertools.combinations(hands, 2))
+    if shares_two:
+        assert not is_good(russian_cards_model(), hands)
+
+
+# ----------------------------------------------------------------------------- drinking logicians
+
+
+@pytest.mark.parametrize("n", [2, 3, 4])
+def test_drinking_logicians_all_valuations(n: int) -> None:
+    for wants in itertools.product([True, False], repeat=n):
+        answers = solve_drinking(wants).answers
+        first_no = next((i for i, w in enumerate(wants) if not w), None)
+        if first_no is None:
+            assert answers == ("I don't know",) * (n - 1) + ("yes",)
+        else:
+            assert answers[:first_no] == ("I don't know",) * first_no
+            assert answers[first_no:] == ("no",) * (n - first_no)
+
+
+# ----------------------------------------------------------------------------- dining cryptographers
+
+
+@pytest.mark.parametrize("n", [3, 4])
+def test_dining_cryptographers_reveal_whether_not_who(n: int) -> None:
+    for payer in [None, *range(n)]:
+        for coins in range(1 << n):
+            r = solve_dining(n, payer, coins)
+            assert r.common_knows_whether_paid and r.someone_paid_known
+            assert r.anonymous
+            if payer is None:
+                assert all(r.learned_payer)
+            else:
+                assert r.learned_payer == tuple(i == payer for i in range(n))
+
+
+def test_dining_before_announcements_nobody_knows_whether_paid() -> None:
+    model = dining_model(3, 1, 0)
+    paid = Prop("p0") | Prop("p1") | Prop("p2")
+    assert not model.holds(Kw("d0", paid))
+    assert model.holds(anonymity_formula(3, 0))
+    # the parity of all announced bits is whether someone paid, in every world
+    parity = np.logical_xor.reduce([model.check(said(i, 3)) for i in range(3)])
+    assert (parity == model.check(paid)).all()
+    assert not model.holds(C(model.agents, paid))
+
+
+# ----------------------------------------------------------------------------- summary and CLI
+
+
+def test_summary_table_all_ok() -> None:
+    rows = summary_table()
+    assert len(rows) == 6
+    assert all(r["ok"] for r in rows), rows
+
+
+def _json(capsys, argv: list[str]) -> dict:
+    rc = main(argv)
+    out = capsys.readouterr().out
+    assert rc == 0, out
+    return json.loads(out)
+
+
+def test_cli_muddy_json(capsys) -> None:
+    data = _json(capsys, ["puzzle", "muddy", "--children", "6", "--muddy", "4", "--json"])
+    assert data["nobody_knows_rounds"] == 3
+    assert isinstance(data["seconds"], float)
+
+
+def test_cli_muddy_symbolic_json(capsys) -> None:
+    data = _json(capsys, ["puzzle", "muddy", "--children", "20", "--muddy", "5", "--symbolic", "--json"])
+    assert data["nobody_knows_rounds"] == 4
+
+
+def test_cli_sum_product_cheryl_russian(capsys) -> None:
+    assert _json(capsys, ["puzzle", "sum-product", "--json"])["solutions"] == [[4, 13]]
+    assert _json(capsys, ["puzzle", "cheryl", "--json"])["solutions"] == ["July 16"]
+    assert _json(capsys, ["puzzle", "russian-cards", "--json"])["safe_announcements"] == 102
+
+
+def test_cli_drinking_dining(capsys) -> None:
+    assert _json(capsys, ["puzzle", "drinking", "--wants", "111", "--json"])["answers"][-1] == "yes"
+    assert _json(capsys, ["puzzle", "dining", "--payer", "2", "--json"])["anonymous"] is True
+
+
+def test_cli_table_output(capsys) -> None:
+    assert main(["puzzle", "cheryl"]) == 0
+    assert "July 16" in capsys.readouterr().out
+
+
+def test_cli_bad_input_exits_2(capsys) -> None:
+    assert main(["puzzle", "muddy", "--children", "3", "--muddy", "4", "--json"]) == 2
+    assert "--muddy" in capsys.readouterr().err
+    assert main(["puzzle", "drinking", "--wants", "12"]) == 2
