@@ -208,6 +208,19 @@ class _Reader:
                           self.ref(pr[1], index, kind, f"{where} pair #{pi}")))
         return Relation.from_pairs(n, out_p)
 
+    def relations(self, data: Mapping, index: dict[str, int], kind: str) -> tuple[list[str], dict[str, Relation]]:
+        """The agents and one relation per agent (the "agents" and "relations" entries)."""
+        what = "the model" if kind == "world" else "the event model"
+        rel_specs = self.get(data, "relations", dict, what)
+        agents = self.get(data, "agents", list, what, default=list(rel_specs))
+        missing = [a for a in agents if a not in rel_specs]
+        if missing:
+            raise self.fail(f"no relation for agent(s) {missing}", "add an entry for each agent under \"relations\"")
+        extra = [a for a in rel_specs if a not in agents]
+        if extra:
+            raise self.fail(f"relation(s) for agent(s) {extra} not in \"agents\"", "add them to \"agents\"")
+        return agents, {a: self.relation(rel_specs[a], index, kind, f"relation of {a!r}") for a in agents}
+
     def formula(self, text: Any, where: str) -> Formula:
         if isinstance(text, bool):
             return TOP if text else parse("F")
@@ -255,15 +268,7 @@ def model_from_dict(data: Any, *, source: str = "<data>") -> KripkeModel:
     if unknown:
         raise r.fail(f"world(s) make proposition(s) {unknown} true that are not in \"props\"",
                      "add them to \"props\"")
-    rel_specs = r.get(data, "relations", dict, "the model")
-    agents = r.get(data, "agents", list, "the model", default=list(rel_specs))
-    missing = [a for a in agents if a not in rel_specs]
-    if missing:
-        raise r.fail(f"no relation for agent(s) {missing}", "add an entry for each agent under \"relations\"")
-    extra = [a for a in rel_specs if a not in agents]
-    if extra:
-        raise r.fail(f"relation(s) for agent(s) {extra} not in \"agents\"", "add them to \"agents\"")
-    rels = {a: r.relation(rel_specs[a], index, "world", f"relation of {a!r}") for a in agents}
+    agents, rels = r.relations(data, index, "world")
     des = [r.ref(x, index, "world", "designated") for x in r.get(data, "designated", list, "the model")]
     pidx = {p: i for i, p in enumerate(props)}
     val = np.zeros((len(names), len(props)), dtype=bool)
@@ -291,12 +296,7 @@ def event_model_from_dict(data: Any, *, source: str = "<data>") -> EventModel:
         pres.append(r.formula(ev.get("pre", "T"), f"precondition of event {names[i]!r}"))
         post = r.get(ev, "post", dict, f"event {names[i]!r}", default={})
         posts.append({p: r.formula(v, f"postcondition of {p!r} in event {names[i]!r}") for p, v in post.items()})
-    rel_specs = r.get(data, "relations", dict, "the event model")
-    agents = r.get(data, "agents", list, "the event model", default=list(rel_specs))
-    missing = [a for a in agents if a not in rel_specs]
-    if missing:
-        raise r.fail(f"no relation for agent(s) {missing}", "add an entry for each agent under \"relations\"")
-    rels = {a: r.relation(rel_specs[a], index, "event", f"relation of {a!r}") for a in rel_specs}
+    agents, rels = r.relations(data, index, "event")
     des = [r.ref(x, index, "event", "designated") for x in r.get(data, "designated", list, "the event model")]
     name = r.get(data, "name", str, "the event model", default="E")
     try:

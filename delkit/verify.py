@@ -175,6 +175,31 @@ def _has_c(f: Formula) -> bool:
     return any(isinstance(g, C) for g in subformulas(f))
 
 
+def _map_bool(g: Formula, rec) -> Formula | None:
+    """g with ``rec`` applied to the children if g is an atom or a Boolean connective, else None."""
+    if isinstance(g, (Top, Bot, Prop)):
+        return g
+    if isinstance(g, Not):
+        return Not(rec(g.arg))
+    if isinstance(g, (And, Or)):
+        return type(g)(rec(a) for a in g.args)
+    if isinstance(g, (Implies, Iff)):
+        return type(g)(rec(g.left), rec(g.right))
+    return None
+
+
+def _map_static(g: Formula, rec) -> Formula | None:
+    """Like :func:`_map_bool`, also rebuilding K, Kw, E, C, D around ``rec`` of the argument."""
+    out = _map_bool(g, rec)
+    if out is not None:
+        return out
+    if isinstance(g, (K, Kw)):
+        return type(g)(g.agent, rec(g.arg))
+    if isinstance(g, (E, C, D)):
+        return type(g)(g.group, rec(g.arg))
+    return None
+
+
 def reduce(formula: Formula | str) -> Formula:
     """An equivalent formula without ``[!ψ]`` and ``[E,e]`` (reduction axioms, innermost first).
 
@@ -190,24 +215,9 @@ def reduce(formula: Formula | str) -> Formula:
         hit = memo.get(g)
         if hit is not None:
             return hit
-        if isinstance(g, (Top, Bot, Prop)):
-            out = g
-        elif isinstance(g, Not):
-            out = Not(red(g.arg))
-        elif isinstance(g, And):
-            out = And(red(a) for a in g.args)
-        elif isinstance(g, Or):
-            out = Or(red(a) for a in g.args)
-        elif isinstance(g, Implies):
-            out = Implies(red(g.left), red(g.right))
-        elif isinstance(g, Iff):
-            out = Iff(red(g.left), red(g.right))
-        elif isinstance(g, K):
-            out = K(g.agent, red(g.arg))
-        elif isinstance(g, Kw):
-            out = Kw(g.agent, red(g.arg))
-        elif isinstance(g, (E, C, D)):
-            out = type(g)(g.group, red(g.arg))
+        out = _map_static(g, red)
+        if out is not None:
+            pass
         elif isinstance(g, Announce):
             psi, chi = red(g.announced), red(g.arg)
             out = _announce(psi, chi, show(g))
@@ -233,18 +243,9 @@ def _announce(psi: Formula, chi: Formula, where: str) -> Formula:
         hit = memo.get(g)
         if hit is not None:
             return hit
-        if isinstance(g, (Top, Bot, Prop)):
-            out = g
-        elif isinstance(g, Not):
-            out = Not(after(g.arg))
-        elif isinstance(g, And):
-            out = And(after(a) for a in g.args)
-        elif isinstance(g, Or):
-            out = Or(after(a) for a in g.args)
-        elif isinstance(g, Implies):
-            out = Implies(after(g.left), after(g.right))
-        elif isinstance(g, Iff):
-            out = Iff(after(g.left), after(g.right))
+        out = _map_bool(g, after)
+        if out is not None:
+            pass
         elif isinstance(g, K):
             out = K(g.agent, box(g.arg))
         elif isinstance(g, Kw):
@@ -282,20 +283,10 @@ def _update(model: EventModel, event: int, chi: Formula, red, where: str) -> For
         hit = memo.get(key)
         if hit is not None:
             return hit
-        if isinstance(g, (Top, Bot)):
-            out = g
-        elif isinstance(g, Prop):
+        if isinstance(g, Prop):
             out = model.post[e].get(g.name, g)
-        elif isinstance(g, Not):
-            out = Not(after(e, g.arg))
-        elif isinstance(g, And):
-            out = And(after(e, a) for a in g.args)
-        elif isinstance(g, Or):
-            out = Or(after(e, a) for a in g.args)
-        elif isinstance(g, Implies):
-            out = Implies(after(e, g.left), after(e, g.right))
-        elif isinstance(g, Iff):
-            out = Iff(after(e, g.left), after(e, g.right))
+        elif (b := _map_bool(g, lambda h: after(e, h))) is not None:
+            out = b
         elif isinstance(g, K):
             out = _k_after(g.agent, e, g.arg)
         elif isinstance(g, Kw):
@@ -470,18 +461,8 @@ def _reduce_updates(f: Formula) -> Formula:
             return hit
         if isinstance(g, Update):
             out = reduce(g)
-        elif isinstance(g, (Top, Bot, Prop)):
-            out = g
-        elif isinstance(g, Not):
-            out = Not(go(g.arg))
-        elif isinstance(g, (And, Or)):
-            out = type(g)(go(a) for a in g.args)
-        elif isinstance(g, (Implies, Iff)):
-            out = type(g)(go(g.left), go(g.right))
-        elif isinstance(g, (K, Kw)):
-            out = type(g)(g.agent, go(g.arg))
-        elif isinstance(g, (E, C, D)):
-            out = type(g)(g.group, go(g.arg))
+        elif (s := _map_static(g, go)) is not None:
+            out = s
         elif isinstance(g, Announce):
             out = Announce(go(g.announced), go(g.arg))
         else:  # pragma: no cover

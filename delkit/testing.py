@@ -1,0 +1,254 @@
+"""Hypothesis strategies for property-based tests of DEL models (public API).
+
+Use them to write property suites for your own models and actions, e.g. that an action never makes an
+agent lose knowledge of a fact::
+
+    from hypothesis import given, settings
+    from delkit import K, Prop, product_update
+    from delkit.testing import event_models, s5_models
+
+    @settings(max_examples=50, deadline=None)
+    @given(s5_models(["p", "q"], ["a", "b"], max_worlds=5),
+           event_models(["p", "q"], ["a", "b"], max_events=2, postconditions=False))
+    def test_pure_announcements_preserve_knowledge_of_p(m, e):
+        if m.holds(K("a", Prop("p"))):
+            assert product_update(m, e).holds(K("a", Prop("p")))
+
+Strategies:
+
+* :func:`formulas` – random formulas over given propositions and agents (optionally with C/E/D, public
+  announcements and [E,e] with small random event models);
+* :func:`propositional_formulas` – Boolean formulas only (for pre/postconditions);
+* :func:`kripke_models` – models of a frame class: ``"S5"`` (partitions), ``"KD45"`` (serial, transitive,
+  euclidean; every KD45 relation has this shape: worlds fall into clusters, and each cluster has a
+  non-empty set of believed worlds that every world of the cluster points to), ``"K"`` (any relation);
+* :func:`s5_models`, :func:`kd45_models`, :func:`pointed_models` – shorthands;
+* :func:`event_models` – event models with propositional pre/postconditions, S5 (partitions) or KD45
+  frames (the mA* shape with oblivious agents is KD45);
+* :func:`world_permutations` – a permutation of worlds to build isomorphic copies.
+
+Every strategy is shrinkable (it is built from hypothesis primitives, not from a seeded RNG).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from hypothesis import strategies as st
+
+from delkit.events import EventModel
+from delkit.formula import (
+    BOT,
+    TOP,
+    And,
+    Announce,
+    C,
+    D,
+    E,
+    Formula,
+    Iff,
+    Implies,
+    K,
+    Kw,
+    Not,
+    Or,
+    Prop,
+    Update,
+)
+from delkit.kripke import KripkeModel
+from delkit.relation import Relation
+
+__all__ = [
+    "formulas", "propositional_formulas", "kripke_models", "s5_models", "kd45_models", "pointed_models",
+    "event_models", "relations", "world_permutations", "FRAMES",
+]
+
+FRAMES = ("S5", "KD45", "K")
+
+
+def _check_frame(frame: str) -> str:
+    f = frame.upper()
+    if f not in FRAMES:
+        raise ValueError(f"unknown frame {frame!r}; use one of {FRAMES}")
+    return f
+
+
+# ============================================================================ formulas
+
+
+def propositional_formulas(props: Sequence[str], max_depth: int = 2) -> st.SearchStrategy[Formula]:
+    """Boolean formulas over ``props`` (and ⊤, ⊥) of connective depth at most ``max_depth``."""
+    return formulas(props, (), max_depth, allow_common=False, allow_group=False)
+
+
+def formulas(props: Sequence[str], agents: Sequence[str], max_depth: int = 3, *, allow_common: bool = True,
+             allow_group: bool = True, allow_announce: bool = False, allow_dynamic: bool = False,
+             max_events: int = 2) -> st.SearchStrategy[Formula]:
+    """Random formulas of depth (nesting of all operators) at most ``max_depth``.
+
+    Operators: ¬ ∧ ∨ → ↔ always; K_a and Kw_a if ``agents``; E_G, D_G (and C_G if ``allow_common``) if
+    ``allow_group``; [!φ]ψ if ``allow_announce``; [E,e]ψ with a random event model of at most
+    ``max_events`` events (propositional pre/post) if ``allow_dynamic``.
+    """
+    props, agents = list(props), list(agents)
+    if not props:
+        raise ValueError("formulas() needs at least one proposition")
+    leaves = st.one_of(st.sampled_from([Prop(p) for p in props]), st.sampled_from([TOP, BOT]))
+    groups = (st.lists(st.sampled_from(agents), min_size=1, max_size=len(agents), unique=True)
+              if agents else st.nothing())
+    memo: dict[int, st.SearchStrategy[Formula]] = {}
+
+    def at(depth: int) -> st.SearchStrategy[Formula]:
+        if depth == 0:
+            return leaves
+        if depth in memo:
+            return memo[depth]
+        sub = at(depth - 1)
+        opts = [
+            sub.map(Not),
+            st.lists(sub, min_size=2, max_size=3).map(And),
+            st.lists(sub, min_size=2, max_size=3).map(Or),
+            st.builds(Implies, sub, sub),
+            st.builds(Iff, sub, sub),
+        ]
+        if agents:
+            opts += [st.builds(K, st.sampled_from(agents), sub), st.builds(Kw, st.sampled_from(agents), sub)]
+            if allow_group:
+                opts += [st.builds(E, groups, sub), st.builds(D, groups, sub)]
+                if allow_common:
+                    opts.append(st.builds(C, groups, sub))
+        if allow_announce:
+            opts.append(st.builds(Announce, sub, sub))
+        if allow_dynamic and agents:
+            opts.append(_updates(props, agents, max_events, sub))
+        opts.append(sub)  # shallower formulas too (last: generation picks branches uniformly)
+        memo[depth] = st.one_of(opts)
+        return memo[depth]
+
+    return at(max_depth)
+
+
+def _updates(props, agents, max_events, sub) -> st.SearchStrategy[Formula]:
+    @st.composite
+    def build(draw):
+        em = draw(event_models(props, agents, max_events=max_events,
+                               frame=draw(st.sampled_from(["S5", "KD45"]))))
+        e = draw(st.integers(0, em.n_events - 1))
+        return Update(em, e, draw(sub), em.name)
+
+    return build()
+
+
+# ============================================================================ relations and models
+
+
+def relations(n: int, frame: str = "S5") -> st.SearchStrategy[Relation]:
+    """A relation on n points of the frame class (S5 as a partition, KD45/K as a matrix)."""
+    frame = _check_frame(frame)
+    if n == 0:
+        return st.just(Relation(0, labels=np.zeros(0, dtype=np.int64)))
+    if frame == "S5":
+        return st.lists(st.integers(0, n - 1), min_size=n, max_size=n).map(Relation.from_labels)
+    if frame == "K":
+        return st.lists(st.booleans(), min_size=n * n, max_size=n * n).map(
+            lambda bits: Relation.from_matrix(np.array(bits, dtype=bool).reshape(n, n)))
+
+    @st.composite
+    def kd45(draw):
+        cluster = draw(st.lists(st.integers(0, n - 1), min_size=n, max_size=n))
+        believed = draw(st.lists(st.booleans(), min_size=n, max_size=n))
+        cl = np.asarray(cluster)
+        bel = np.asarray(believed, dtype=bool)
+        for c in np.unique(cl):  # every cluster believes at least one of its worlds
+            members = np.flatnonzero(cl == c)
+            if not bel[members].any():
+                bel[members[0]] = True
+        mat = (cl[:, None] == cl[None, :]) & bel[None, :]  # w R v iff same cluster and v believed
+        return Relation.from_matrix(mat)
+
+    return kd45()
+
+
+def kripke_models(props: Sequence[str], agents: Sequence[str], max_worlds: int = 5, *, frame: str = "S5",
+                  min_worlds: int = 1, designated: str = "one") -> st.SearchStrategy[KripkeModel]:
+    """Random Kripke models of the frame class ``frame`` ("S5", "KD45" or "K").
+
+    ``designated``: "one" (a single designated world), "some" (a non-empty set) or "all".
+    """
+    frame = _check_frame(frame)
+    props, agents = tuple(props), tuple(agents)
+    if designated not in ("one", "some", "all"):
+        raise ValueError(f"designated must be 'one', 'some' or 'all', got {designated!r}")
+
+    @st.composite
+    def build(draw):
+        n = draw(st.integers(min_worlds, max_worlds))
+        bits = draw(st.lists(st.booleans(), min_size=n * len(props), max_size=n * len(props)))
+        val = np.array(bits, dtype=bool).reshape(n, len(props))
+        rels = {a: draw(relations(n, frame)) for a in agents}
+        if designated == "one":
+            des: tuple[int, ...] = (draw(st.integers(0, n - 1)),)
+        elif designated == "some":
+            des = tuple(draw(st.lists(st.integers(0, n - 1), min_size=1, max_size=n, unique=True)))
+        else:
+            des = tuple(range(n))
+        return KripkeModel(props, agents, val, rels, des)
+
+    return build()
+
+
+def s5_models(props: Sequence[str], agents: Sequence[str], max_worlds: int = 5, **kw) -> st.SearchStrategy[
+        KripkeModel]:
+    """S5 models (every relation a partition)."""
+    return kripke_models(props, agents, max_worlds, frame="S5", **kw)
+
+
+def kd45_models(props: Sequence[str], agents: Sequence[str], max_worlds: int = 5, **kw) -> st.SearchStrategy[
+        KripkeModel]:
+    """KD45 (belief) models."""
+    return kripke_models(props, agents, max_worlds, frame="KD45", **kw)
+
+
+def pointed_models(props: Sequence[str], agents: Sequence[str], max_worlds: int = 5, *, frame: str = "S5"
+                   ) -> st.SearchStrategy[KripkeModel]:
+    """Models with exactly one designated world."""
+    return kripke_models(props, agents, max_worlds, frame=frame, designated="one")
+
+
+def world_permutations(n: int) -> st.SearchStrategy[list[int]]:
+    """A permutation of 0..n-1 (for isomorphic copies of a model)."""
+    return st.permutations(list(range(n)))
+
+
+# ============================================================================ event models
+
+
+def event_models(props: Sequence[str], agents: Sequence[str], max_events: int = 3, *, frame: str = "S5",
+                 pre_depth: int = 2, postconditions: bool = True, min_events: int = 1,
+                 name: str = "E") -> st.SearchStrategy[EventModel]:
+    """Event models with propositional preconditions (depth ≤ ``pre_depth``) and, if ``postconditions``,
+    random propositional postconditions on some propositions; relations of the frame class ("S5" or
+    "KD45"; "K" allowed too); a non-empty set of designated events."""
+    frame = _check_frame(frame)
+    props, agents = tuple(props), tuple(agents)
+    pre_s = propositional_formulas(props, pre_depth)
+    post_s = propositional_formulas(props, 1)
+
+    @st.composite
+    def build(draw):
+        k = draw(st.integers(min_events, max_events))
+        pres = tuple(draw(pre_s) for _ in range(k))
+        posts = []
+        for _ in range(k):
+            if postconditions:
+                changed = draw(st.lists(st.sampled_from(props), max_size=len(props), unique=True))
+                posts.append({p: draw(post_s) for p in changed})
+            else:
+                posts.append({})
+        rels = {a: draw(relations(k, frame)) for a in agents}
+        des = tuple(draw(st.lists(st.integers(0, k - 1), min_size=1, max_size=k, unique=True)))
+        return EventModel(tuple(f"e{i}" for i in range(k)), agents, pres, tuple(posts), rels, des, name)
+
+    return build()
+
