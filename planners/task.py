@@ -27,7 +27,7 @@ from typing import Literal
 
 from delkit.errors import PlanningError
 from delkit.events import EventModel, action, ontic
-from delkit.formula import TOP, Formula, Not, Prop, conj, show
+from delkit.formula import TOP, Formula, Not, Or, Prop, conj, show
 from delkit.kripke import KripkeModel
 
 __all__ = ["ActionSpec", "Task", "ActionKind"]
@@ -147,6 +147,14 @@ def describe(act: ActionSpec) -> str:
         parts.append(("senses " if act.kind == "sensing" else "announces ")
                      + ", ".join(show(f) for f, _ in act.sensed))
     return "; ".join(parts)
+
+
+def merge_observers(obs: list[tuple[str, Formula]]) -> list[tuple[str, Formula]]:
+    """One (agent, condition) per agent: several statements are a disjunction of their conditions."""
+    by: dict[str, list[Formula]] = {}
+    for ag, cond in obs:
+        by.setdefault(ag, []).append(cond)
+    return [(ag, cs[0] if len(cs) == 1 else (TOP if TOP in cs else Or(tuple(cs)))) for ag, cs in by.items()]
 
 
 def literal(p: str, value: bool) -> Formula:

@@ -26,7 +26,7 @@ from pathlib import Path
 from delkit.errors import ParseError
 from delkit.formula import TOP, C, D, E, Formula, K, Not, Or, Prop, conj
 from planners.lang.initial import finitary_s5
-from planners.task import ActionSpec, Task
+from planners.task import ActionSpec, Task, merge_observers
 
 __all__ = ["parse_mastar", "load_mastar", "parse_mastar_formula", "Tok", "tokenize"]
 
@@ -285,7 +285,7 @@ class _Parser:
             where = self.where(first.get(a, self.decl_at[a]))
             specs.append(ActionSpec(
                 name=a, kind=kind.get(a, "ontic"), executable=conj(exe[a]), effects=tuple(effects[a]),
-                sensed=tuple(sensed[a]), full=tuple(_merge(full[a])), partial=tuple(_merge(partial[a])),
+                sensed=tuple(sensed[a]), full=tuple(merge_observers(full[a])), partial=tuple(merge_observers(partial[a])),
                 where=where))
         model = finitary_s5(self.fluents, self.agents, pointed, common, others, source=self.source)
         name = Path(self.source).stem
@@ -325,14 +325,6 @@ class _Parser:
         if not self.agents:
             raise ParseError("no 'agent' statement", source=self.source)
         self.i = 0
-
-
-def _merge(obs: list[tuple[str, Formula]]) -> list[tuple[str, Formula]]:
-    """One (agent, condition) per agent: several statements are a disjunction of their conditions."""
-    by: dict[str, list[Formula]] = {}
-    for ag, cond in obs:
-        by.setdefault(ag, []).append(cond)
-    return [(ag, cs[0] if len(cs) == 1 else (TOP if TOP in cs else Or(tuple(cs)))) for ag, cs in by.items()]
 
 
 def parse_mastar(text: str, source: str = "<mA*>") -> Task:
