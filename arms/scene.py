@@ -125,6 +125,18 @@ class Scene:
         return int(self.model.equality(f"{robot}/grasp/{block}").id)
 
 
+def _look_at(eye, target) -> list[float]:
+    """Camera ``xyaxes`` for a camera at ``eye`` looking at ``target`` (MuJoCo cameras look along −z)."""
+    f = np.asarray(target, dtype=float) - np.asarray(eye, dtype=float)
+    f /= np.linalg.norm(f)
+    x = np.cross(f, [0.0, 0.0, 1.0])
+    if np.linalg.norm(x) < 1e-6:
+        x = np.array([0.0, -1.0, 0.0])
+    x /= np.linalg.norm(x)
+    y = np.cross(x, f)
+    return [*x.tolist(), *y.tolist()]
+
+
 def _add_arm(spec: mujoco.MjSpec, robot: str, index: int, base: np.ndarray, *, with_pedestal: bool,
              z_floor: float) -> None:
     arm = panda_spec()
@@ -230,6 +242,7 @@ def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = 
         layout = Layout()
     spec = mujoco.MjSpec()
     spec.modelname = "delkit_two_pandas"
+    spec.meshdir = str(panda_description_dir() / "meshes" / "collision")  # so that saved MJCF finds the STLs
     spec.option.timestep = timestep
     spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     spec.option.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
@@ -252,10 +265,10 @@ def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = 
                                  diffuse=[0.7, 0.7, 0.7], castshadow=True)
         spec.worldbody.add_light(name="fill", pos=[-0.6, 0.6, 2.0], dir=[0.3, -0.2, -1.0],
                                  diffuse=[0.35, 0.35, 0.35], castshadow=False)
-        spec.worldbody.add_camera(name="overview", pos=[1.65, -1.05, 0.95],
-                                  xyaxes=[0.54, 0.84, 0.0, -0.38, 0.25, 0.89])
-        spec.worldbody.add_camera(name="front", pos=[1.75, 0.0, 0.75],
-                                  xyaxes=[0.0, 1.0, 0.0, -0.42, 0.0, 0.91])
+        for name, eye, look in (("overview", (1.45, -1.1, 0.85), (0.35, 0.0, 0.1)),
+                                ("front", (1.6, 0.0, 0.7), (0.35, 0.0, 0.12)),
+                                ("top", (0.45, 0.0, 1.9), (0.45, 0.0, 0.0))):
+            spec.worldbody.add_camera(name=name, pos=list(eye), xyaxes=_look_at(eye, look))
     if world is not None and cell:
         _add_blocks(spec, world, robots)
     model = spec.compile()
