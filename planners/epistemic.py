@@ -17,9 +17,8 @@ No vacuous success: a state where some agent has no accessible world at the poin
 ⊥) is a dead end and is not expanded (``allow_inconsistent=True`` keeps it).
 
 BFS tests the goal when a state is generated; since every action costs 1 the first plan found is of
-minimal length. A* uses an admissible heuristic (0 on goal states, 1 elsewhere, tightened by the number
-of goal conjuncts that no single action can make true at once is *not* attempted — see ``h_admissible``);
-GBFS uses the goal-count heuristic (number of unsatisfied top-level goal conjuncts).
+minimal length. A* uses the admissible ``h_depth`` and GBFS the goal count ``h_gc``
+(:mod:`planners.heuristics`).
 """
 
 from __future__ import annotations
@@ -145,6 +144,9 @@ class DelSpace:
     def is_goal(self, model: KripkeModel) -> bool:
         return model.holds(self.task.goal)
 
+    def holds(self, model: KripkeModel, f: Formula) -> bool:
+        return model.holds(f)
+
     def goal_count(self, model: KripkeModel) -> int:
         return sum(0 if model.holds(g) else 1 for g in self._conj)
 
@@ -222,7 +224,9 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
     """
     budget = _Budget(limits)
     if h is None:
-        h = space.goal_count if kind == "gbfs" else (lambda s: 0.0 if space.is_goal(s) else 1.0)
+        from planners.heuristics import h_depth, h_gc
+
+        h = h_gc(space) if kind == "gbfs" else h_depth(space)
     s0, k0 = space.initial()
     best_g: dict[Hashable, int] = {k0: 0}
     parent: dict[Hashable, Any] = {k0: None}
@@ -252,6 +256,8 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
             parent[nkey] = (key, name)
             counter += 1
             hv = h(nxt)
+            if hv == float("inf"):
+                continue
             f = hv if kind == "gbfs" else ng + hv
             heapq.heappush(heap, (f, ng, counter, nxt, nkey))
     return SearchResult("unsolvable", None, expanded, generated, budget.seconds, kind,

@@ -122,7 +122,6 @@ def parse_property(text: str, task: Task) -> Property:
 def parse_formula(body: str, task: Task, *, source: str = "<formula>") -> Formula:
     """A formula over the task's fluents/agents, in delkit or mA* syntax; unknown symbols are errors."""
     from delkit.formula import parse
-
     from planners.lang.mastar import parse_mastar_formula
 
     try:
@@ -207,7 +206,8 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
             ok = m.holds(pr.formula)
             if pr.kind == "always" and not ok:
                 why, ag, wd = explain(m, pr.formula, m.designated[0])
-                return CheckResult(False, n, step, act, "property", f"'{pr}' is violated after step {step}: {why}",
+                when = "in the initial state" if step == 0 else f"after step {step}"
+                return CheckResult(False, n, step, act, "property", f"'{pr}' is violated {when}: {why}",
                                    ag, wd, {"property": str(pr)})
             if pr.kind == "eventually" and ok:
                 seen_eventually[j] = True

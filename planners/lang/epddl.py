@@ -24,7 +24,6 @@ import itertools
 import re
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Union
 
 from delkit.errors import ParseError
 from delkit.formula import TOP, C, Formula, Implies, K, Not, Or, Prop, conj
@@ -48,7 +47,7 @@ class SList:
     col: int
 
 
-SExp = Union[Atom, SList]
+SExp = Atom | SList
 
 _TOK = re.compile(r"\s+|;[^\n]*|[()\[\]]|[^\s()\[\];]+")
 

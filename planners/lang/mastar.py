@@ -285,8 +285,8 @@ class _Parser:
             where = self.where(first.get(a, self.decl_at[a]))
             specs.append(ActionSpec(
                 name=a, kind=kind.get(a, "ontic"), executable=conj(exe[a]), effects=tuple(effects[a]),
-                sensed=tuple(sensed[a]), full=tuple(merge_observers(full[a])), partial=tuple(merge_observers(partial[a])),
-                where=where))
+                sensed=tuple(sensed[a]), full=tuple(merge_observers(full[a])),
+                partial=tuple(merge_observers(partial[a])), where=where))
         model = finitary_s5(self.fluents, self.agents, pointed, common, others, source=self.source)
         name = Path(self.source).stem
         return Task(name, tuple(self.fluents), tuple(self.agents), model, tuple(specs), conj(goals), self.source)
