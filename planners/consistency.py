@@ -436,9 +436,11 @@ def enforce_ac(model: BeliefModel, ledger: Ledger, known: np.ndarray, *,
     consistent in favour of another action).  All COMMs of a round are delivered together (``link(s, r)``
     says whether the channel from *s* to *r* is up; a dropped COMM is reported in ``failed``), the
     knowledge matrix grows, and the next round re-verifies every pair.  The loop ends when every pair
-    agrees (then all robots select the same action, Theorem 3.3) or when no COMM can be delivered.  Each
-    delivered COMM adds a new slot to a robot's history, so it ends after at most
-    :math:`\\sum_{r\\ne r'}|H^{r}\\setminus H^{r'}|` COMMs (:math:`2p` for two robots, Theorem 3.4).
+    agrees (then all robots select the same action, Theorem 3.3) or when no COMM can be delivered.  Robots
+    speak in id order within a round and skip an observation another robot is already sending to the same
+    receiver (message headers are overheard), so each delivered COMM adds a new slot to a robot's history
+    and ENFORCEAC ends after at most :math:`\\sum_{r}|\\bigcup_{r'} H^{r'}\\setminus H^{r}|` COMMs
+    (:math:`2p` for two robots with *p* unshared steps each, Theorem 3.4).
 
     ``trigger="paper"`` applies T1/T2 as in §III-D.  ``trigger="useful"`` (our refinement) fires T2 alone
     only when sharing one of *r*'s observations would turn at least one step-2 realisation to
@@ -470,7 +472,8 @@ def enforce_ac(model: BeliefModel, ledger: Ledger, known: np.ndarray, *,
         if all(v.agreed for v in vers):
             return EnforceResult(actions, True, tuple(comms), tuple(failed), rnd, known, tuple(vers))
         outgoing: list[Communication] = []
-        for ver in vers:
+        queued: set[tuple[int, int]] = set()
+        for ver in vers:                          # robots speak in id order (a TDMA round)
             if ver.agreed or not ver.send or len(ver.own_slots) == 0:
                 continue
             need = policy == "greedy" or (trigger == "useful" and ver.send == ("T2",))
@@ -479,6 +482,9 @@ def enforce_ac(model: BeliefModel, ledger: Ledger, known: np.ndarray, *,
                     and gains is not None and not np.any(gains[1] > 0)):
                 continue                      # sharing any of my observations changes nothing for r'
             for slot in _choose_slots(ver, policy, gains):
+                if (ver.other, slot) in queued:   # overheard: another robot sends it this round
+                    continue
+                queued.add((ver.other, slot))
                 outgoing.append(Communication(ver.robot, ver.other, slot, int(ledger.owner[slot]),
                                               int(ledger.step[slot]), rnd, "+".join(ver.send),
                                               bool(up(ver.robot, ver.other))))

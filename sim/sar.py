@@ -111,7 +111,7 @@ class SARConfig:
     epochs: int = 200
     comm_restr: int = 0
     seed: int = 0
-    policy: Literal["greedy", "oldest", "all"] = "greedy"
+    policy: Literal["greedy", "oldest", "all"] = "all"
     tie_break: Literal["random", "index"] = "random"
     trigger: Literal["paper", "useful"] = "paper"
 
