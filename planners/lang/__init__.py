@@ -10,7 +10,7 @@ from pathlib import Path
 
 from delkit.errors import ParseError
 
-__all__ = ["load_task", "is_epddl"]
+__all__ = ["load_task", "is_epddl", "shared_benchmarks"]
 
 
 def is_epddl(path: str | Path) -> bool:
@@ -44,3 +44,10 @@ def load_task(spec: str | Path, problem: str | Path | None = None):
     from planners.lang.mastar import load_mastar
 
     return load_mastar(spec)
+
+
+def shared_benchmarks() -> Path | None:
+    """``../shared/benchmarks`` next to the repository root (read in place, never copied), or None."""
+    root = Path(__file__).resolve().parent.parent.parent
+    p = root.parent / "shared" / "benchmarks"
+    return p if p.is_dir() else None
