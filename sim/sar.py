@@ -391,11 +391,13 @@ def table_inputs() -> list[tuple[int, int, str]]:
 
 def table_i(base: SARConfig | None = None, *, on_run: Callable[[TableRow], None] | None = None) -> list[TableRow]:
     """Every row of Table I (7 inputs × Baseline-II, Baseline-I, ENFORCEAC) with ``base``'s grid, sensor,
-    epochs and seed; ``on_run`` is called after each episode (progress bars)."""
+    epochs and seed; ``on_run`` is called after each episode (progress bars).  For E ≠ 200 the number of
+    restricted steps is scaled to keep the paper's fraction (``round(m·E/200)``)."""
     base = base or SARConfig()
     rows = []
     for restr, prims, init in table_inputs():
-        cfg = replace(base, comm_restr=restr, primitives=prims, init=init)  # type: ignore[arg-type]
+        m = round(restr * base.epochs / 200)        # the paper's m is for E = 200: keep the fraction
+        cfg = replace(base, comm_restr=m, primitives=prims, init=init)  # type: ignore[arg-type]
         for alg in ALGORITHMS:
             row = TableRow(restr, prims, init, alg, run_episode(cfg, alg), PAPER_TABLE_I[(restr, prims, init)][alg])
             rows.append(row)

@@ -31,6 +31,13 @@ def _progress():
                     disable=not sys.stderr.isatty())
 
 
+def _wide_console():
+    """A stdout console at least 132 columns wide, so that tables are not squeezed when piped."""
+    from rich.console import Console
+
+    return Console(width=max(Console().width, 132))
+
+
 def _fmt_paper(paper: tuple[int, int, float] | None) -> tuple[str, str, str]:
     if paper is None:
         return "–", "–", "–"
@@ -68,7 +75,6 @@ def register(app: typer.Typer) -> None:
                               "trigger": trigger, "tie_break": tie_break,
                               "rows": [r.as_dict() for r in rows]}))
             return
-        from rich.console import Console
         from rich.table import Table
 
         t = Table(title=f"Table I — E = {epochs}, seed {seed}, {width}×{height} grid (ours | paper)")
@@ -81,7 +87,7 @@ def register(app: typer.Typer) -> None:
                       INIT_NAMES[r.init].removesuffix("-Init") if first else "", ALGORITHM_NAMES[r.algorithm],
                       str(r.ours.not_ac), str(r.ours.comms), str(r.ours.observations_sent), f"{r.ours.time_s:.2f}",
                       *_fmt_paper(r.paper), end_section=i % 3 == 2)
-        Console().print(t)
+        _wide_console().print(t)
 
     @sub.command("run")
     def run(
@@ -119,7 +125,6 @@ def register(app: typer.Typer) -> None:
             print(json.dumps({"results": [
                 {k: v for k, v in r.as_dict().items() if k not in ("team_j", "since_comm")} for r in results]}))
             return
-        from rich.console import Console
         from rich.table import Table
 
         t = Table(title=f"{robots} robots, {primitives} primitives, {init}, comm-restr={comm_restr}, "
@@ -130,4 +135,4 @@ def register(app: typer.Typer) -> None:
             t.add_row(ALGORITHM_NAMES[r.algorithm], str(r.not_ac), str(r.comms), str(r.observations_sent),
                       str(r.failed_comms), str(r.max_unshared), f"{sum(r.team_j) / len(r.team_j):.2f}",
                       f"{r.time_s:.2f}")
-        Console().print(t)
+        _wide_console().print(t)
