@@ -259,6 +259,8 @@ class _Grounder:
             out.append((self.atom(x.items[1], env), False, cond))  # type: ignore[union-attr, arg-type]
         elif h in self.ctx.predicates:
             out.append((self.atom(x, env), True, cond))  # type: ignore[arg-type]
+        elif h is not None and not h.startswith(":") and h not in ("or", "imply", "exists"):
+            raise self.ctx.err(f"unknown predicate {h!r} in an effect; declared: {sorted(self.ctx.predicates)}", x)
         else:
             raise self.ctx.err(f"unexpected effect {h!r}", x, expected=["(p ...)", "(not (p ...))", "(when c e)",
                                                                        "(and ...)", "(forall ...)"])
