@@ -61,7 +61,7 @@ from delkit.relation import Relation
 
 __all__ = [
     "formulas", "propositional_formulas", "kripke_models", "s5_models", "kd45_models", "pointed_models",
-    "event_models", "relations", "world_permutations", "FRAMES",
+    "event_models", "relations", "kd45_relation", "world_permutations", "FRAMES",
 ]
 
 FRAMES = ("S5", "KD45", "K")
@@ -94,37 +94,43 @@ def formulas(props: Sequence[str], agents: Sequence[str], max_depth: int = 3, *,
     props, agents = list(props), list(agents)
     if not props:
         raise ValueError("formulas() needs at least one proposition")
-    leaves = st.one_of(st.sampled_from([Prop(p) for p in props]), st.sampled_from([TOP, BOT]))
+    n_leaf = 4 * len(props)  # propositions four times as likely as the constants ⊤, ⊥ together
+    leaves = st.integers(0, n_leaf + 1).map(
+        lambda i: Prop(props[i % len(props)]) if i < n_leaf else (TOP, BOT)[i - n_leaf])
     groups = (st.lists(st.sampled_from(agents), min_size=1, max_size=len(agents), unique=True)
               if agents else st.nothing())
-    memo: dict[int, st.SearchStrategy[Formula]] = {}
+    # the operator is drawn first (leaf first, so that shrinking simplifies), then its arguments
+    ops = ["leaf", "and", "or", "implies", "iff", "not"]
+    if agents:
+        ops += ["K", "Kw"]
+        if allow_group:
+            ops += ["E", "D"] + (["C"] if allow_common else [])
+    if allow_announce:
+        ops.append("announce")
+    if allow_dynamic and agents:
+        ops.append("update")
+    op_s = st.sampled_from(ops)
+    agent_s = st.sampled_from(agents) if agents else st.nothing()
 
-    def at(depth: int) -> st.SearchStrategy[Formula]:
-        if depth == 0:
-            return leaves
-        if depth in memo:
-            return memo[depth]
+    @st.composite
+    def at(draw, depth: int) -> Formula:
+        op = draw(op_s) if depth > 0 else "leaf"
+        if op == "leaf":
+            return draw(leaves)
         sub = at(depth - 1)
-        opts = [
-            sub.map(Not),
-            st.lists(sub, min_size=2, max_size=3).map(And),
-            st.lists(sub, min_size=2, max_size=3).map(Or),
-            st.builds(Implies, sub, sub),
-            st.builds(Iff, sub, sub),
-        ]
-        if agents:
-            opts += [st.builds(K, st.sampled_from(agents), sub), st.builds(Kw, st.sampled_from(agents), sub)]
-            if allow_group:
-                opts += [st.builds(E, groups, sub), st.builds(D, groups, sub)]
-                if allow_common:
-                    opts.append(st.builds(C, groups, sub))
-        if allow_announce:
-            opts.append(st.builds(Announce, sub, sub))
-        if allow_dynamic and agents:
-            opts.append(_updates(props, agents, max_events, sub))
-        opts.append(sub)  # shallower formulas too (last: generation picks branches uniformly)
-        memo[depth] = st.one_of(opts)
-        return memo[depth]
+        if op in ("and", "or"):
+            return (And if op == "and" else Or)(draw(st.lists(sub, min_size=2, max_size=3)))
+        if op in ("implies", "iff"):
+            return (Implies if op == "implies" else Iff)(draw(sub), draw(sub))
+        if op == "not":
+            return Not(draw(sub))
+        if op in ("K", "Kw"):
+            return (K if op == "K" else Kw)(draw(agent_s), draw(sub))
+        if op in ("E", "D", "C"):
+            return {"E": E, "D": D, "C": C}[op](draw(groups), draw(sub))
+        if op == "announce":
+            return Announce(draw(sub), draw(sub))
+        return draw(_updates(props, agents, max_events, sub))
 
     return at(max_depth)
 
@@ -154,20 +160,23 @@ def relations(n: int, frame: str = "S5") -> st.SearchStrategy[Relation]:
         return st.lists(st.booleans(), min_size=n * n, max_size=n * n).map(
             lambda bits: Relation.from_matrix(np.array(bits, dtype=bool).reshape(n, n)))
 
-    @st.composite
-    def kd45(draw):
-        cluster = draw(st.lists(st.integers(0, n - 1), min_size=n, max_size=n))
-        believed = draw(st.lists(st.booleans(), min_size=n, max_size=n))
-        cl = np.asarray(cluster)
-        bel = np.asarray(believed, dtype=bool)
-        for c in np.unique(cl):  # every cluster believes at least one of its worlds
-            members = np.flatnonzero(cl == c)
-            if not bel[members].any():
-                bel[members[0]] = True
-        mat = (cl[:, None] == cl[None, :]) & bel[None, :]  # w R v iff same cluster and v believed
-        return Relation.from_matrix(mat)
+    return st.tuples(st.lists(st.integers(0, n - 1), min_size=n, max_size=n),
+                     st.lists(st.booleans(), min_size=n, max_size=n)).map(lambda cb: kd45_relation(*cb))
 
-    return kd45()
+
+def kd45_relation(cluster: Sequence[int], believed: Sequence[bool]) -> Relation:
+    """The KD45 relation with w R v iff w, v are in the same cluster and v is believed in it.
+
+    A cluster without a believed world believes its first world. Every KD45 relation arises so: take
+    clusters = classes of "same successor set" closed under successors, believed = the successor sets.
+    """
+    cl = np.asarray(cluster, dtype=np.int64)
+    bel = np.asarray(believed, dtype=bool).copy()
+    for c in np.unique(cl):  # every cluster believes at least one of its worlds (seriality)
+        members = np.flatnonzero(cl == c)
+        if not bel[members].any():
+            bel[members[0]] = True
+    return Relation.from_matrix((cl[:, None] == cl[None, :]) & bel[None, :])
 
 
 def kripke_models(props: Sequence[str], agents: Sequence[str], max_worlds: int = 5, *, frame: str = "S5",
