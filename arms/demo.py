@@ -22,7 +22,8 @@ def demo_plan() -> Plan:
 
 
 def execute_and_render(plan: Plan, out_dir: Path | None, *, grasp: str = "weld", render: bool = True,
-                       video: bool = False, fps: float = 10.0, save_scene: bool = True, progress=None):
+                       video: bool = False, fps: float = 10.0, save_scene: bool = True, progress=None,
+                       tolerance: float = 0.01):
     """Run ``plan`` in physics; if ``out_dir`` is given write scene.xml, result.json and pictures.
 
     Returns (RunResult with ``files`` filled in, message about rendering).
@@ -34,7 +35,8 @@ def execute_and_render(plan: Plan, out_dir: Path | None, *, grasp: str = "weld",
     from arms.scene import save_mjcf
 
     record = fps if (render and video and out_dir is not None) else 0.0
-    result, ex = run_plan(plan, grasp=grasp, record_fps=record, progress=progress)
+    result, ex = run_plan(plan, grasp=grasp, record_fps=record, progress=progress,
+                           tolerance=tolerance)
     files: dict[str, str] = {}
     note = "rendering not requested"
     if out_dir is not None:

@@ -43,6 +43,7 @@ class ActionOutcome:
     index: int
     action: str
     robot: str
+    text: str
     success: bool
     message: str
     max_block_error: float
@@ -51,7 +52,8 @@ class ActionOutcome:
     observed: Mapping[str, str] = field(default_factory=dict)
 
     def to_json(self) -> dict:
-        return {"index": self.index, "action": self.action, "robot": self.robot, "success": self.success,
+        return {"index": self.index, "action": self.action, "robot": self.robot, "text": self.text,
+                "success": self.success,
                 "message": self.message, "max_block_error_m": self.max_block_error,
                 "worst_block": self.worst_block, "sim_time_s": self.sim_time, "observed": dict(self.observed)}
 
@@ -67,6 +69,7 @@ class RunResult:
     wall_seconds: float
     arm_contacts: int
     grasp: str
+    max_slip: float = 0.0
     failure: str | None = None
     files: Mapping[str, str] = field(default_factory=dict)
 
@@ -81,6 +84,7 @@ class RunResult:
                     b: dict(p) for b, p in self.final_poses.items()},
                 "sim_seconds": self.sim_seconds, "wall_seconds": self.wall_seconds,
                 "realtime_factor": self.realtime_factor, "arm_contacts": self.arm_contacts,
+                "max_slip_m": self.max_slip,
                 "files": dict(self.files)}
 
 
@@ -111,6 +115,8 @@ class Executor:
         self.q_ik = self.ik.full_q()
         self.tcp_cmd = {r: self.ik.tcp_pose(self.q_ik, r) for r in world.robots}
         self.held: dict[str, str] = {}
+        self._grasp_offset: dict[str, np.ndarray] = {}
+        self.slips: list[float] = []  # block displacement in the hand between grasp and release (m)
         self.record_fps = record_fps
         self.frames: list[np.ndarray] = []
         self._next_frame = 0.0
@@ -138,8 +144,8 @@ class Executor:
                     self.arm_contacts += 1
             self._record()
 
-    def _tick(self, targets: Mapping[str, np.ndarray]) -> None:
-        self.q_ik = self.ik.step(self.q_ik, targets, self.control_dt)
+    def _tick(self, targets: Mapping[str, np.ndarray], *, posture: bool = True) -> None:
+        self.q_ik = self.ik.step(self.q_ik, targets, self.control_dt, posture=posture)
         for r in self.world.robots:
             self.data.ctrl[self._arm_act[r]] = self.q_ik[self.ik.qadr[r]]
         self._physics(self.n_sub)
@@ -166,7 +172,7 @@ class Executor:
         start = mink.SE3.from_matrix(self.tcp_cmd[robot])
         goal = mink.SE3.from_matrix(np.asarray(target, dtype=float))
         dp, dr = pose_error(self.tcp_cmd[robot], target)
-        duration = max(0.25, dp / speed, dr / 1.0)
+        duration = max(0.2, dp / speed, dr / 1.5)
         n = max(1, math.ceil(duration / self.control_dt))
         targets = self._hold_targets()
         for k in range(1, n + 1):
@@ -175,12 +181,12 @@ class Executor:
         targets[robot] = np.asarray(target, dtype=float)
         self.tcp_cmd[robot] = targets[robot]
         err = np.inf
-        for _ in range(100):  # settle: at most 1 s more
+        for _ in range(100):  # settle (posture off, so the fixed point is the exact target): at most 1 s
             err, _rot = pose_error(self.ik.tcp_pose(self.q_ik, robot), targets[robot])
             track = np.max(np.abs(self.data.qpos[self._arm_adr[robot]] - self.data.ctrl[self._arm_act[robot]]))
-            if err < 2e-4 and track < 2e-3:
+            if err < 3e-4 and track < 3e-3:
                 break
-            self._tick(targets)
+            self._tick(targets, posture=False)
         if err > 5e-3:
             raise MotionError(f"{robot} cannot reach {np.round(targets[robot][:3, 3], 3).tolist()} "
                               f"(IK residual {err * 1000:.1f} mm)")
@@ -226,9 +232,19 @@ class Executor:
             self.model.eq_data[eq, 10] = 1.0
             self.data.eq_active[eq] = 1
         self.held[robot] = block
+        self._grasp_offset[robot] = self._local_offset(robot, block)
         self.wait(0.05)
 
+    def _local_offset(self, robot: str, block: str) -> np.ndarray:
+        tcp = self.tcp_actual(robot)
+        return tcp[:3, :3].T @ (self.block_position(block) - tcp[:3, 3])
+
     def detach(self, robot: str) -> None:
+        """Release: record how far the block slipped in the hand since the grasp, switch the weld off."""
+        block = self.held.get(robot)
+        if block is not None:
+            slip = np.linalg.norm(self._local_offset(robot, block) - self._grasp_offset.pop(robot))
+            self.slips.append(float(slip))
         block = self.held.pop(robot, None)
         if block is not None and self.grasp == "weld":
             self.data.eq_active[self.scene.weld_id(robot, block)] = 0
@@ -320,7 +336,7 @@ class Executor:
             except (PlanError, MotionError) as exc:
                 kind = "precondition" if isinstance(exc, PlanError) else "motion"
                 msg = f"action {i} ({act}) failed ({kind}): {exc}"
-                outcomes.append(ActionOutcome(i, act.name, act.robot, False, msg, float("nan"), None,
+                outcomes.append(ActionOutcome(i, act.name, act.robot, str(act), False, msg, float("nan"), None,
                                               float(self.data.time), observed))
                 failure = msg
                 break
@@ -334,7 +350,7 @@ class Executor:
                 want = nxt.places[worst]
                 msg = (f"action {i} ({act}): block {worst!r} is {worst_err * 100:.2f} cm from its symbolic "
                        f"place ({want.describe()}); tolerance {self.tolerance * 100:.1f} cm")
-            outcomes.append(ActionOutcome(i, act.name, act.robot, ok, msg, worst_err, worst,
+            outcomes.append(ActionOutcome(i, act.name, act.robot, str(act), ok, msg, worst_err, worst,
                                           float(self.data.time), observed))
             state = nxt
             if not ok:
@@ -343,7 +359,8 @@ class Executor:
         return RunResult(success=failure is None and len(outcomes) == len(plan.actions),
                          actions=tuple(outcomes), final_poses=self.final_poses(),
                          sim_seconds=float(self.data.time), wall_seconds=time.perf_counter() - t0,
-                         arm_contacts=self.arm_contacts, grasp=self.grasp, failure=failure)
+                         arm_contacts=self.arm_contacts, grasp=self.grasp,
+                         max_slip=max(self.slips, default=0.0), failure=failure)
 
 
 def _down_pose(xyz) -> np.ndarray:

@@ -222,7 +222,7 @@ def _add_blocks(spec: mujoco.MjSpec, world: World, robots: tuple[str, ...]) -> N
                                    objtype=mujoco.mjtObj.mjOBJ_BODY, name1=f"{r}/{TCP_BODY}",
                                    name2=f"block/{b}")
             eq.active = False
-            eq.solref = [0.01, 1.0]
+            eq.solref = [0.004, 1.0]
 
 
 def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = None,
