@@ -34,7 +34,8 @@ stay on the grid: 4 (N, S, E, W) or 8 (plus NE, NW, SW, SE).
 
 Episode.  For :math:`k = 1..E`: every robot observes its cell; the algorithm communicates
 (``enforce`` = ENFORCEAC, ``baseline1`` = every robot sends all its unshared observations to every other
-robot every step, ``baseline2`` = never); then every robot selects a joint action from *its own* history
+robot every step — with ``resend=False`` only the current step's reading, so a dropped message is never
+repaired — ``baseline2`` = never); then every robot selects a joint action from *its own* history
 only and executes its own component.  ``Not-AC`` counts steps where the robots' selected joint actions
 differ.  ``comm_restr = m`` picks *m* random steps (from the seed, unknown to the algorithms) on which the
 channel is down: COMMs attempted then are dropped.
@@ -114,6 +115,7 @@ class SARConfig:
     policy: Literal["greedy", "oldest", "all"] = "all"
     tie_break: Literal["random", "index"] = "random"
     trigger: Literal["paper", "useful"] = "paper"
+    resend: bool = True
 
     def __post_init__(self) -> None:
         if self.width < 2 or self.height < 2:
@@ -324,6 +326,8 @@ def run_episode(config: SARConfig, algorithm: Algorithm) -> EpisodeResult:
         agreed = False
         if algorithm == "baseline1":
             snapshot = kn.copy()
+            if not config.resend:  # only this step's readings: what a dropped message lost stays lost
+                snapshot[:, : slots - n] = False
             for r, o in itertools.permutations(range(n), 2):
                 missing = snapshot[r] & ~snapshot[o]
                 if missing.any():

@@ -1,0 +1,211 @@
+"""Benchmark: Table I of seed 002 (action consistency, search and rescue) — ours beside the paper's.
+
+Run:  .venv/bin/python bench/consistency.py [--seeds 10] [--epochs 200] [--quick] [--plot fig4.png]
+
+Prints markdown tables:
+  A. Table I, seed 0, 10×10 grid, beside the paper's figures (Julia, i7-6500U);
+  B. mean ± sd over seeds on a 10×10 and a 20×20 grid, and the COMM saving of ENFORCEAC vs Baseline-I;
+  C. time of one E = 200 episode of ENFORCEAC vs the paper's (speed-up ratio, target ≥ 10×);
+  D. ablations (what a robot sends, trigger rule, tie-break, Baseline-I without re-sending);
+  E. N = 2, 3, 4 robots;
+and the number of Theorem-3.3 violations seen in every ENFORCEAC episode (must be 0).
+"""
+
+from __future__ import annotations
+
+import argparse
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from sim.sar import (  # noqa: E402
+    ALGORITHM_NAMES,
+    ALGORITHMS,
+    INIT_NAMES,
+    PAPER_TABLE_I,
+    SARConfig,
+    run_episode,
+    table_i,
+)
+
+VIOLATIONS = 0
+EPISODES = 0
+
+
+def episode(cfg: SARConfig, alg: str):
+    global VIOLATIONS, EPISODES
+    res = run_episode(cfg, alg)  # type: ignore[arg-type]
+    VIOLATIONS += res.violations
+    EPISODES += 1
+    return res
+
+
+def md(header: list[str], rows: list[list[str]]) -> str:
+    out = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+    out += ["| " + " | ".join(r) + " |" for r in rows]
+    return "\n".join(out)
+
+
+def ms(values: list[float], digits: int = 0) -> str:
+    m = statistics.fmean(values)
+    s = statistics.pstdev(values) if len(values) > 1 else 0.0
+    return f"{m:.{digits}f} ± {s:.{digits}f}"
+
+
+def label(restr: int, prims: int, init: str) -> str:
+    return f"restr={restr}, prim={prims}, {INIT_NAMES[init]}"
+
+
+def section_a(epochs: int) -> str:
+    rows = []
+    for r in table_i(SARConfig(epochs=epochs, seed=0)):
+        global VIOLATIONS, EPISODES
+        VIOLATIONS += r.ours.violations
+        EPISODES += 1
+        p = r.paper
+        rows.append([label(r.comm_restr, r.primitives, r.init), ALGORITHM_NAMES[r.algorithm],
+                     str(r.ours.not_ac), str(p[0]), str(r.ours.comms), str(p[1]), str(r.ours.observations_sent),
+                     f"{r.ours.time_s:.2f}", f"{p[2]:.1f}"])
+    return md(["Input", "Algorithm", "Not-AC", "paper", "COMM", "paper", "obs sent", "Time s", "paper s"], rows)
+
+
+def section_b(epochs: int, seeds: int, width: int) -> str:
+    rows = []
+    for (restr, prims, init), paper in PAPER_TABLE_I.items():
+        m = round(restr * epochs / 200)
+        per_alg = {}
+        for alg in ALGORITHMS:
+            res = [episode(SARConfig(width=width, height=width, epochs=epochs, seed=s, comm_restr=m,
+                                     primitives=prims, init=init), alg) for s in range(seeds)]  # type: ignore[arg-type]
+            per_alg[alg] = res
+        for alg in ALGORITHMS:
+            res = per_alg[alg]
+            saving = ""
+            if alg == "enforce":
+                ratios = [1 - e.comms / b.comms for e, b in zip(res, per_alg["baseline1"], strict=True)]
+                theirs = 100 * (1 - paper["enforce"][1] / paper["baseline1"][1])
+                saving = f"{100 * statistics.fmean(ratios):.0f} % (paper {theirs:.0f} %)"
+            rows.append([label(restr, prims, init), ALGORITHM_NAMES[alg],
+                         ms([r.not_ac for r in res], 1), str(paper[alg][0]),
+                         ms([r.comms for r in res]), str(paper[alg][1]),
+                         ms([r.observations_sent for r in res]), saving,
+                         f"{statistics.fmean(r.team_j[-1] for r in res):.2f}"])
+    return md(["Input", "Algorithm", "Not-AC", "paper", "COMM", "paper", "obs sent", "COMM saved vs B-I",
+               "final J"], rows)
+
+
+def section_c(epochs: int, seeds: int) -> str:
+    rows = []
+    worst = float("inf")
+    for (restr, prims, init), paper in PAPER_TABLE_I.items():
+        times = [episode(SARConfig(epochs=epochs, seed=s, comm_restr=round(restr * epochs / 200),
+                                   primitives=prims, init=init), "enforce").time_s
+                 for s in range(seeds)]  # type: ignore[arg-type]
+        t = statistics.fmean(times)
+        ratio = paper["enforce"][2] * epochs / 200 / t
+        worst = min(worst, ratio)
+        rows.append([label(restr, prims, init), f"{t:.3f}", f"{max(times):.3f}", f"{paper['enforce'][2]:.1f}",
+                     f"{ratio:.0f}×"])
+    table = md(["Input", "ENFORCEAC mean s", "max s", "paper s (Julia)", "speed-up"], rows)
+    return table + f"\n\nSmallest speed-up: {worst:.0f}× (target ≥ 10×)."
+
+
+def section_d(epochs: int, seeds: int) -> str:
+    variants = [
+        ("default: send all relevant, paper T1/T2, random common tie-break", {}),
+        ("send greedy (1 observation per COMM)", {"policy": "greedy"}),
+        ("send oldest (1 observation per COMM)", {"policy": "oldest"}),
+        ("trigger 'useful' (T2 only when it helps)", {"trigger": "useful"}),
+        ("tie-break by lowest index", {"tie_break": "index"}),
+        ("sensor p_d = 0.99, p_f = 0.01", {"p_detect": 0.99, "p_false": 0.01}),
+    ]
+    rows = []
+    for inp in ((0, 4, "max-entropy"), (20, 8, "max-entropy")):
+        restr, prims, init = inp
+        for name, kw in variants:
+            res = [episode(SARConfig(epochs=epochs, seed=s, comm_restr=round(restr * epochs / 200),
+                                     primitives=prims, init=init, **kw), "enforce")  # type: ignore[arg-type]
+                   for s in range(seeds)]
+            rows.append([label(*inp), "ENFORCEAC: " + name, ms([r.not_ac for r in res], 1),
+                         ms([r.comms for r in res]), ms([r.observations_sent for r in res]),
+                         f"{statistics.fmean(r.time_s for r in res):.2f}"])
+        for resend in (True, False):
+            res = [episode(SARConfig(epochs=epochs, seed=s, comm_restr=round(restr * epochs / 200),
+                                     primitives=prims, init=init, resend=resend), "baseline1")  # type: ignore[arg-type]
+                   for s in range(seeds)]
+            rows.append([label(*inp), f"Baseline-I, resend={resend}", ms([r.not_ac for r in res], 1),
+                         ms([r.comms for r in res]), ms([r.observations_sent for r in res]),
+                         f"{statistics.fmean(r.time_s for r in res):.2f}"])
+    return md(["Input", "Variant", "Not-AC", "COMM", "obs sent", "Time s"], rows)
+
+
+def section_e(epochs: int, seeds: int) -> str:
+    rows = []
+    for n in (2, 3, 4):
+        for prims in (4, 8):
+            if n == 4 and prims == 8:
+                seeds_here = max(1, seeds // 3)
+            else:
+                seeds_here = seeds
+            for alg in ALGORITHMS:
+                res = [episode(SARConfig(robots=n, primitives=prims, epochs=epochs, seed=s), alg)
+                       for s in range(seeds_here)]
+                rows.append([str(n), str(prims), ALGORITHM_NAMES[alg], ms([r.not_ac for r in res], 1),
+                             ms([r.comms for r in res]), ms([r.observations_sent for r in res]),
+                             str(max(r.violations for r in res)), f"{statistics.fmean(r.time_s for r in res):.2f}"])
+    return md(["N", "prim", "Algorithm", "Not-AC", "COMM", "obs sent", "violations", "Time s"], rows)
+
+
+def plot(path: str, epochs: int) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    cfg = SARConfig(epochs=epochs, seed=0)
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(10, 3.5))
+    for alg in ALGORITHMS:
+        res = run_episode(cfg, alg)
+        ax1.plot(res.team_j, label=ALGORITHM_NAMES[alg])
+        if alg == "enforce":
+            ax2.plot(res.since_comm, color="C2")
+    ax1.set(xlabel="time step", ylabel="J of executed joint action", title="(a) J (full-information belief)")
+    ax1.legend()
+    ax2.set(xlabel="time step", ylabel="steps since last COMM", title="(b) ENFORCEAC")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--epochs", type=int, default=200)
+    ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--quick", action="store_true", help="3 seeds, 60 epochs (smoke run)")
+    ap.add_argument("--plot", help="write a Fig. 4(a,b)-style PNG here")
+    args = ap.parse_args()
+    epochs, seeds = (60, 3) if args.quick else (args.epochs, args.seeds)
+    start = time.perf_counter()
+    print(f"# Action consistency (seed 002) — E = {epochs}, {seeds} seeds")
+    print(f"\nmachine: {platform.node()} ({platform.processor() or platform.machine()}), "
+          f"Python {platform.python_version()}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}\n")
+    for title, fn in (("A. Table I, seed 0, 10×10 grid", lambda: section_a(epochs)),
+                      (f"B1. Table I, mean ± sd over {seeds} seeds, 10×10 grid", lambda: section_b(epochs, seeds, 10)),
+                      (f"B2. Table I, mean ± sd over {seeds} seeds, 20×20 grid", lambda: section_b(epochs, seeds, 20)),
+                      ("C. Speed of ENFORCEAC (one episode)", lambda: section_c(epochs, seeds)),
+                      ("D. Ablations", lambda: section_d(epochs, max(3, seeds // 2))),
+                      ("E. N robots (MaxEntropy-Init, comm-restr = 0)", lambda: section_e(epochs, max(2, seeds // 3)))):
+        t0 = time.perf_counter()
+        print(f"## {title}\n\n{fn()}\n\n({time.perf_counter() - t0:.0f} s)\n", flush=True)
+    print(f"Theorem 3.3 violations over all {EPISODES} episodes: {VIOLATIONS}")
+    print(f"total bench time {time.perf_counter() - start:.0f} s")
+    if args.plot:
+        plot(args.plot, epochs)
+        print(f"wrote {args.plot}")
+
+
+if __name__ == "__main__":
+    main()
