@@ -34,8 +34,9 @@ Four tools, all returning plain data (frozen dataclasses) and never trusting z3 
    where the announced formula holds (so C under [!ψ] is supported). A model z3 returns is rebuilt as a
    :class:`~delkit.kripke.KripkeModel` and **re-checked by the explicit model checker**; if the two
    disagree a :class:`VerificationError` is raised. A ``Verdict(valid=True)`` from :func:`prove` means "no
-   counter-model with at most k worlds" (``exact`` says whether that is a proof: it is for propositional
-   formulas; for modal ones it is a bounded answer).
+   counter-model with at most k worlds"; ``exact`` says whether that is a proof: it is for propositional
+   formulas and for single-agent S5 formulas within the small-model bound (:func:`s5_single_agent_bound`);
+   otherwise it is a bounded answer.
 """
 
 from __future__ import annotations
@@ -77,7 +78,7 @@ from delkit.relation import Relation
 
 __all__ = [
     "VerificationError", "Verdict", "MacroCheck", "valid", "satisfiable", "equivalent", "counterexample",
-    "to_z3", "reduce", "check_macro", "find_model", "prove", "LOGICS",
+    "to_z3", "reduce", "check_macro", "find_model", "prove", "s5_single_agent_bound", "LOGICS",
 ]
 
 LOGICS = ("S5", "KD45", "K")
@@ -407,6 +408,7 @@ class Verdict:
     """Answer of :func:`prove`.
 
     ``valid`` – no counter-model was found with at most ``worlds`` worlds (a proof if ``exact``);
+    ``stats`` – solver time and the small-model bound used for exactness (if any);
     ``counter_model`` – a pointed model (designated world 0) where the formula is false, re-checked by the
     explicit model checker; ``logic`` – S5, KD45 or K; ``exact`` – True when the answer is a proof of
     validity/invalidity (always for invalid; for valid only if the formula is propositional).
@@ -633,15 +635,47 @@ def find_model(formula: Formula | str, *, logic: str = "S5", worlds: int = 4, pr
     return None
 
 
+def s5_single_agent_bound(formula: Formula | str) -> int | None:
+    """Small-model bound for single-agent S5: 1 + the number of distinct modal subformulas (Kw counted
+    twice), or None if the formula has more than one agent or a dynamic operator.
+
+    Why it suffices (the filtration argument of Ladner 1977 / Fagin et al., *Reasoning about Knowledge*
+    §3.6): an S5 model for one agent is, from the actual world, one cluster; every ¬K_a ψ true there
+    needs one witness world and every other modal subformula keeps its truth value in any sub-cluster
+    that keeps the witnesses. With one agent, E, C and D of {a} all coincide with K_a on S5 frames.
+    """
+    f = _f(formula)
+    if len(agents_of(f)) > 1:
+        return None
+    count = 0
+    for g in subformulas(f):
+        if isinstance(g, (Announce, Update)):
+            return None
+        if isinstance(g, Kw):
+            count += 2
+        elif isinstance(g, (K, E, C, D)):
+            count += 1
+    return count + 1
+
+
 def prove(formula: Formula | str, *, logic: str = "S5", worlds: int = 4, props: Iterable[str] = (),
           agents: Iterable[str] = ()) -> Verdict:
     """Is ``formula`` valid on the frames of ``logic``? Searches a counter-model of at most ``worlds``
-    worlds (a model of ¬φ at world 0, re-checked explicitly). Propositional formulas are decided exactly
-    (one world suffices: a counter-valuation)."""
+    worlds (a model of ¬φ at world 0, re-checked explicitly).
+
+    The answer is exact (``Verdict.exact``) when a counter-model is found, for propositional formulas
+    (one world suffices: a counter-valuation), and for single-agent S5 formulas when ``worlds`` reaches
+    :func:`s5_single_agent_bound`; otherwise "valid" means "no counter-model with ≤ ``worlds`` worlds".
+    """
+    import time
+
     f = _f(formula)
     prop = is_propositional(f)
     k = 1 if prop else worlds
+    t0 = time.perf_counter()
     m = find_model(Not(f), logic=logic, worlds=k, props=props, agents=agents)
-    if m is not None and not prop and not bool((~m.check(f))[0]):  # pragma: no cover - re-checked above
-        raise VerificationError("internal error: counter-model does not falsify the formula")
-    return Verdict(f, m is None, m, logic.upper(), k, exact=prop or m is not None)
+    seconds = time.perf_counter() - t0
+    bound = s5_single_agent_bound(f) if logic.upper() == "S5" and not set(agents) - agents_of(f) else None
+    exact = prop or m is not None or (bound is not None and bound <= k)
+    return Verdict(f, m is None, m, logic.upper(), k, exact=exact,
+                   stats={"seconds": round(seconds, 4), "small_model_bound": bound})

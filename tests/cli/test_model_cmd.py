@@ -108,7 +108,9 @@ def test_show(muddy, capsys):
 
 
 def test_prove_valid_and_invalid(capsys):
-    assert main(["prove", "K_a p -> K_a K_a p"]) == 0
+    assert main(["prove", "K_a p -> K_a K_a p"]) == 0  # one agent: a proof (small-model bound)
+    assert capsys.readouterr().out == "K_a p -> K_a K_a p: valid\n"
+    assert main(["prove", "C{a,b} p -> K_a K_b p"]) == 0
     assert "no counter-model with at most 4 world(s) (S5)" in capsys.readouterr().out
     assert main(["prove", "p -> p | q"]) == 0
     assert ": valid" in capsys.readouterr().out

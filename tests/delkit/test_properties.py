@@ -11,7 +11,7 @@ import itertools
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from delkit import (
@@ -39,7 +39,7 @@ from delkit import (
 )
 from delkit.formula import subformulas
 from delkit.testing import event_models, formulas, kd45_models, kripke_models, s5_models
-from delkit.verify import find_model, reduce
+from delkit.verify import find_model, prove, reduce, s5_single_agent_bound
 
 PROPS = ("p", "q")
 AGENTS = ("a", "b")
@@ -324,3 +324,17 @@ def test_model_search_of_negation_is_consistent_with_validity(frame, phi):
     assert pos is not None or neg is not None
     if neg is not None:
         assert not bool(neg.check(phi)[0])
+
+
+@FEW
+@given(s5_models(PROPS, ["a"], 6), formulas(PROPS, ["a"], 3))
+def test_single_agent_s5_answers_are_exact(m, phi):
+    # within the small-model bound, "no counter-model" is a proof: no random S5 model may refute it
+    bound = s5_single_agent_bound(phi)
+    assume(bound <= 5)
+    v = prove(phi, logic="S5", worlds=bound)
+    assert v.exact
+    if not everywhere(m, phi):
+        assert not v.valid
+    if not v.valid:
+        assert not v.counter_model.holds(phi)

@@ -30,6 +30,7 @@ from delkit.verify import (
     find_model,
     prove,
     reduce,
+    s5_single_agent_bound,
     satisfiable,
     to_z3,
     valid,
@@ -66,7 +67,11 @@ def test_to_z3_refuses_modal_formulas_with_a_hint():
                                    "C{a,b} p <-> E{a,b} (p & C{a,b} p)", "K_a p -> D{a,b} p"])
 def test_s5_validities_have_no_small_counter_model(axiom):
     v = prove(axiom, logic="S5", worlds=4)
-    assert v.valid and v.counter_model is None and not v.exact  # bounded answer for modal formulas
+    assert v.valid and v.counter_model is None
+    # a proof for one agent (small-model bound), a bounded answer for several
+    assert v.exact == (s5_single_agent_bound(axiom) is not None)
+    assert v.exact == (axiom in ("K_a p -> p", "K_a p -> K_a K_a p", "~K_a p -> K_a ~K_a p",
+                                 "K_a (p -> q) -> K_a p -> K_a q"))
 
 
 @pytest.mark.parametrize(("formula", "logic", "n_worlds"), [
@@ -85,6 +90,16 @@ def test_invalid_formulas_get_a_minimal_counter_model(formula, logic, n_worlds):
     assert not m.frame_violations(logic)
     assert not m.holds(formula)  # explicit checker, at the designated world 0
     assert m.designated == (0,)
+
+
+def test_small_model_bound_for_one_agent():
+    assert s5_single_agent_bound("K_a p -> p") == 2
+    assert s5_single_agent_bound("Kw_a p & C{a} q") == 4
+    assert s5_single_agent_bound("K_a p -> K_b p") is None
+    assert s5_single_agent_bound("[!p] K_a p") is None
+    assert s5_single_agent_bound("p | q") == 1
+    v = prove("K_a p -> K_a K_a p", worlds=2)  # bound 3 > 2 worlds: not a proof
+    assert v.valid and not v.exact and v.stats["small_model_bound"] == 3
 
 
 def test_moore_sentence_is_unsuccessful():
