@@ -7,7 +7,6 @@ the shared table and announces it; robot2 takes *red* from the shared table to i
 from __future__ import annotations
 
 import json
-from importlib import resources
 from pathlib import Path
 
 from arms.plan import Plan, parse_plan
@@ -17,7 +16,7 @@ __all__ = ["demo_plan", "run_demo", "execute_and_render"]
 
 def demo_plan() -> Plan:
     """The built-in plan (``arms/demo_plan.json``)."""
-    text = resources.files("arms").joinpath("demo_plan.json").read_text()
+    text = (Path(__file__).resolve().parent / "demo_plan.json").read_text()
     return parse_plan(json.loads(text), source="arms/demo_plan.json")
 
 

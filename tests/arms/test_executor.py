@@ -1,0 +1,75 @@
+"""End to end: the two-robot plan runs in physics and every block ends within 1 cm of its symbolic place."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from arms.demo import demo_plan
+from arms.executor import Executor, run_plan
+from arms.plan import parse_plan, symbolic_trace
+
+
+@pytest.fixture(scope="module")
+def demo_run():
+    plan = demo_plan()
+    result, ex = run_plan(plan, grasp="weld")
+    return plan, result, ex
+
+
+def test_two_robot_plan_completes_with_blocks_within_1cm(demo_run):
+    plan, result, ex = demo_run
+    assert result.success, result.failure
+    assert [a.success for a in result.actions] == [True] * len(plan.actions)
+    final = symbolic_trace(plan)[-1]
+    for b, loc in final.places.items():  # independent re-check of the executor's own verification
+        assert loc.kind == "stack"
+        got = np.array(result.final_poses[b]["pos"])
+        assert np.linalg.norm(got - plan.world.position(loc)) < 0.01, b
+    # red really travelled from robot1's table over the shared table to robot2's table
+    assert final.places["red"].robot == "robot2"
+    assert result.final_poses["red"]["pos"][1] > 0.25
+    assert result.arm_contacts == 0
+    assert result.sim_seconds > 5.0  # it was moved by the arms, not teleported
+    sensed = result.actions[0].observed
+    assert sensed == {"red": "red", "black": "black"}
+
+
+def test_weld_grasp_holds_the_block_to_a_fraction_of_a_millimetre(demo_run):
+    _, result, ex = demo_run
+    assert len(ex.slips) == 3
+    assert result.max_slip < 2e-4
+
+
+def test_displaced_block_stops_the_run_with_a_clear_report():
+    plan = demo_plan()
+    ex = Executor(plan.world)
+
+    def knock_over_yellow(i, action):
+        if i == 2:  # somebody moves yellow by 3 cm while robot1 is busy
+            adr = ex.model.jnt_qposadr[ex.model.body_jntadr[ex.scene.block_body("yellow")]]
+            ex.data.qpos[adr] += 0.03
+
+    result = ex.run(plan, progress=knock_over_yellow)
+    assert not result.success
+    last = result.actions[-1]
+    assert last.index == 2 and not last.success and last.worst_block == "yellow"
+    assert "yellow" in result.failure and "action 2" in result.failure and "cm" in result.failure
+    assert 0.025 < last.max_block_error < 0.035
+    assert len(result.actions) == 3  # stopped there
+
+
+def test_symbolically_wrong_action_fails_before_moving():
+    obj = demo_plan().to_json()
+    obj["actions"] = [{"robot": "robot1", "action": "pick", "args": ["red", "table", 0, 1]}]
+    result, ex = run_plan(parse_plan(obj))
+    assert not result.success and "covered" in result.failure and "precondition" in result.failure
+    assert ex.data.time == 0.0
+
+
+@pytest.mark.slow
+def test_friction_grasp_also_completes_but_slips_more(demo_run):
+    plan, weld, _ = demo_run
+    result, _ = run_plan(plan, grasp="friction")
+    assert result.success, result.failure
+    assert result.max_slip > weld.max_slip

@@ -1,0 +1,79 @@
+"""IK: mink over both arms, pinocchio cross-check, CLIK fallback, arm–arm collision avoidance."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from arms.ik import POS_TOL, ROT_TOL, DualArmIK, PinocchioArm, pose, pose_error, random_reachable_poses
+from arms.world import Layout
+
+
+@pytest.fixture(scope="module")
+def ik():
+    return DualArmIK()
+
+
+def test_pinocchio_and_mujoco_fk_agree(ik):
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        arms = {r: rng.uniform(ik.pin[r].lower, ik.pin[r].upper) for r in ik.robots}
+        assert ik.fk_disagreement(ik.full_q(arms)) < 1e-9
+
+
+def test_fk_matches_the_urdf_chain_at_zero():
+    """At q = 0 the TCP is straight above the base: z = 0.333 + 0.316 + 0.384 - 0.107 - 0.1034 ... check x."""
+    arm = PinocchioArm()
+    t = arm.fk(np.zeros(7))
+    # joint offsets along the URDF: x = 0.0825 - 0.0825 + 0.088, z = 0.333 + 0.316 + 0.384 - 0.107 - 0.1034
+    assert np.allclose(t[:3, 3], [0.088, 0.0, 0.333 + 0.316 + 0.384 - 0.107 - 0.1034], atol=1e-9)
+
+
+def test_both_arms_reach_targets_in_one_qp(ik):
+    lay = Layout()
+    for k, (dx, dz) in enumerate([(0.0, 0.15), (-0.1, 0.25), (0.08, 0.1)]):
+        targets = {r: pose([lay.stack_x + dx, lay.stack_xy(i, 0)[1], dz]) for i, r in enumerate(ik.robots)}
+        res = ik.solve(targets, budget=0.5, seed=k)
+        assert res.converged, res
+        assert res.position_error < POS_TOL and res.orientation_error < ROT_TOL
+        assert res.fk_disagreement < 1e-9
+        q = ik.full_q(res.q)
+        for r, t in targets.items():
+            dp, dr = pose_error(ik.pin[r].fk(q[ik.qadr[r]]), t)
+            assert dp < POS_TOL and dr < ROT_TOL
+        assert ik.min_arm_distance(q) > 0
+
+
+def test_clik_fallback_solves_random_reachable_poses(ik):
+    _, poses = random_reachable_poses(60, seed=11)
+    results = [ik.solve_clik({"robot1": t}, budget=0.05, seed=i) for i, t in enumerate(poses)]
+    rate = np.mean([r.converged for r in results])
+    assert rate >= 0.95
+    for r, t in zip(results, poses, strict=True):
+        if r.converged:
+            assert pose_error(ik.pin["robot1"].fk(r.q["robot1"]), t)[0] < POS_TOL
+
+
+def test_unreachable_target_is_reported_not_converged(ik):
+    res = ik.solve({"robot1": pose([1.6, -0.36, 0.3])}, budget=0.05)
+    assert not res.converged and res.position_error > 0.5
+
+
+def _min_distance_along(ik, steps=150):
+    target = pose([Layout().stack_x, 0.0, 0.15])
+    q = ik.full_q()
+    worst = ik.min_arm_distance(q)
+    for _ in range(steps):
+        q = ik.step(q, {"robot1": target, "robot2": target}, 0.01)
+        worst = min(worst, ik.min_arm_distance(q))
+    return worst
+
+
+def test_arms_never_interpenetrate_when_commanded_to_the_same_point(ik):
+    assert _min_distance_along(ik) > 0.005
+
+
+def test_without_velocity_limit_collision_avoidance_is_stepped_past():
+    """The linearised avoidance constraint only acts within the detection distance; a step longer than
+    that jumps over it. This is why the velocity limit is part of the QP."""
+    assert _min_distance_along(DualArmIK(velocity_limit=False)) < 0.0
