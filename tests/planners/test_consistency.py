@@ -227,3 +227,12 @@ def test_enforce_rejects_bad_input() -> None:
         enforce_ac(model, ledger, known[:, :-1] if known.shape[1] else np.ones((2, 1), bool))
     with pytest.raises(PlanningError, match="probability"):
         DiscreteBeliefModel(np.array([0.5, 0.6]), (), expected_reward(np.eye(2)))
+
+
+def test_module_usage_examples_run() -> None:
+    import doctest
+
+    import planners.consistency
+
+    result = doctest.testmod(planners.consistency)
+    assert result.attempted > 0 and result.failed == 0

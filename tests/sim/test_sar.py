@@ -170,3 +170,12 @@ def test_full_table_i_and_four_robots_with_eight_primitives() -> None:
             assert row.ours.not_ac == 0 and row.ours.comms < 400
     res = run_episode(SARConfig(robots=4, primitives=8, epochs=200, seed=0), "enforce")
     assert res.not_ac == 0 and res.violations == 0
+
+
+def test_module_usage_example_runs() -> None:
+    import doctest
+
+    import sim.sar
+
+    result = doctest.testmod(sim.sar)
+    assert result.attempted > 0 and result.failed == 0
