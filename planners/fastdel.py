@@ -24,6 +24,8 @@ from __future__ import annotations
 
 from collections.abc import Hashable, Iterator
 from dataclasses import dataclass, field
+from operator import itemgetter
+from typing import Any
 
 import numpy as np
 
@@ -61,6 +63,8 @@ class FastState:
     masks: tuple[tuple[int, ...], ...]  # same as succ, as bit masks
     point: int
     key: Hashable
+    cid: tuple[tuple[int, ...], ...] = ()  # per agent: index of each world's successor set among ...
+    classes: tuple[tuple[tuple[int, ...], ...], ...] = ()  # ... the distinct successor sets of that agent
     memo: dict = field(default_factory=dict, repr=False)
 
     @property
@@ -68,12 +72,14 @@ class FastState:
         return len(self.val)
 
 
-def refine_key(val: list[int], succ: list[list[list[int]]], point: int) -> FastState:
+def refine_key(val: list[int], succ: list[list], point: int) -> FastState:
     """Coarsest bisimulation (partition refinement to the fixpoint) + canonical quotient.
 
     Round 0 ranks valuations; each round ranks the signatures (block, sorted successor blocks per agent)
     — ranks only depend on valuations and earlier ranks, never on world numbers, hence are canonical.
-    Stops when no block splits. The quotient has one world per block, in rank order.
+    Stops when no block splits. The quotient has one world per block, in rank order. Successor lists
+    may be shared between worlds (the same list object for the worlds of one class); the per-round block
+    sets are then computed once per distinct list.
     """
     n = len(val)
     uniq = sorted(set(val))
@@ -81,27 +87,61 @@ def refine_key(val: list[int], succ: list[list[list[int]]], point: int) -> FastS
     blk = [rank[v] for v in val]
     nb = len(uniq)
     nag = len(succ)
+    dist: list[list] = []
+    pick: list[Any] = []
+    for a in range(nag):
+        ids: dict[int, int] = {}
+        lists: list = []
+        c = []
+        for lst in succ[a]:
+            k = ids.get(id(lst))
+            if k is None:
+                k = len(lists)
+                ids[id(lst)] = k
+                lists.append(lst)
+            c.append(k)
+        dist.append(lists)
+        pick.append(itemgetter(*c) if n > 1 else (lambda t, _c=c: tuple(t[k] for k in _c)))
     while True:
-        sigs = [(blk[w], *(tuple(sorted({blk[v] for v in succ[a][w]})) for a in range(nag))) for w in range(n)]
+        cols = []
+        for a in range(nag):
+            t = [tuple(sorted({blk[v] for v in lst})) for lst in dist[a]]
+            cols.append(pick[a](t))
+        sigs = list(zip(blk, *cols, strict=True))
         us = sorted(set(sigs))
         if len(us) == nb:
             break
-        r = {s: i for i, s in enumerate(us)}
-        blk = [r[s] for s in sigs]
+        r = {sg: i for i, sg in enumerate(us)}
+        blk = [r[sg] for sg in sigs]
         nb = len(us)
-    # sigs/us are the stable signatures with blocks = blk (ranks unchanged in the last round)
+    # stable round: the rank of a signature equals its block number, us[b] is the signature of block b
     rep = [-1] * nb
     for w in range(n):
         b = blk[w]
         if rep[b] < 0:
             rep[b] = w
-    table = tuple(us)  # us[i] = (block of val-rank..., successor blocks); block i <-> us[i] (monotone)
-    # In the stable round the rank of a signature equals its block number.
     cval = tuple(val[rep[b]] for b in range(nb))
-    csucc = tuple(tuple(us[b][1 + a] for b in range(nb)) for a in range(nag))
-    cmask = tuple(tuple(_mask(s) for s in per) for per in csucc)
+    csucc_l, cmask_l, cid_l, cls_l = [], [], [], []
+    for a in range(nag):
+        intern: dict[tuple[int, ...], int] = {}
+        tuples: list[tuple[int, ...]] = []
+        masks_d: list[int] = []
+        ids_a = []
+        for b in range(nb):
+            t = us[b][1 + a]
+            k = intern.get(t)
+            if k is None:
+                k = len(tuples)
+                intern[t] = k
+                tuples.append(t)
+                masks_d.append(_mask(t))
+            ids_a.append(k)
+        csucc_l.append(tuple(tuples[k] for k in ids_a))
+        cmask_l.append(tuple(masks_d[k] for k in ids_a))
+        cid_l.append(tuple(ids_a))
+        cls_l.append(tuple(tuples))
     cp = blk[point]
-    return FastState(cval, csucc, cmask, cp, (cval, table, cp))
+    return FastState(cval, tuple(csucc_l), tuple(cmask_l), cp, (cval, tuple(us), cp), tuple(cid_l), tuple(cls_l))
 
 
 def _mask(ws: tuple[int, ...]) -> int:
@@ -271,22 +311,32 @@ class FastSpace:
         succ: list[list[list[int]]] = [[] for _ in range(nag)]
         i = 0
         ssucc = s.succ
+        # successor tuples are shared by the worlds of a class (interned in refine_key): compute the
+        # successor list of (w, e) once per (agent, class, event) and share it
+        memo = [[None] * (len(s.classes[a]) * k) for a in range(nag)]
+        cid = s.cid
         while i < len(order):
             w, e = order[i]
             i += 1
             for a in range(nag):
-                lst = []
-                qa = q[a][e]
-                for v in ssucc[a][w]:
-                    for f in qa:
-                        if (pre[f] >> v) & 1:
-                            key = (v, f)
-                            j = ids.get(key)
-                            if j is None:
-                                j = len(order)
-                                ids[key] = j
-                                order.append(key)
-                            lst.append(j)
+                src = ssucc[a][w]
+                mkey = cid[a][w] * k + e
+                ma = memo[a]
+                lst = ma[mkey]
+                if lst is None:
+                    lst = []
+                    qa = q[a][e]
+                    for v in src:
+                        for f in qa:
+                            if (pre[f] >> v) & 1:
+                                key = (v, f)
+                                j = ids.get(key)
+                                if j is None:
+                                    j = len(order)
+                                    ids[key] = j
+                                    order.append(key)
+                                lst.append(j)
+                    ma[mkey] = lst
                 succ[a].append(lst)
         val = []
         for w, e in order:
@@ -340,16 +390,47 @@ def from_kripke(m: KripkeModel) -> FastState:
     """A single-pointed KripkeModel as a contracted FastState (generated part of the pointed world)."""
     if len(m.designated) != 1:
         raise ValueError("the planner's states are single-pointed")
-    gen = m.generated()
-    vals = [0] * gen.n_worlds
-    for j in range(len(gen.props)):
-        for w in np.flatnonzero(gen.valuation[:, j]):
+    n = m.n_worlds
+    vals = [0] * n
+    for j in range(len(m.props)):
+        for w in np.flatnonzero(m.valuation[:, j]):
             vals[int(w)] |= 1 << j
     succ = []
-    for ag in gen.agents:
-        r = gen.relations[ag]
-        succ.append([[int(x) for x in r.successors(w)] for w in range(gen.n_worlds)])
-    return refine_key(vals, succ, gen.designated[0])
+    for ag in m.agents:
+        r = m.relations[ag]
+        if r.labels is not None:  # partition: one shared successor list per class
+            classes: dict[int, list[int]] = {}
+            for w, lab in enumerate(r.labels.tolist()):
+                classes.setdefault(lab, []).append(w)
+            succ.append([classes[lab] for lab in r.labels.tolist()])
+        else:
+            succ.append([[int(x) for x in r.successors(w)] for w in range(n)])
+    # generated submodel of the pointed world (the key must not see unreachable worlds)
+    start = m.designated[0]
+    seen = {start: 0}
+    order = [start]
+    i = 0
+    while i < len(order):
+        w = order[i]
+        i += 1
+        for per in succ:
+            for v in per[w]:
+                if v not in seen:
+                    seen[v] = len(order)
+                    order.append(v)
+    gsucc = []
+    for per in succ:
+        remap: dict[int, list[int]] = {}
+        col = []
+        for w in order:
+            lst = per[w]
+            new = remap.get(id(lst))
+            if new is None:
+                new = [seen[v] for v in lst]
+                remap[id(lst)] = new
+            col.append(new)
+        gsucc.append(col)
+    return refine_key([vals[w] for w in order], gsucc, 0)
 
 
 def to_kripke(s: FastState, task: Task) -> KripkeModel:

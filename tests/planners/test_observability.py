@@ -57,10 +57,7 @@ def _states(task, steps):
 
 
 def _final(task, steps):
-    out = None
-    for out in _states(task, steps):
-        pass
-    return out
+    return list(_states(task, steps))[-1]
 
 
 def _both(m, s, space, text: str) -> bool:
