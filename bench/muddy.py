@@ -41,7 +41,7 @@ def main(argv: list[str] | None = None) -> int:
     muddy_symbolic(3, 3)
 
     table = Table(title="muddy children, all N muddy (whole puzzle, median seconds)")
-    for col in ("engine", "N", "worlds / BDD nodes", "nobody-knows rounds", "seconds"):
+    for col in ("engine", "N", "worlds / peak BDD nodes of θ", "nobody-knows rounds", "seconds"):
         table.add_column(col, justify="right")
     for n in range(2, args.explicit + 1):
         sec, r = _median_seconds(lambda n=n: solve_muddy(n, n), args.repeat)

@@ -446,7 +446,7 @@ def transformer_from_event_model(events, structure: KnowledgeStructure) \
 
 @dataclass(frozen=True)
 class SymbolicMuddyResult:
-    """As :class:`delkit.puzzles.muddy.MuddyResult`, with the BDD size of the final state law."""
+    """As :class:`delkit.puzzles.muddy.MuddyResult`; ``law_nodes`` is the peak BDD size of the state law."""
 
     children: int
     muddy: int
@@ -476,8 +476,8 @@ def muddy_symbolic(children: int, muddy: int, *, max_rounds: int | None = None) 
                                   actual=actual)
     from delkit.puzzles.muddy import at_least_one, run_rounds
 
-    f, nobody, muddy_round, clean_round, _ = run_rounds(f.announce(at_least_one(children)), children, muddy,
+    f, nobody, muddy_round, clean_round, sizes = run_rounds(f.announce(at_least_one(children)), children, muddy,
                                                         max_rounds=max_rounds, size=KnowledgeStructure.node_size)
-    return SymbolicMuddyResult(children, muddy, nobody, muddy_round, clean_round, f.node_size(),
+    return SymbolicMuddyResult(children, muddy, nobody, muddy_round, clean_round, max([f.node_size(), *sizes]),
                                time.perf_counter() - t0)
 
