@@ -209,3 +209,25 @@ def test_symbolic_muddy_large(n: int, m: int) -> None:
     assert r.nobody_knows_rounds == m - 1
     assert r.muddy_know_round == m
     assert r.clean_know_round == (None if m == n else m + 1)
+
+
+# ----------------------------------------------------------------------------- puzzles on both engines
+
+
+def test_cheryl_and_sum_product_announcements_agree_symbolically() -> None:
+    from delkit.puzzles._common import knows_which
+    from delkit.puzzles.cheryl import cheryl_model
+    from delkit.puzzles.sum_product import sum_product_model
+
+    m = cheryl_model()
+    ka, kb = knows_which("Albert", m.props), knows_which("Bernard", m.props)
+    script = [Not(ka) & K("Albert", Not(kb)), kb, ka]
+    m2 = sum_product_model(100)
+    kp, ks_ = knows_which("P", m2.props), knows_which("S", m2.props)
+    for model, steps in ((m, script), (m2, [K("S", Not(kp)), kp, ks_])):
+        ks, _ = from_kripke(model)
+        for phi in steps:
+            model, ks = model.announce(phi), ks.announce(phi)
+            assert ks.count_states() == model.n_worlds
+        assert bisimilar(model.with_designated(range(model.n_worlds)),
+                         KnowledgeStructure(ks.bdd, ks.vocabulary, ks.law, ks.observed, ks.law).to_kripke(model.props))
