@@ -249,6 +249,8 @@ def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = 
     spec.option.impratio = 10.0
     spec.visual.global_.offwidth = 1280
     spec.visual.global_.offheight = 960
+    spec.visual.headlight.ambient = [0.35, 0.35, 0.35]
+    spec.visual.headlight.diffuse = [0.45, 0.45, 0.45]
     tex = spec.add_texture(name="floor_tex", type=mujoco.mjtTexture.mjTEXTURE_2D,
                            builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER, width=256, height=256,
                            rgb1=[0.82, 0.82, 0.84], rgb2=[0.7, 0.7, 0.73])
@@ -265,7 +267,7 @@ def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = 
                                  diffuse=[0.7, 0.7, 0.7], castshadow=True)
         spec.worldbody.add_light(name="fill", pos=[-0.6, 0.6, 2.0], dir=[0.3, -0.2, -1.0],
                                  diffuse=[0.35, 0.35, 0.35], castshadow=False)
-        for name, eye, look in (("overview", (1.45, -1.1, 0.85), (0.35, 0.0, 0.1)),
+        for name, eye, look in (("overview", (1.45, -0.5, 1.0), (0.35, 0.0, 0.12)),
                                 ("front", (1.6, 0.0, 0.7), (0.35, 0.0, 0.12)),
                                 ("top", (0.45, 0.0, 1.9), (0.45, 0.0, 0.0))):
             spec.worldbody.add_camera(name=name, pos=list(eye), xyaxes=_look_at(eye, look))

@@ -112,7 +112,7 @@ def register(app: typer.Typer) -> None:
         """IK on N random reachable TCP poses: success rate, median / p95 time (mink and CLIK)."""
         from arms.benchmark import TRAC_IK_PANDA, benchmark_ik
 
-        cb, stop = _progress_cb(targets, "IK")
+        cb, stop = _progress_cb(2 * targets, "IK")
         try:
             stats = benchmark_ik(targets, seed=seed, budget=budget_ms / 1000.0, progress=cb)
         finally:
