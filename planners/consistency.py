@@ -104,6 +104,7 @@ __all__ = [
 SendPolicy = Literal["greedy", "oldest", "all"]
 DEFAULT_ATOL = 1e-9
 DEFAULT_MAX_REALISATIONS = 1 << 16
+_NO_RANK = np.iinfo(np.int64).max
 
 
 class BeliefModel(Protocol):
@@ -147,7 +148,7 @@ def select_actions(values: np.ndarray, atol: float = DEFAULT_ATOL, ranks: np.nda
     ties = values >= best - atol
     if ranks is None:
         return np.argmax(ties, axis=1)
-    return np.argmin(np.where(ties, np.asarray(ranks)[None, :], np.iinfo(np.int64).max), axis=1)
+    return np.argmin(np.where(ties, np.asarray(ranks)[None, :], _NO_RANK), axis=1)
 
 
 def realisations(sizes: Sequence[int] | np.ndarray,
@@ -361,15 +362,18 @@ def _common_belief(model: BeliefModel, ledger: Ledger, mask: np.ndarray) -> Any:
 
 
 def verify_pair(model: BeliefModel, ledger: Ledger, known: np.ndarray, robot: int, other: int, *,
-                atol: float = DEFAULT_ATOL, max_realisations: int = DEFAULT_MAX_REALISATIONS) -> Verification:
+                atol: float = DEFAULT_ATOL, max_realisations: int = DEFAULT_MAX_REALISATIONS,
+                common: Any = None) -> Verification:
     """VERIFYAC of ``robot`` against ``other`` from a ledger and a knowledge matrix ``known[r, slot]``.
 
-    Only what *r* may know is read: the values of slots in :math:`H^r`, and the *index* of :math:`H^{r'}`."""
+    Only what *r* may know is read: the values of slots in :math:`H^r`, and the *index* of :math:`H^{r'}`.
+    ``common`` may pass :math:`\\mathbb P(x\\mid H^r\\cap H^{r'})` when the caller already has it."""
     mine, theirs = known[robot], known[other]
-    common = mine & theirs
     own = ledger.order(np.flatnonzero(mine & ~theirs))
     missing = ledger.order(np.flatnonzero(theirs & ~mine))
-    return verify_ac(model, _common_belief(model, ledger, common), own, ledger.value[own], missing,
+    if common is None:
+        common = _common_belief(model, ledger, mine & theirs)
+    return verify_ac(model, common, own, ledger.value[own], missing,
                      robot=robot, other=other, atol=atol, max_realisations=max_realisations)
 
 
@@ -466,7 +470,10 @@ def enforce_ac(model: BeliefModel, ledger: Ledger, known: np.ndarray, *,
     silent = False                            # last round had no COMM at all
     limit = max_rounds if max_rounds is not None else 2 * int(known.size) + 2
     for rnd in range(limit + 1):
-        vers = [verify_pair(model, ledger, known, r, o, atol=atol, max_realisations=max_realisations)
+        commons = {pair: _common_belief(model, ledger, known[pair[0]] & known[pair[1]])
+                   for pair in itertools.combinations(range(n_robots), 2)}
+        vers = [verify_pair(model, ledger, known, r, o, atol=atol, max_realisations=max_realisations,
+                            common=commons[min(r, o), max(r, o)])
                 for r, o in itertools.permutations(range(n_robots), 2)]
         actions = tuple(_step1_actions(vers, n_robots))
         if all(v.agreed for v in vers):

@@ -50,7 +50,9 @@ Usage
 
 from __future__ import annotations
 
+import functools
 import itertools
+import math
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import asdict, dataclass, field, replace
@@ -148,10 +150,11 @@ def _entropy_bits(p: np.ndarray) -> np.ndarray:
         return -(np.where(p > 0, p * np.log(p), 0.0) + np.where(q > 0, q * np.log(q), 0.0))
 
 
-def _binomial_pmf(k: int, q: float) -> np.ndarray:
-    from math import comb
-
-    return np.array([comb(k, c) * q**c * (1 - q) ** (k - c) for c in range(k + 1)])
+@functools.lru_cache(maxsize=64)
+def _binomial(k: int, q: float) -> tuple[np.ndarray, float]:
+    """pmf of Bin(k, q) over 0..k and its entropy (nats)."""
+    pmf = np.array([math.comb(k, c) * q**c * (1 - q) ** (k - c) for c in range(k + 1)])
+    return pmf, float(_pmf_entropy(pmf))
 
 
 def _pmf_entropy(p: np.ndarray, axis: int = -1) -> np.ndarray:
@@ -185,7 +188,9 @@ class SARBeliefModel:
             self.tie_ranks: np.ndarray | None = tie_rng.permutation(len(self.moves))
         else:
             self.tie_ranks = None
-        self._bin = [(_binomial_pmf(k, config.p_detect), _binomial_pmf(k, config.p_false)) for k in range(1, kmax + 1)]
+        self._bin = [(_binomial(k, config.p_detect), _binomial(k, config.p_false)) for k in range(1, kmax + 1)]
+        self._target_mask = np.zeros(config.cells, dtype=bool)
+        self._target_mask[self.targets] = True
 
     # -- BeliefModel protocol ------------------------------------------------------------------------------
     def sizes(self, slots: np.ndarray) -> np.ndarray:
@@ -216,9 +221,9 @@ class SARBeliefModel:
         total_h = _entropy_bits(p).sum(axis=1)                              # (n,)
         pt = p[:, self.targets]                                             # (n, |C|)
         gains = []
-        for bd, bf in self._bin:
+        for (bd, hd), (bf, hf) in self._bin:
             mix = pt[..., None] * bd + (1 - pt[..., None]) * bf             # (n, |C|, k+1)
-            gains.append(_pmf_entropy(mix) - pt * _pmf_entropy(bd) - (1 - pt) * _pmf_entropy(bf))
+            gains.append(_pmf_entropy(mix) - pt * hd - (1 - pt) * hf)
         mi = np.stack(gains, axis=2)                                        # (n, |C|, kmax)
         per_robot = mi[:, self.target_index, self.multiplicity - 1] / self.multiplicity  # (n, m, N)
         return -2.0 * total_h[:, None] + per_robot.sum(axis=2)
@@ -226,22 +231,22 @@ class SARBeliefModel:
     def relevant(self, slots: np.ndarray) -> np.ndarray:
         """Exact reduction: only readings of cells some candidate action moves to can change a selection
         (:math:`H(b_k)` shifts every action's *J* equally)."""
-        return np.isin(self.cells[np.asarray(slots, dtype=np.int64)], self.targets)
+        return self._target_mask[self.cells[np.asarray(slots, dtype=np.int64)]]
 
 
 def candidate_actions(config: SARConfig, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """All joint actions (primitive index per robot, lexicographic) that keep every robot on the grid,
     and the cells they lead to; both ``(m, N)``."""
-    prims = PRIMITIVES[: config.primitives]
-    per_robot = []
-    for cell in poses:
-        x, y = int(cell) % config.width, int(cell) // config.width
-        ok = [(i, (y + dy) * config.width + (x + dx)) for i, (dx, dy) in enumerate(prims)
-              if 0 <= x + dx < config.width and 0 <= y + dy < config.height]
-        per_robot.append(ok)
-    combos = list(itertools.product(*per_robot))
-    moves = np.array([[m for m, _ in c] for c in combos], dtype=np.int64)
-    cells = np.array([[t for _, t in c] for c in combos], dtype=np.int64)
+    d = np.array(PRIMITIVES[: config.primitives], dtype=np.int64)
+    poses = np.asarray(poses, dtype=np.int64)
+    x = poses[:, None] % config.width + d[None, :, 0]
+    y = poses[:, None] // config.width + d[None, :, 1]
+    ok = (x >= 0) & (x < config.width) & (y >= 0) & (y < config.height)        # (N, P)
+    valid = [np.flatnonzero(row) for row in ok]
+    grids = np.meshgrid(*valid, indexing="ij")                                  # lexicographic order
+    moves = np.stack([g.ravel() for g in grids], axis=1)
+    robots = np.arange(len(poses))[None, :]
+    cells = (y * config.width + x)[robots, moves]
     return moves, cells
 
 
@@ -251,7 +256,8 @@ class EpisodeResult:
     they carried (equal for ENFORCEAC, whose messages carry one each); ``violations``: steps where
     ENFORCEAC reported agreement but the robots, run on their own histories, selected different actions
     (Theorem 3.3 says 0); ``max_unshared``: the largest number of one robot's observations the partner
-    lacked at planning time (*p*); ``team_j``: per step, *J* of the executed joint action under the belief
+    lacked at planning time (*p*); ``time_s`` / ``cpu_s``: wall-clock and process CPU time of the episode
+    loop; ``team_j``: per step, *J* of the executed joint action under the belief
     that holds every observation."""
 
     config: SARConfig
@@ -264,6 +270,7 @@ class EpisodeResult:
     max_unshared: int
     max_comms_per_step: int
     time_s: float
+    cpu_s: float = 0.0
     team_j: tuple[float, ...] = field(repr=False, default=())
     since_comm: tuple[int, ...] = field(repr=False, default=())
 
@@ -308,7 +315,7 @@ def run_episode(config: SARConfig, algorithm: Algorithm) -> EpisodeResult:
     since, last_comm = [], 0
     team_j: list[float] = []
     slots = 0
-    start = time.perf_counter()
+    start, cpu_start = time.perf_counter(), time.process_time()
     for k in range(1, config.epochs + 1):
         for r in range(n):  # every robot observes the cell it stands on
             p1 = config.p_detect if truth[poses[r]] else config.p_false
@@ -358,10 +365,10 @@ def run_episode(config: SARConfig, algorithm: Algorithm) -> EpisodeResult:
         full = model.update(model.prior, np.arange(slots), value[:slots][None, :])
         team_j.append(float(model.objective(full)[0, row]))
         poses = np.array([model.next_cells[chosen[r], r] for r in range(n)], dtype=np.int64)
-    elapsed = time.perf_counter() - start
+    elapsed, cpu = time.perf_counter() - start, time.process_time() - cpu_start
     return EpisodeResult(config=config, algorithm=algorithm, not_ac=not_ac, comms=comms, observations_sent=sent,
                          failed_comms=failed, violations=violations, max_unshared=max_unshared,
-                         max_comms_per_step=max_step_comms, time_s=elapsed, team_j=tuple(team_j),
+                         max_comms_per_step=max_step_comms, time_s=elapsed, cpu_s=cpu, team_j=tuple(team_j),
                          since_comm=tuple(since))
 
 
@@ -381,7 +388,7 @@ class TableRow:
                "algorithm": ALGORITHM_NAMES[self.algorithm], "not_ac": self.ours.not_ac, "comm": self.ours.comms,
                "observations_sent": self.ours.observations_sent, "failed_comms": self.ours.failed_comms,
                "violations": self.ours.violations, "max_unshared": self.ours.max_unshared,
-               "time_s": round(self.ours.time_s, 4),
+               "time_s": round(self.ours.time_s, 4), "cpu_s": round(self.ours.cpu_s, 4),
                "mean_team_j": round(float(np.mean(self.ours.team_j)), 4)}
         if self.paper is not None:
             out.update(paper_not_ac=self.paper[0], paper_comm=self.paper[1], paper_time_s=self.paper[2])
