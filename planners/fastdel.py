@@ -53,6 +53,8 @@ from planners.task import Task
 
 __all__ = ["FastState", "FastSpace", "to_kripke", "from_kripke", "refine_key"]
 
+_PROP, _TOP, _BOT, _NOT, _AND, _OR, _IFF, _K, _C, _D, _DYN = range(11)
+
 
 @dataclass(frozen=True, eq=False)
 class FastState:
@@ -72,36 +74,22 @@ class FastState:
         return len(self.val)
 
 
-def refine_key(val: list[int], succ: list[list], point: int) -> FastState:
+def refine_key(val: list[int], dist: list[list[list[int]]], cls: list[list[int]], point: int) -> FastState:
     """Coarsest bisimulation (partition refinement to the fixpoint) + canonical quotient.
 
     Round 0 ranks valuations; each round ranks the signatures (block, sorted successor blocks per agent)
     — ranks only depend on valuations and earlier ranks, never on world numbers, hence are canonical.
-    Stops when no block splits. The quotient has one world per block, in rank order. Successor lists
-    may be shared between worlds (the same list object for the worlds of one class); the per-round block
-    sets are then computed once per distinct list.
+    Stops when no block splits. The quotient has one world per block, in rank order. Successors are given
+    per agent a as distinct lists ``dist[a]`` and, per world w, the index ``cls[a][w]`` of its list (the
+    worlds of one class share a list), so that the per-round block sets are computed once per list.
     """
     n = len(val)
     uniq = sorted(set(val))
     rank = {v: i for i, v in enumerate(uniq)}
     blk = [rank[v] for v in val]
     nb = len(uniq)
-    nag = len(succ)
-    dist: list[list] = []
-    pick: list[Any] = []
-    for a in range(nag):
-        ids: dict[int, int] = {}
-        lists: list = []
-        c = []
-        for lst in succ[a]:
-            k = ids.get(id(lst))
-            if k is None:
-                k = len(lists)
-                ids[id(lst)] = k
-                lists.append(lst)
-            c.append(k)
-        dist.append(lists)
-        pick.append(itemgetter(*c) if n > 1 else (lambda t, _c=c: tuple(t[k] for k in _c)))
+    nag = len(dist)
+    pick: list[Any] = [itemgetter(*c) if n > 1 else (lambda t, _c=c: tuple(t[k] for k in _c)) for c in cls]
     while True:
         cols = []
         for a in range(nag):
@@ -161,9 +149,22 @@ class FastSpace:
         self.pidx = {p: i for i, p in enumerate(task.props)}
         self.aidx = {a: i for i, a in enumerate(task.agents)}
         self._compiled: dict[int, tuple] = {}
+        self._fid: dict[Formula, int] = {}
+        self._nodes: list[tuple] = []
         from planners.epistemic import goal_conjuncts
 
         self._conj = goal_conjuncts(task.goal)
+        self._goal = self.cid(task.goal)
+        self._conj_ids = [self.cid(g) for g in self._conj]
+        # per action: executability, observers (agent index, condition), sensed conditions — as node ids
+        self._acts = []
+        for act in task.actions:
+            self._acts.append((act, self.cid(act.executable),
+                               [(self.aidx[a], self.cid(c)) for a, c in act.full],
+                               [(self.aidx[a], self.cid(c)) for a, c in act.partial],
+                               [self.cid(c) for _, c in act.sensed] if act.kind != "ontic" else []))
+        self._index = {act.name: i for i, act in enumerate(task.actions)}
+        self._ems: dict[tuple[int, int, int, int], EventModel] = {}
 
     # ------------------------------------------------------------------ states
     def initial(self) -> tuple[FastState, Hashable]:
@@ -173,73 +174,109 @@ class FastSpace:
     def holds(self, s: FastState, f: Formula) -> bool:
         return bool((self.bits(s, f) >> s.point) & 1)
 
+    def _at(self, s: FastState, i: int) -> bool:
+        return bool((self.ev(s, i) >> s.point) & 1)
+
     def is_goal(self, s: FastState) -> bool:
-        return self.holds(s, self.task.goal)
+        return self._at(s, self._goal)
 
     def goal_count(self, s: FastState) -> int:
-        return sum(0 if self.holds(s, g) else 1 for g in self._conj)
+        return sum(0 if self._at(s, g) else 1 for g in self._conj_ids)
 
     # ------------------------------------------------------------------ truth
-    def bits(self, s: FastState, f: Formula) -> int:  # noqa: C901 - one clause per operator
-        """Bit mask of the worlds of ``s`` where ``f`` holds (memoised per state)."""
-        memo = s.memo
-        hit = memo.get(f)
+    def cid(self, f: Formula) -> int:  # noqa: C901 - one clause per operator
+        """Compile ``f`` into the node table (once per distinct formula); returns its node id.
+
+        Node ids replace formulas as memo keys in the hot loop, so formulas are hashed once per task."""
+        hit = self._fid.get(f)
         if hit is not None:
             return hit
+        if isinstance(f, Prop):
+            node: tuple = (_PROP, self.pidx[f.name])
+        elif isinstance(f, Top):
+            node = (_TOP,)
+        elif isinstance(f, Bot):
+            node = (_BOT,)
+        elif isinstance(f, Not):
+            node = (_NOT, self.cid(f.arg))
+        elif isinstance(f, And):
+            node = (_AND, tuple(self.cid(g) for g in f.args))
+        elif isinstance(f, Or):
+            node = (_OR, tuple(self.cid(g) for g in f.args))
+        elif isinstance(f, Implies):
+            node = (_OR, (self.cid(Not(f.left)), self.cid(f.right)))
+        elif isinstance(f, Iff):
+            node = (_IFF, self.cid(f.left), self.cid(f.right))
+        elif isinstance(f, K):
+            node = (_K, self.aidx[f.agent], self.cid(f.arg))
+        elif isinstance(f, Kw):
+            node = (_OR, (self.cid(K(f.agent, f.arg)), self.cid(K(f.agent, Not(f.arg)))))
+        elif isinstance(f, E):
+            node = (_AND, tuple(self.cid(K(ag, f.arg)) for ag in f.group))
+        elif isinstance(f, D):
+            node = (_D, tuple(self.aidx[ag] for ag in f.group), self.cid(f.arg))
+        elif isinstance(f, C):
+            node = (_C, tuple(self.aidx[ag] for ag in f.group), self.cid(f.arg))
+        else:  # dynamic operators: evaluated by delkit on the explicit model
+            node = (_DYN, f)
+        i = len(self._nodes)
+        self._nodes.append(node)
+        self._fid[f] = i
+        return i
+
+    def bits(self, s: FastState, f: Formula) -> int:
+        """Bit mask of the worlds of ``s`` where ``f`` holds (memoised per state)."""
+        return self.ev(s, self.cid(f))
+
+    def ev(self, s: FastState, i: int) -> int:  # noqa: C901 - one clause per operator
+        """Bit mask of node ``i`` on ``s`` — the clauses of delkit.semantics."""
+        memo = s.memo
+        out = memo.get(i)
+        if out is not None:
+            return out
+        node = self._nodes[i]
+        op = node[0]
         n = s.n
         full = (1 << n) - 1
-        if isinstance(f, Prop):
-            i = self.pidx[f.name]
+        if op == _PROP:
+            j = node[1]
             out = 0
             for w, v in enumerate(s.val):
-                if (v >> i) & 1:
+                if (v >> j) & 1:
                     out |= 1 << w
-        elif isinstance(f, Top):
+        elif op == _K:
+            out = self._box(s, node[1], self.ev(s, node[2]))
+        elif op == _AND:
             out = full
-        elif isinstance(f, Bot):
+            for g in node[1]:
+                out &= self.ev(s, g)
+        elif op == _NOT:
+            out = full ^ self.ev(s, node[1])
+        elif op == _OR:
             out = 0
-        elif isinstance(f, Not):
-            out = full ^ self.bits(s, f.arg)
-        elif isinstance(f, And):
+            for g in node[1]:
+                out |= self.ev(s, g)
+        elif op == _TOP:
             out = full
-            for g in f.args:
-                out &= self.bits(s, g)
-        elif isinstance(f, Or):
+        elif op == _BOT:
             out = 0
-            for g in f.args:
-                out |= self.bits(s, g)
-        elif isinstance(f, Implies):
-            out = (full ^ self.bits(s, f.left)) | self.bits(s, f.right)
-        elif isinstance(f, Iff):
-            out = full ^ (self.bits(s, f.left) ^ self.bits(s, f.right))
-        elif isinstance(f, K):
-            out = self._box(s, self.aidx[f.agent], self.bits(s, f.arg))
-        elif isinstance(f, Kw):
-            t = self.bits(s, f.arg)
-            a = self.aidx[f.agent]
-            out = self._box(s, a, t) | self._box(s, a, full ^ t)
-        elif isinstance(f, E):
-            t = self.bits(s, f.arg)
-            out = full
-            for ag in f.group:
-                out &= self._box(s, self.aidx[ag], t)
-        elif isinstance(f, D):
-            t = self.bits(s, f.arg)
-            bad = full ^ t
-            ags = [self.aidx[ag] for ag in f.group]
+        elif op == _IFF:
+            out = full ^ (self.ev(s, node[1]) ^ self.ev(s, node[2]))
+        elif op == _C:
+            out = self._common(s, node[1], self.ev(s, node[2]))
+        elif op == _D:
+            bad = full ^ self.ev(s, node[2])
             out = 0
             for w in range(n):
                 m = full
-                for a in ags:
+                for a in node[1]:
                     m &= s.masks[a][w]
                 if not (m & bad):
                     out |= 1 << w
-        elif isinstance(f, C):
-            out = self._common(s, [self.aidx[ag] for ag in f.group], self.bits(s, f.arg))
-        else:  # dynamic operators: fall back to delkit on the explicit model
-            vec = to_kripke(s, self.task).check(f)
+        else:
+            vec = to_kripke(s, self.task).check(node[1])
             out = _mask(tuple(int(w) for w in np.flatnonzero(vec)))
-        memo[f] = out
+        memo[i] = out
         return out
 
     @staticmethod
@@ -285,61 +322,66 @@ class FastSpace:
                 q.append([tuple(int(x) for x in r.successors(e)) for e in range(k)])
             posts = []
             for e in range(k):
-                posts.append([(self.pidx[p], f) for p, f in em.post[e].items() if f != Prop(p)])
-                for _, f in posts[-1]:
-                    assert is_propositional(f)
-            hit = (em, q, posts)
+                posts.append([(self.pidx[p], self.cid(f)) for p, f in em.post[e].items() if f != Prop(p)])
+                assert all(is_propositional(f) for f in em.post[e].values())
+            pres = [self.cid(f) for f in em.pre]
+            hit = (em, q, posts, pres)
             self._compiled[id(em)] = hit
         return hit
 
     def apply(self, s: FastState, em: EventModel) -> FastState | None:
         """Contracted (s ⊗ E) on the part generated by the pointed world; None if no designated pair."""
-        em_, q, posts = self._compile(em, s)
+        em_, q, posts, pres = self._compile(em, s)
         k = em.n_events
-        pre = [self.bits(s, em.pre[e]) for e in range(k)]
-        postbits = [[(i, self.bits(s, f)) for i, f in posts[e]] for e in range(k)]
+        pre = [self.ev(s, i) for i in pres]
+        postbits = [[(i, self.ev(s, f)) for i, f in posts[e]] for e in range(k)]
         p = s.point
         start = [(p, e) for e in em.designated if (pre[e] >> p) & 1]
         if not start:
             return None
         nag = len(q)
-        ids: dict[tuple[int, int], int] = {}
-        order: list[tuple[int, int]] = []
-        for pair in start:
-            ids[pair] = len(order)
-            order.append(pair)
-        succ: list[list[list[int]]] = [[] for _ in range(nag)]
+        ids: dict[int, int] = {}  # pair (w, e) coded as w*k + e  ->  new world
+        order: list[int] = []
+        for w0, e0 in start:
+            ids[w0 * k + e0] = len(order)
+            order.append(w0 * k + e0)
+        dist: list[list[list[int]]] = [[] for _ in range(nag)]
+        cls: list[list[int]] = [[] for _ in range(nag)]
         i = 0
-        ssucc = s.succ
-        # successor tuples are shared by the worlds of a class (interned in refine_key): compute the
-        # successor list of (w, e) once per (agent, class, event) and share it
-        memo = [[None] * (len(s.classes[a]) * k) for a in range(nag)]
-        cid = s.cid
+        # the worlds of a class share their successor set (s.cid / s.classes): the successor list of
+        # (w, e) is computed once per (agent, class, event) and shared
+        memo = [[-1] * (len(s.classes[a]) * k) for a in range(nag)]
+        cid, classes = s.cid, s.classes
         while i < len(order):
-            w, e = order[i]
+            code = order[i]
+            w, e = divmod(code, k)
             i += 1
             for a in range(nag):
-                src = ssucc[a][w]
-                mkey = cid[a][w] * k + e
+                c = cid[a][w]
+                mkey = c * k + e
                 ma = memo[a]
-                lst = ma[mkey]
-                if lst is None:
+                j = ma[mkey]
+                if j < 0:
                     lst = []
                     qa = q[a][e]
-                    for v in src:
+                    for v in classes[a][c]:
+                        base = v * k
                         for f in qa:
                             if (pre[f] >> v) & 1:
-                                key = (v, f)
-                                j = ids.get(key)
-                                if j is None:
-                                    j = len(order)
-                                    ids[key] = j
-                                    order.append(key)
-                                lst.append(j)
-                    ma[mkey] = lst
-                succ[a].append(lst)
+                                pk = base + f
+                                t = ids.get(pk)
+                                if t is None:
+                                    t = len(order)
+                                    ids[pk] = t
+                                    order.append(pk)
+                                lst.append(t)
+                    j = len(dist[a])
+                    dist[a].append(lst)
+                    ma[mkey] = j
+                cls[a].append(j)
         val = []
-        for w, e in order:
+        for code in order:
+            w, e = divmod(code, k)
             v = s.val[w]
             for pi, b in postbits[e]:
                 if (b >> w) & 1:
@@ -349,41 +391,54 @@ class FastSpace:
             val.append(v)
         if len(start) > 1:
             raise NotImplementedError("multi-pointed results")  # cannot happen: events are disjoint
-        return refine_key(val, succ, 0)
+        return refine_key(val, dist, cls, 0)
 
     def step(self, s: FastState, name: str) -> FastState | None:
-        act = self.task.action(name)
-        if not self.holds(s, act.executable):
-            return None
-        return self.apply(s, self._event_model(act, s))
+        """The successor of ``s`` by the action ``name`` (None if not executable / not applicable)."""
+        return self._step(s, self._acts[self._index[name]], self._index[name])
 
-    def _event_model(self, act, s: FastState) -> EventModel:
-        full = frozenset(a for a, c in act.full if self.holds(s, c))
-        partial = frozenset(a for a, c in act.partial if self.holds(s, c)) - full
-        sensed = tuple(f for f, c in act.sensed if self.holds(s, c)) if act.kind != "ontic" else ()
-        key = (act.name, full, partial, sensed)
-        cache = self.task._cache
-        em = cache.get(key)
+    def _step(self, s: FastState, entry: tuple, ai: int) -> FastState | None:
+        act, exe, full, partial, sensed = entry
+        if not self._at(s, exe):
+            return None
+        fm = 0
+        for a, c in full:
+            if self._at(s, c):
+                fm |= 1 << a
+        pm = 0
+        for a, c in partial:
+            if self._at(s, c):
+                pm |= 1 << a
+        pm &= ~fm
+        sm = 0
+        for j, c in enumerate(sensed):
+            if self._at(s, c):
+                sm |= 1 << j
+        key = (ai, fm, pm, sm)
+        em = self._ems.get(key)
         if em is None:
             from planners.task import build_event_model
 
-            em = build_event_model(act, self.task.agents, full, partial, sensed)
-            cache[key] = em
-        return em
+            ags = self.task.agents
+            em = build_event_model(act, ags, frozenset(ag for i, ag in enumerate(ags) if (fm >> i) & 1),
+                                   frozenset(ag for i, ag in enumerate(ags) if (pm >> i) & 1),
+                                   tuple(f for j, (f, _) in enumerate(act.sensed) if (sm >> j) & 1))
+            self._ems[key] = em
+        return self.apply(s, em)
 
     def inconsistent(self, s: FastState) -> list[str]:
         """Agents with no accessible world at the pointed world (they believe ⊥)."""
         return [ag for a, ag in enumerate(self.task.agents) if not s.succ[a][s.point]]
 
     def successors(self, s: FastState) -> Iterator[tuple[str, FastState, Hashable]]:
-        for act in self.task.actions:
-            new = self.step(s, act.name)
+        for ai, entry in enumerate(self._acts):
+            new = self._step(s, entry, ai)
             if new is None:
                 continue
             if not self.allow_inconsistent and any(not new.succ[a][new.point] for a in range(len(new.succ))):
                 self.dead_ends += 1
                 continue
-            yield act.name, new, new.key
+            yield entry[0].name, new, new.key
 
 
 def from_kripke(m: KripkeModel) -> FastState:
@@ -418,19 +473,22 @@ def from_kripke(m: KripkeModel) -> FastState:
                 if v not in seen:
                     seen[v] = len(order)
                     order.append(v)
-    gsucc = []
+    gdist, gcls = [], []
     for per in succ:
-        remap: dict[int, list[int]] = {}
+        remap: dict[int, int] = {}
+        lists: list[list[int]] = []
         col = []
         for w in order:
             lst = per[w]
-            new = remap.get(id(lst))
-            if new is None:
-                new = [seen[v] for v in lst]
-                remap[id(lst)] = new
-            col.append(new)
-        gsucc.append(col)
-    return refine_key([vals[w] for w in order], gsucc, 0)
+            j = remap.get(id(lst))
+            if j is None:
+                j = len(lists)
+                remap[id(lst)] = j
+                lists.append([seen[v] for v in lst])
+            col.append(j)
+        gdist.append(lists)
+        gcls.append(col)
+    return refine_key([vals[w] for w in order], gdist, gcls, 0)
 
 
 def to_kripke(s: FastState, task: Task) -> KripkeModel:
