@@ -77,3 +77,20 @@ def test_check_bad_input_exit_2(capsys, tmp_path) -> None:
     assert rc == 2
     rc, _, err = _run(capsys, ["check", DOM, PROB, PLAN, str(tmp_path / "extra")])
     assert rc == 2
+
+
+def test_check_accepts_efp_plan_from_expected_csv(capsys, tmp_path) -> None:
+    import csv
+
+    bench = shared_benchmarks()
+    if bench is None:
+        pytest.skip("../shared/benchmarks is not available")
+    rows = {r["file"]: r for r in csv.DictReader((bench / "mastar" / "expected.csv").open())}
+    name = "CC/CC_2_2_3/CC_2_2_3__pl_8.txt"
+    plan_file = tmp_path / "efp.plan"
+    plan_file.write_text(rows[name]["efp_plan"])
+    rc, out, _ = _run(capsys, ["check", str(bench / "mastar" / name), str(plan_file), "--json"])
+    assert rc == 0 and json.loads(out) == {"valid": True, "steps": 8}
+    plan_file.write_text(", ".join(rows[name]["efp_plan"].split(", ")[:-1]))
+    rc, out, _ = _run(capsys, ["check", str(bench / "mastar" / name), str(plan_file), "--json"])
+    assert rc == 1 and json.loads(out)["kind"] == "goal"
