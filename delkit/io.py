@@ -81,7 +81,9 @@ def _relation_dict(rel: Relation, names: list[str]) -> dict:
 
 
 def _world_names(m: KripkeModel) -> list[str]:
-    return [m.world_name(w) for w in range(m.n_worlds)]
+    """The model's world names, or w0, w1, … if it has none or they are not unique."""
+    names = [m.world_name(w) for w in range(m.n_worlds)]
+    return names if len(set(names)) == len(names) else [f"w{w}" for w in range(m.n_worlds)]
 
 
 def model_to_dict(model: KripkeModel) -> dict:

@@ -94,6 +94,13 @@ def test_named_worlds_and_the_documented_example(tmp_path):
     assert same_model(load(tmp_path / "m.dot"), m2)
 
 
+def test_duplicate_world_names_are_replaced_on_export():
+    m = KripkeModel.build([{"p"}, set()], {"a": [[0, 1]]})
+    dup = KripkeModel(m.props, m.agents, m.valuation, m.relations, m.designated, ("x", "x"))
+    back = loads(dumps(dup))
+    assert [w["name"] for w in model_to_dict(dup)["worlds"]] == ["w0", "w1"] and same_model(back, dup)
+
+
 def test_event_model_file_with_formulas(tmp_path):
     e = sensing("p & q", ["a", "b"], full=["a"], partial=[], name="peek")
     path = tmp_path / "e.json"
