@@ -29,7 +29,11 @@ from delkit.formula import Formula, Kw, Not, Prop, conj, disj
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
-__all__ = ["MuddyResult", "muddy_model", "solve_muddy", "at_least_one", "nobody_knows", "run_rounds"]
+__all__ = ["MAX_EXPLICIT_CHILDREN", "MuddyResult", "muddy_model", "solve_muddy", "at_least_one", "nobody_knows",
+           "run_rounds"]
+
+
+MAX_EXPLICIT_CHILDREN = 22  # 2^22 worlds × 22 partition labels ≈ 0.8 GB
 
 
 @dataclass(frozen=True)
@@ -74,9 +78,10 @@ def muddy_model(children: int, muddy: int) -> KripkeModel:
         raise ModelError(f"muddy children: need at least one child, got {children}")
     if not 0 <= muddy <= children:
         raise ModelError(f"muddy children: muddy must be in 0..{children}, got {muddy}")
-    if children > 24:
-        raise ModelError(f"muddy children: {children} children means 2^{children} explicit worlds; "
-                         "use delkit.symbolic.muddy_symbolic for large N")
+    if children > MAX_EXPLICIT_CHILDREN:
+        raise ModelError(f"muddy children: {children} children means 2^{children} explicit worlds (at most "
+                         f"{MAX_EXPLICIT_CHILDREN} children explicitly); use the BDD engine: `delkit puzzle muddy "
+                         "--symbolic` or delkit.symbolic.muddy_symbolic")
     w = np.arange(1 << children, dtype=np.int64)
     bits = np.int64(1) << np.arange(children, dtype=np.int64)
     valuation = (w[:, None] & bits[None, :]) != 0

@@ -11,6 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from delkit.cli import main
+from delkit.errors import ModelError
 from delkit.formula import C, K, Kw, Not, Prop
 from delkit.puzzles import (
     solve_cheryl,
@@ -57,6 +58,25 @@ def test_muddy_father_announcement_makes_single_muddy_child_know() -> None:
     # ... while without the father nobody would learn anything from "nobody knows"
     silent = muddy_model(3, 1)
     assert silent.announce(nobody_knows(3)).n_worlds == silent.n_worlds
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(1, 9).flatmap(lambda n: st.tuples(st.just(n), st.integers(1, n))))
+def test_muddy_explicit_and_symbolic_agree_with_the_literature(nm: tuple[int, int]) -> None:
+    from delkit.symbolic import muddy_symbolic
+
+    n, m = nm
+    e, s = solve_muddy(n, m), muddy_symbolic(n, m)
+    expected = (m - 1, m, None if m == n else m + 1)
+    assert (e.nobody_knows_rounds, e.muddy_know_round, e.clean_know_round) == expected
+    assert (s.nobody_knows_rounds, s.muddy_know_round, s.clean_know_round) == expected
+
+
+def test_muddy_too_many_children_for_explicit_points_to_symbolic(capsys) -> None:
+    with pytest.raises(ModelError, match="--symbolic"):
+        muddy_model(40, 3)
+    assert main(["puzzle", "muddy", "--children", "40", "--muddy", "3"]) == 2
+    assert "--symbolic" in capsys.readouterr().err
 
 
 def test_muddy_n14_is_fast_enough_for_the_benchmark() -> None:
@@ -118,6 +138,15 @@ def test_russian_cards_model_has_140_deals() -> None:
     model = russian_cards_model()
     assert model.n_worlds == 140
     assert model.world_name(model.designated[0]) == "012|345|6"
+
+
+@pytest.mark.slow
+def test_russian_cards_exhaustive_five_hand_announcements() -> None:
+    """Without the clique pruning: every 5-hand announcement containing 012 (46376) through the checker."""
+    model = russian_cards_model()
+    others = [h for h in itertools.combinations(range(7), 3) if h != (0, 1, 2)]
+    good = [x for x in itertools.combinations(others, 4) if is_good(model, tuple(sorted(((0, 1, 2), *x))))]
+    assert len(good) == 60
 
 
 @settings(max_examples=30, deadline=None)
