@@ -122,3 +122,25 @@ def test_random_walks_fast_equals_delkit(idx: int, walk: list[int]) -> None:
         assert from_kripke(m2).key == s2.key
         assert (s2.key == s.key) == bisimilar(m2, m)
         s, m = s2, m2
+
+
+@settings(max_examples=40, deadline=None)
+@given(ai=st.integers(0, 10**6), fm=st.integers(0, 7), pm=st.integers(0, 7))
+def test_compiled_frames_equal_delkit_action_frames(ai: int, fm: int, pm: int) -> None:
+    """FastSpace builds the observer frames from masks; they must equal delkit.events.action's relations,
+    preconditions, postconditions and designated events for every observer configuration."""
+    from planners.task import build_event_model
+
+    task = load_task(D / "coin_in_the_box" / "domain.epddl", D / "coin_in_the_box" / "common.epddl")
+    space = FastSpace(task)
+    act = task.actions[ai % len(task.actions)]
+    pm &= ~fm
+    if act.kind == "ontic":
+        pm = 0
+    ags = task.agents
+    full = frozenset(a for i, a in enumerate(ags) if (fm >> i) & 1)
+    part = frozenset(a for i, a in enumerate(ags) if (pm >> i) & 1)
+    sensed = tuple(f for f, _ in act.sensed)
+    ref = space._compile(build_event_model(act, ags, full, part, sensed), None)
+    base = build_event_model(act, ags, frozenset(ags), frozenset(), sensed)
+    assert space._frame(base, fm, pm) == ref
