@@ -108,6 +108,8 @@ def _label_bits(rel: Relation, prefix: str, taken: set[str]) -> tuple[tuple[str,
     """Fresh names for the ⌈log2 k⌉ binary digits of a partition's class labels, and the points × bits
     matrix of those digits (``taken`` is extended with the new names)."""
     lab = rel.as_partition().labels
+    if lab.size:  # labels need not be 0..k-1 (restricted relations keep theirs): renumber for ⌈log2 k⌉ bits
+        lab = np.unique(lab, return_inverse=True)[1].ravel()
     width = _bits_needed(int(lab.max(initial=0)) + 1)
     names = tuple(_fresh(prefix, taken) for _ in range(width))
     taken |= set(names)
