@@ -38,7 +38,16 @@ from planners.allocation import Task as AllocTask
 from planners.allocation import allocate, euclidean_cost
 from sim.grid import LidarModel, OccupancyGrid, WorldMap, frontier_mask, random_map, read_movingai
 from sim.motion import GridGraph, integrate
-from sim.particles import BeliefRecord, CommonBelief, Navigator, believed_position, obstacle_points, select_frontier
+from sim.particles import (
+    BeliefRecord,
+    CommonBelief,
+    Navigator,
+    believed_position,
+    choose_frontier,
+    graph_for,
+    obstacle_points,
+    select_frontier,
+)
 
 __all__ = ["MissionConfig", "TaskSpec", "MissionResult", "MissionHistory", "Mission", "run_mission",
            "make_scenario", "METHODS", "STATUSES"]
@@ -68,6 +77,8 @@ class MissionConfig:
     eta_o: float = 5.0
     rho_o: float = 1.0
     delta: float = 20.0
+    particle_speed: float = 0.85
+    flock_radius: float = 3.5
     t_max: float = 1500.0
     wait_timeout: float = 120.0
     map_path: str | None = None
@@ -259,6 +270,7 @@ class Mission:
         self.done = False
         self.anchor = self.robots[0].xy.copy() if self.n else self.home.copy()
         self.anchor_nav = Navigator(self.res)
+        self.anchor_blacklist: set[int] = set()
         self._hist_t: list[float] = []
         self._hist_x: list[np.ndarray] = []
         self._hist_s: list[np.ndarray] = []
@@ -273,11 +285,7 @@ class Mission:
 
     def _graph(self, r: _Robot) -> GridGraph:
         if r.graph is None or r.graph_version != r.map.version:
-            if self.cfg.method != "epistemic" and r.id != 0:
-                g0 = self._graph(self.robots[0])
-                r.graph, r.graph_version = g0, r.map.version
-            else:
-                r.graph, r.graph_version = GridGraph(r.map.occupied_mask(), self.res), r.map.version
+            r.graph, r.graph_version = graph_for(r.map.occupied_mask(), self.res), r.map.version
         return r.graph
 
     def _event(self, kind: str, detail: str) -> None:
@@ -297,7 +305,7 @@ class Mission:
                 r.tasks[spec.id].completed = True  # perceive(completed τ)
 
     def _at_home(self, r: _Robot) -> bool:
-        return bool(np.hypot(*(r.xy - self.home)) < 2.5)
+        return bool(np.hypot(*(r.xy - self.home)) < 3.5)
 
     def _mission_over_for(self, r: _Robot) -> bool:
         """Case I: the single task is known to be done, or allocated to others (then go home)."""
@@ -326,9 +334,7 @@ class Mission:
             for a in group[1:]:
                 group[0].map.merge(a.map)
             for a in group[1:]:
-                a.map.logodds[:] = group[0].map.logodds
-                a.map.observed[:] = group[0].map.observed
-                a.map.version = max(a.map.version, group[0].map.version) + (1 if a.graph_version >= 0 else 0)
+                a.map.merge(group[0].map)  # idempotent: every member ends with the same map
         tids = set().union(*(a.tasks.keys() for a in group))
         for tid in tids:
             ks = [a.tasks[tid] for a in group if tid in a.tasks]
@@ -386,7 +392,8 @@ class Mission:
             homing.append(r.done_exploring or self._mission_over_for(r))
         self.common = CommonBelief(self.t, base, np.array([r.xy for r in self.robots]), queues, self.home,
                                    self.lidar, delta=self.cfg.delta, eta_g=self.cfg.eta_g, eta_o=self.cfg.eta_o,
-                                   rho_o=self.cfg.rho_o, v_max=self.cfg.v_max, homing=homing)
+                                   rho_o=self.cfg.rho_o, v_max=self.cfg.particle_speed * self.cfg.v_max,
+                                   homing=homing)
         self._event("disconnect", "team splits: common belief set C propagated from here")
 
     # ------------------------------------------------------------------ allocation
@@ -471,15 +478,19 @@ class Mission:
     # ------------------------------------------------------------------ control
     def _goto(self, r: _Robot, goal_xy: np.ndarray, tol: float = 2.0) -> None:
         g = self._graph(r)
-        need = (r.nav.goal_xy is None or np.hypot(*(r.nav.goal_xy - goal_xy)) > tol
+        planned = None if r.nav.goal is None else self.world.centre(np.array(divmod(r.nav.goal, self.shape[1])))
+        need = (planned is None or r.nav.goal_xy is None or np.hypot(*(planned - goal_xy)) > tol
                 or r.nav.version != r.map.version)
         if need:
-            sp = g.from_cell(self._cell(r.xy))
             cell = self._cell(goal_xy)
+            sp = g.to_cell(self._cell(r.xy), cell)
             if not np.isfinite(sp.dist[cell]):
                 r.nav.clear()
                 return
             r.nav.set_path(sp, cell, self.shape, r.map.version, goal_xy=goal_xy)
+        elif len(r.nav.path_xy):  # small move of the goal: retarget the end of the path, no new search
+            r.nav.path_xy[-1] = goal_xy
+            r.nav.goal_xy = np.asarray(goal_xy, float)
 
     def _explore_goal(self, r: _Robot, members: list[int]) -> bool:
         """Pick/keep a frontier goal for r (eqs. 9–12); False when nothing is left to explore.
@@ -497,17 +508,23 @@ class Mission:
             state[(state == 0) & others] = 1
             sites = self.common.positions
         fmask = frontier_mask(state).ravel()
-        if r.nav.goal is not None and fmask[r.nav.goal] and r.nav.goal not in r.blacklist \
-                and r.nav.version == r.map.version:
-            if np.hypot(*(r.nav.goal_xy - r.xy)) < 0.6:
+        r.nav._now = self.t
+        if r.nav.goal is not None and fmask[r.nav.goal] and r.nav.goal not in r.blacklist:
+            if np.hypot(*(r.nav.goal_xy - r.xy)) < 0.6 or r.nav.stuck(r.xy, self.t):
                 r.blacklist.add(r.nav.goal)
             else:
-                return True
+                if r.nav.version != r.map.version:  # new obstacles: same goal, new path
+                    sp = self._graph(r).to_cell(self._cell(r.xy), r.nav.goal)
+                    if np.isfinite(sp.dist[r.nav.goal]):
+                        r.nav.set_path(sp, r.nav.goal, self.shape, r.map.version)
+                        return True
+                else:
+                    return True
         if r.blacklist:
             fmask[list(r.blacklist)] = False
         frontier = np.flatnonzero(fmask)
-        sp = self._graph(r).from_cell(self._cell(r.xy))
-        goal = select_frontier(sp, frontier, sites, r.id, self.cfg.delta, self.shape, self.res)
+        goal, sp = choose_frontier(self._graph(r), self._cell(r.xy), frontier, sites, r.id, self.cfg.delta,
+                                   self.shape, self.res)
         if goal is None:
             return False
         r.nav.set_path(sp, goal, self.shape, r.map.version)
@@ -549,6 +566,11 @@ class Mission:
             return
         r.wait_since = None
         if not r.done_exploring and not self._mission_over_for(r):
+            if self.common is not None and self.common.particles[r.id].status == "exploring":
+                # track the empathy particle c_ii = p_ij,i: be where the others believe r is (§5.1)
+                r.status = "exploring"
+                self._goto(r, self.common.particles[r.id].xy, tol=3.0)
+                return
             if self._explore_goal(r, members):
                 r.status = "exploring"
                 return
@@ -573,6 +595,11 @@ class Mission:
                 task_here = pending[0]
         elif not lead.done_exploring and not self._mission_over_for(lead):
             fmask = frontier_mask(lead.map.state).ravel()
+            self.anchor_nav._now = self.t
+            if self.anchor_nav.goal is not None and self.anchor_nav.stuck(self.anchor, self.t):
+                self.anchor_blacklist.add(self.anchor_nav.goal)
+            if self.anchor_blacklist:
+                fmask[list(self.anchor_blacklist)] = False
             if self.anchor_nav.goal is not None and fmask[self.anchor_nav.goal] \
                     and self.anchor_nav.version == lead.map.version:
                 goal_xy = self.anchor_nav.goal_xy
@@ -591,17 +618,26 @@ class Mission:
             goal_xy = self.home
         if self.anchor_nav.goal_xy is None or np.hypot(*(self.anchor_nav.goal_xy - goal_xy)) > 0.5 \
                 or self.anchor_nav.version != lead.map.version:
-            sp = g.from_cell(self._cell(self.anchor))
+            sp = g.to_cell(self._cell(self.anchor), self._cell(goal_xy))
             self.anchor_nav.set_path(sp, self._cell(goal_xy), self.shape, lead.map.version, goal_xy=goal_xy)
         spread = np.linalg.norm(xs - self.anchor[None, :], axis=1).max()
-        if spread < self.cfg.comm_range / 2 - 1.0:
+        if spread < self.cfg.comm_range / 2 - 0.5:
             u = self.anchor_nav.control(self.anchor, lead.map.occupied_mask(), eta_g=self.cfg.eta_g,
-                                        eta_o=self.cfg.eta_o, rho_o=self.cfg.rho_o, v_max=0.7 * self.cfg.v_max)
+                                        eta_o=self.cfg.eta_o, rho_o=self.cfg.rho_o,
+                                        v_max=self.cfg.particle_speed * self.cfg.v_max)
             self.anchor = integrate(self.anchor, u, self.cfg.dt, self.world.is_occupied, None)
         slots = []
+        radius = self.cfg.flock_radius if self.n > 1 else 0.0
+        if np.hypot(*(goal_xy - self.home)) < 1e-6 and np.hypot(*(self.anchor - self.home)) < 3.0:
+            radius = min(radius, 1.5)  # gather at home base
         for k, r in enumerate(self.robots):
             ang = 2 * np.pi * k / max(self.n, 1)
-            slot = self.anchor + (2.5 if self.n > 1 else 0.0) * np.array([np.cos(ang), np.sin(ang)])
+            slot = self.anchor + radius * np.array([np.cos(ang), np.sin(ang)])
+            w, h = self.world.size
+            slot = np.clip(slot, 0.6, [w - 0.6, h - 0.6])
+            near_obstacle = obstacle_points(lead.map.occupied_mask(), self.res, slot, 0.7)
+            if len(near_obstacle):
+                slot = self.anchor.copy()
             r.status = "exploring" if not pending and not r.done_exploring else ("task" if pending else "home")
             if task_here is not None and r.id in lead.tasks[task_here].assigned:
                 slot = np.array(lead.tasks[task_here].spec.xy)
@@ -642,7 +678,10 @@ class Mission:
                 r.excluded.clear()
             self._allocate_pending(r0, list(range(self.n)))
             return False
-        fmask = frontier_mask(r0.map.state)
+        fmask = frontier_mask(r0.map.state).ravel()
+        ignored = set(self.anchor_blacklist).union(*(r.blacklist for r in self.robots))
+        if ignored:
+            fmask[list(ignored)] = False
         sp = self._graph(r0).from_cell(self._cell(r0.xy))
         if np.isfinite(sp.dist[np.flatnonzero(fmask)]).any():
             for r in self.robots:
@@ -662,10 +701,9 @@ class Mission:
                 u = r.nav.control(r.xy, r.map.occupied_mask(), eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
                                   v_max=cfg.v_max)
             else:
-                from sim.motion import apf_velocity
-                obs = obstacle_points(r.map.occupied_mask(), self.res, r.xy, cfg.rho_o)
-                u = apf_velocity(r.xy, slots[r.id], obs, eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
-                                 v_max=cfg.v_max)
+                self._goto(r, slots[r.id], tol=1.0)
+                u = r.nav.control(r.xy, r.map.occupied_mask(), eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
+                                  v_max=cfg.v_max)
             new = integrate(r.xy, u, cfg.dt, self.world.is_occupied, self.rng, cfg.noise_std)
             r.distance += float(np.hypot(*(new - r.xy)))
             r.xy = new

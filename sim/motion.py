@@ -56,7 +56,8 @@ class GridGraph:
         self.resolution = resolution
         self.shape = blocked.shape
         h, w = blocked.shape
-        near = binary_dilation(blocked, iterations=1) & ~blocked
+        padded = np.pad(blocked, 1, constant_values=True)  # the map border counts as an obstacle
+        near = binary_dilation(padded, iterations=1)[1:-1, 1:-1] & ~blocked
         cell_cost = np.where(near, clearance_cost, 1.0).ravel()
         idx = np.arange(h * w).reshape(h, w)
         rows, cols, wts = [], [], []
@@ -77,10 +78,20 @@ class GridGraph:
         self.matrix = sp.csr_matrix((np.concatenate(wts), (np.concatenate(rows), np.concatenate(cols))),
                                     shape=(h * w, h * w))
 
-    def from_cell(self, source: int) -> ShortestPaths:
-        """Single-source shortest paths (Dijkstra) from flat cell ``source``."""
-        dist, pred = dijkstra(self.matrix, indices=int(source), return_predecessors=True)
+    def from_cell(self, source: int, limit: float = np.inf) -> ShortestPaths:
+        """Single-source shortest paths (Dijkstra) from flat cell ``source``, searched up to ``limit`` metres."""
+        dist, pred = dijkstra(self.matrix, indices=int(source), return_predecessors=True, limit=limit)
         return ShortestPaths(int(source), dist, pred)
+
+    def to_cell(self, source: int, target: int) -> ShortestPaths:
+        """Shortest path source → target; the search is bounded by a multiple of the straight-line distance
+        (as an A* search would be) and widened only when the target is not reached."""
+        h, w = self.shape
+        d = self.resolution * float(np.hypot(source // w - target // w, source % w - target % w))
+        sp = self.from_cell(source, limit=2.0 * d + 5.0)
+        if not np.isfinite(sp.dist[target]):
+            sp = self.from_cell(source)
+        return sp
 
 
 def line_free(blocked: np.ndarray, resolution: float, a: np.ndarray, b: np.ndarray) -> bool:

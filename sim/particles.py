@@ -29,7 +29,7 @@ import numpy as np
 from sim.grid import FREE, UNKNOWN, LidarModel, OccupancyGrid, frontier_mask
 from sim.motion import GridGraph, ShortestPaths, apf_velocity, integrate, smooth_waypoint
 
-__all__ = ["select_frontier", "Navigator", "CommonBelief", "BeliefRecord", "believed_position",
+__all__ = ["select_frontier", "choose_frontier", "graph_for", "Navigator", "CommonBelief", "BeliefRecord", "believed_position",
            "obstacle_points"]
 
 
@@ -47,9 +47,29 @@ def obstacle_points(blocked: np.ndarray, res: float, xy: np.ndarray, radius: flo
     return np.clip(xy[None, :], lo, lo + res)
 
 
+_GRAPH_CACHE: dict[tuple[bytes, float], GridGraph] = {}
+
+
+def graph_for(blocked: np.ndarray, res: float) -> GridGraph:
+    """The free-space graph of ``blocked``, shared by every robot whose map has the same obstacles."""
+    key = (np.packbits(blocked).tobytes(), res)
+    g = _GRAPH_CACHE.get(key)
+    if g is None:
+        if len(_GRAPH_CACHE) > 64:
+            _GRAPH_CACHE.clear()
+        g = _GRAPH_CACHE[key] = GridGraph(blocked, res)
+    return g
+
+
 def select_frontier(sp: ShortestPaths, frontier: np.ndarray, sites: np.ndarray, me: int, delta: float,
                     shape: tuple[int, int], res: float) -> int | None:
     """Eqs. 9–12: the frontier cell minimising path length + Δ·[f ∉ V_me], V the Voronoi cells of ``sites``."""
+    best = _best_frontier(sp, frontier, sites, me, delta, shape, res)
+    return None if best is None else best[0]
+
+
+def _best_frontier(sp: ShortestPaths, frontier: np.ndarray, sites: np.ndarray, me: int, delta: float,
+                   shape: tuple[int, int], res: float) -> tuple[int, float] | None:
     if len(frontier) == 0:
         return None
     d = sp.dist[frontier]
@@ -60,7 +80,22 @@ def select_frontier(sp: ShortestPaths, frontier: np.ndarray, sites: np.ndarray, 
     fxy = np.stack([(f % shape[1] + 0.5) * res, (f // shape[1] + 0.5) * res], 1)
     owner = np.argmin(np.linalg.norm(fxy[:, None, :] - sites[None, :, :], axis=2), axis=1)  # eq. 9
     util = d[ok] + delta * (owner != me)  # eq. 10
-    return int(f[int(np.argmin(util))])  # eqs. 11–12
+    k = int(np.argmin(util))
+    return int(f[k]), float(util[k])  # eqs. 11–12
+
+
+def choose_frontier(graph: GridGraph, source: int, frontier: np.ndarray, sites: np.ndarray, me: int,
+                    delta: float, shape: tuple[int, int], res: float,
+                    limit: float = 10.0) -> tuple[int | None, ShortestPaths]:
+    """Exact eqs. 9–12 with a bounded search first: every frontier beyond ``limit`` metres has utility
+    ≥ limit, so a minimiser below ``limit`` found by the bounded Dijkstra is the global one."""
+    sp = graph.from_cell(source, limit=limit)
+    best = _best_frontier(sp, frontier, sites, me, delta, shape, res)
+    if best is not None and best[1] < limit:
+        return best[0], sp
+    sp = graph.from_cell(source)
+    best = _best_frontier(sp, frontier, sites, me, delta, shape, res)
+    return (None if best is None else best[0]), sp
 
 
 class Navigator:
@@ -72,10 +107,23 @@ class Navigator:
         self.goal_xy: np.ndarray | None = None
         self.path_xy = np.empty((0, 2))
         self.version = -1
+        self._best = np.inf
+        self._since = 0.0
+
+    def stuck(self, xy: np.ndarray, t: float, window: float = 10.0) -> bool:
+        """True when the distance to the goal has not shrunk by 0.5 m during the last ``window`` seconds."""
+        if self.goal_xy is None:
+            return False
+        d = float(np.hypot(*(self.goal_xy - xy)))
+        if d < self._best - 0.5:
+            self._best, self._since = d, t
+        return t - self._since > window
 
     def set_path(self, sp: ShortestPaths, goal: int, shape: tuple[int, int], version: int,
                  goal_xy: np.ndarray | None = None) -> None:
         cells = np.array(sp.path(goal), dtype=int)
+        if goal != self.goal:
+            self._best, self._since = np.inf, getattr(self, "_now", 0.0)
         self.goal, self.version = goal, version
         gxy = np.array([(goal % shape[1] + 0.5) * self.res, (goal // shape[1] + 0.5) * self.res])
         self.goal_xy = gxy if goal_xy is None else np.asarray(goal_xy, float)
@@ -127,7 +175,7 @@ class CommonBelief:
         self.shape = base.shape
         self.blocked = base.occupied_mask().copy()
         self.observed = base.observed.copy()
-        self.graph = GridGraph(self.blocked, self.res)
+        self.graph = graph_for(self.blocked, self.res)
         self.seen_time = np.where(self.observed, -np.inf, np.inf)
         self.seen_by = np.full(self.shape, -1, dtype=int)
         self.home = home
@@ -177,11 +225,11 @@ class CommonBelief:
                     p.nav.clear()
                     continue
                 if p.nav.goal_xy is None or np.hypot(*(p.nav.goal_xy - tgt)) > 1e-6:
-                    sp = self.graph.from_cell(self._cell(p.xy))
+                    sp = self.graph.to_cell(self._cell(p.xy), self._cell(tgt))
                     p.nav.set_path(sp, self._cell(tgt), self.shape, 0, goal_xy=tgt)
             elif p.status == "home":
                 if p.nav.goal_xy is None:
-                    sp = self.graph.from_cell(self._cell(p.xy))
+                    sp = self.graph.to_cell(self._cell(p.xy), self._cell(self.home))
                     p.nav.set_path(sp, self._cell(self.home), self.shape, 0, goal_xy=self.home)
             elif p.status == "exploring":
                 if frontier is None:
@@ -189,12 +237,12 @@ class CommonBelief:
                     frontier = np.flatnonzero(fmask)
                     fset = fmask.ravel()
                 if p.nav.goal is None or not fset[p.nav.goal]:
-                    sp = self.graph.from_cell(self._cell(p.xy))
-                    g = select_frontier(sp, frontier, sites, j, self.delta, self.shape, self.res)
+                    g, sp = choose_frontier(self.graph, self._cell(p.xy), frontier, sites, j, self.delta,
+                                            self.shape, self.res)
                     if g is None:
                         p.status = "home"
-                        sp_home = sp
-                        p.nav.set_path(sp_home, self._cell(self.home), self.shape, 0, goal_xy=self.home)
+                        sp = self.graph.to_cell(self._cell(p.xy), self._cell(self.home))
+                        p.nav.set_path(sp, self._cell(self.home), self.shape, 0, goal_xy=self.home)
                     else:
                         p.nav.set_path(sp, g, self.shape, 0)
             u = p.nav.control(p.xy, self.blocked, **self.params)
