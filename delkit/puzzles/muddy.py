@@ -24,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+import delkit.semantics  # noqa: F401 - loaded before timing (KripkeModel.check imports it lazily)
 from delkit.errors import ModelError
 from delkit.formula import Formula, Kw, Not, Prop, conj, disj
 from delkit.kripke import KripkeModel
