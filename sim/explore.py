@@ -33,6 +33,7 @@ import numpy as np
 from scipy.sparse.csgraph import connected_components
 
 from delkit.errors import SimulationError
+from delkit.formula import K as K_
 from planners.allocation import Robot as BidRobot
 from planners.allocation import Task as AllocTask
 from planners.allocation import allocate, euclidean_cost
@@ -83,6 +84,7 @@ class MissionConfig:
     wait_timeout: float = 120.0
     map_path: str | None = None
     record: bool = True
+    status_model: bool = False
 
     def validate(self) -> None:
         if self.method not in METHODS:
@@ -140,6 +142,7 @@ class MissionResult:
     explored: float
     wall_time: float
     task_completers: tuple[tuple[int, ...], ...] = ()
+    epistemic_checks: tuple[tuple[str, int, int], ...] = ()
     history: MissionHistory | None = field(default=None, repr=False, compare=False)
 
     def row(self) -> dict:
@@ -275,6 +278,13 @@ class Mission:
         self._hist_x: list[np.ndarray] = []
         self._hist_s: list[np.ndarray] = []
         self._hist_p: list[np.ndarray] = []
+        self.status_model = None
+        self.checks = {"eq14": [0, 0], "eq18": [0, 0], "outsiders_unchanged": [0, 0]}
+        if cfg.status_model:
+            if self.n > 4:
+                raise SimulationError("the delkit status model is tracked for at most 4 robots (4^N worlds)")
+            from sim.status_model import StatusModel
+            self.status_model = StatusModel.initial(self.n)
         for r in self.robots:
             self._scan(r)
 
@@ -711,6 +721,8 @@ class Mission:
                 self.collisions += 1
             self._scan(r)
         self._tasks_step()
+        if self.status_model is not None:
+            self._update_status_model()
         self.t += cfg.dt
         if cfg.record:
             self._hist_t.append(self.t)
@@ -720,6 +732,38 @@ class Mission:
                                 else np.full((self.n, 2), np.nan))
         if self._finished():
             self.done = True
+
+    def _update_status_model(self) -> None:
+        """Mirror status changes and announcements in the delkit model and check eqs. 14 and 18 there."""
+        from sim.status_model import agent, eq14, eq18, status_prop
+
+        sm = self.status_model
+        labels = self.components
+        for r in self.robots:
+            if sm.statuses[r.id] != r.status:
+                sm.change(r.id, r.status, [int(m) for m in np.flatnonzero(labels == labels[r.id])])
+        comps = {int(c): [int(m) for m in np.flatnonzero(labels == c)] for c in set(labels.tolist())}
+        if len(comps) == 1 and self.n > 1:
+            sm.announce_global()
+            edges = [(i, j) for i in range(self.n) for j in range(self.n) if i != j and self.prev_adj[i, j]]
+            ok = sm.holds(eq14(sm.statuses, edges))
+            self.checks["eq14"][0] += int(ok)
+            self.checks["eq14"][1] += 1
+            return
+        for members in comps.values():
+            if len(members) < 2:
+                continue
+            outsiders = [k for k in range(self.n) if k not in members]
+            before = [sm.holds(K_(agent(k), status_prop(j, sm.statuses[j]))) for k in outsiders
+                      for j in range(self.n)]
+            sm.announce_local(members)
+            ok = sm.holds(eq18(sm.statuses, members))
+            self.checks["eq18"][0] += int(ok)
+            self.checks["eq18"][1] += 1
+            after = [sm.holds(K_(agent(k), status_prop(j, sm.statuses[j]))) for k in outsiders
+                     for j in range(self.n)]
+            self.checks["outsiders_unchanged"][0] += int(before == after)
+            self.checks["outsiders_unchanged"][1] += 1
 
     def run(self, progress: Callable[[float, float], None] | None = None) -> MissionResult:
         wall = _time.perf_counter()
@@ -750,7 +794,8 @@ class Mission:
                              len(self.task_specs), self.communications, bool(self.done),
                              all(self._at_home(r) for r in self.robots), self.collisions, ok,
                              round(float((explored & free).sum() / free.sum()), 4), round(wall, 3),
-                             tuple(self.completers), hist)
+                             tuple(self.completers), tuple((k, v[0], v[1]) for k, v in self.checks.items()),
+                             hist)
 
 
 def run_mission(cfg: MissionConfig, progress: Callable[[float, float], None] | None = None) -> MissionResult:
