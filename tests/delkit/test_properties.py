@@ -252,6 +252,19 @@ def test_contraction_preserves_truth(m, phi):
     assert m.holds(phi) == c.holds(phi)
 
 
+def test_contraction_of_partitions_when_bisimilar_worlds_sit_in_different_classes():
+    # found by the hash property above with 1500 examples: w0 ~ w1 and w2 ~ w3 are bisimilar, but b's
+    # classes are {w0, w3} and {w1, w2}; the quotient must relate [w0] and [w2] for b (w1 R_b w2), so
+    # taking the class label of one representative per block is wrong.
+    m = KripkeModel.build([set(), set(), {"p"}, {"p"}], {"a": [[0, 1, 2, 3]], "b": [[0, 3], [1, 2]]},
+                          designated=[0])
+    c = contract(m)
+    assert c.n_worlds == 2
+    assert m.holds("~K_b ~p") and c.holds("~K_b ~p")
+    assert naive_bisimilar(m, c) and bisimilar(m, c)
+    assert canonical_hash(c) == canonical_hash(m)
+
+
 # ----------------------------------------------------------------------------- printing and parsing
 
 
