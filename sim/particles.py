@@ -29,8 +29,8 @@ import numpy as np
 from sim.grid import FREE, UNKNOWN, LidarModel, OccupancyGrid, frontier_mask
 from sim.motion import GridGraph, ShortestPaths, apf_velocity, integrate, smooth_waypoint
 
-__all__ = ["select_frontier", "choose_frontier", "graph_for", "Navigator", "CommonBelief", "BeliefRecord", "believed_position",
-           "obstacle_points"]
+__all__ = ["select_frontier", "choose_frontier", "graph_for", "Navigator", "CommonBelief", "BeliefRecord",
+           "believed_position", "obstacle_points"]
 
 
 def obstacle_points(blocked: np.ndarray, res: float, xy: np.ndarray, radius: float) -> np.ndarray:
