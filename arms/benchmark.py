@@ -32,6 +32,7 @@ class SolverStats:
     p95_s: float
     mean_s: float
     max_fk_disagreement: float
+    us_per_iteration: float = float("nan")
 
     @property
     def rate(self) -> float:
@@ -40,7 +41,8 @@ class SolverStats:
     def to_json(self) -> dict:
         return {"solver": self.solver, "targets": self.n, "successes": self.successes,
                 "success_rate": self.rate, "median_ms": self.median_s * 1e3, "p95_ms": self.p95_s * 1e3,
-                "mean_ms": self.mean_s * 1e3, "max_fk_disagreement_m": self.max_fk_disagreement}
+                "mean_ms": self.mean_s * 1e3, "max_fk_disagreement_m": self.max_fk_disagreement,
+                "us_per_iteration": self.us_per_iteration}
 
 
 def benchmark_ik(n: int, *, seed: int = 0, budget: float = 0.005, clock: str = "wall",
@@ -67,7 +69,7 @@ def benchmark_ik(n: int, *, seed: int = 0, budget: float = 0.005, clock: str = "
     out = []
     done = 0
     for name, solve in solvers.items():
-        times, ok, disagreement = [], 0, 0.0
+        times, ok, disagreement, iters = [], 0, 0.0, 0
         for i, target in enumerate(poses):
             t0 = tick()
             res = solve(target, seed + i)
@@ -79,10 +81,11 @@ def benchmark_ik(n: int, *, seed: int = 0, budget: float = 0.005, clock: str = "
                 disagreement = max(disagreement, ik.fk_disagreement(ik.full_q({"robot1": q})))
             ok += bool(res.converged and dp < POS_TOL and dr < ROT_TOL and dt <= budget)
             times.append(dt)
+            iters += res.iterations + res.restarts
             done += 1
             if progress is not None:
                 progress(done, name)
         ts = np.array(times)
         out.append(SolverStats(name, n, ok, float(np.median(ts)), float(np.percentile(ts, 95)),
-                               float(ts.mean()), disagreement))
+                               float(ts.mean()), disagreement, 1e6 * float(ts.sum()) / max(iters, 1)))
     return out
