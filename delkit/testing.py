@@ -23,8 +23,9 @@ Strategies:
   euclidean; every KD45 relation has this shape: worlds fall into clusters, and each cluster has a
   non-empty set of believed worlds that every world of the cluster points to), ``"K"`` (any relation);
 * :func:`s5_models`, :func:`kd45_models`, :func:`pointed_models` – shorthands;
-* :func:`event_models` – event models with propositional pre/postconditions, S5 (partitions) or KD45
-  frames (the mA* shape with oblivious agents is KD45);
+* :func:`event_models` – event models with propositional pre/postconditions, S5 (partitions), KD45 or K
+  frames, or the mA* observability frames (full / partial / oblivious observers, via
+  :func:`delkit.events.action`);
 * :func:`world_permutations` – a permutation of worlds to build isomorphic copies.
 
 Every strategy is shrinkable (it is built from hypothesis primitives, not from a seeded RNG).
@@ -61,10 +62,11 @@ from delkit.relation import Relation
 
 __all__ = [
     "formulas", "propositional_formulas", "kripke_models", "s5_models", "kd45_models", "pointed_models",
-    "event_models", "relations", "kd45_relation", "world_permutations", "FRAMES",
+    "event_models", "relations", "kd45_relation", "world_permutations", "FRAMES", "EVENT_FRAMES",
 ]
 
 FRAMES = ("S5", "KD45", "K")
+EVENT_FRAMES = (*FRAMES, "mA*")
 
 
 def _check_frame(frame: str) -> str:
@@ -237,27 +239,50 @@ def event_models(props: Sequence[str], agents: Sequence[str], max_events: int = 
                  pre_depth: int = 2, postconditions: bool = True, min_events: int = 1,
                  name: str = "E") -> st.SearchStrategy[EventModel]:
     """Event models with propositional preconditions (depth ≤ ``pre_depth``) and, if ``postconditions``,
-    random propositional postconditions on some propositions; relations of the frame class ("S5" or
-    "KD45"; "K" allowed too); a non-empty set of designated events."""
+    random propositional postconditions on some propositions; a non-empty set of designated events.
+
+    ``frame``: "S5" (partitions), "KD45" or "K" (any relation of that class), or "mA*": the observability
+    frames of :func:`delkit.events.action` — every agent is drawn fully observant, partially observant or
+    oblivious; with oblivious agents the skip event ``eps`` is added (then ``max_events`` + 1 events).
+    """
+    if frame.upper() == "MA*":
+        return _ma_star_models(tuple(props), tuple(agents), max_events, pre_depth, postconditions, min_events,
+                               name)
     frame = _check_frame(frame)
     props, agents = tuple(props), tuple(agents)
     pre_s = propositional_formulas(props, pre_depth)
-    post_s = propositional_formulas(props, 1)
 
     @st.composite
     def build(draw):
         k = draw(st.integers(min_events, max_events))
         pres = tuple(draw(pre_s) for _ in range(k))
-        posts = []
-        for _ in range(k):
-            if postconditions:
-                changed = draw(st.lists(st.sampled_from(props), max_size=len(props), unique=True))
-                posts.append({p: draw(post_s) for p in changed})
-            else:
-                posts.append({})
+        posts = tuple(draw(_posts(props, postconditions)) for _ in range(k))
         rels = {a: draw(relations(k, frame)) for a in agents}
         des = tuple(draw(st.lists(st.integers(0, k - 1), min_size=1, max_size=k, unique=True)))
-        return EventModel(tuple(f"e{i}" for i in range(k)), agents, pres, tuple(posts), rels, des, name)
+        return EventModel(tuple(f"e{i}" for i in range(k)), agents, pres, posts, rels, des, name)
+
+    return build()
+
+
+def _posts(props: tuple[str, ...], enabled: bool) -> st.SearchStrategy[dict[str, Formula]]:
+    if not enabled:
+        return st.just({})
+    return st.dictionaries(st.sampled_from(props), propositional_formulas(props, 1), max_size=len(props))
+
+
+def _ma_star_models(props, agents, max_events, pre_depth, postconditions, min_events, name):
+    from delkit.events import action
+
+    pre_s = propositional_formulas(props, pre_depth)
+
+    @st.composite
+    def build(draw):
+        k = draw(st.integers(min_events, max_events))
+        outcomes = [(f"e{i}", draw(pre_s), draw(_posts(props, postconditions))) for i in range(k)]
+        kinds = [draw(st.sampled_from(["full", "partial", "oblivious"])) for _ in agents]
+        full = [a for a, kd in zip(agents, kinds, strict=True) if kd == "full"]
+        partial = [a for a, kd in zip(agents, kinds, strict=True) if kd == "partial"]
+        return action(agents, outcomes, full=full, partial=partial, name=name)
 
     return build()
 

@@ -146,8 +146,8 @@ def test_public_announcement_event_model_is_restriction(m, phi):
 
 @CFG
 @given(st.sampled_from(["S5", "KD45"]).flatmap(lambda fr: kripke_models(PROPS, AGENTS, 4, frame=fr)),
-       st.sampled_from(["S5", "KD45"]).flatmap(lambda fr: event_models(PROPS, AGENTS, 3, frame=fr)),
-       st.sampled_from(["S5", "KD45"]).flatmap(lambda fr: event_models(PROPS, AGENTS, 3, frame=fr)),
+       st.sampled_from(["S5", "KD45", "mA*"]).flatmap(lambda fr: event_models(PROPS, AGENTS, 3, frame=fr)),
+       st.sampled_from(["S5", "KD45", "mA*"]).flatmap(lambda fr: event_models(PROPS, AGENTS, 3, frame=fr)),
        st.booleans())
 def test_sequential_update_equals_update_with_composition(m, e1, e2, prune):
     seq = product_update(product_update(m, e1), e2)
@@ -287,7 +287,7 @@ def test_parse_show_round_trip_with_event_model(phi, em, data):
 
 @CFG
 @given(st.sampled_from(["S5", "KD45"]).flatmap(lambda fr: kripke_models(PROPS, AGENTS, 4, frame=fr)),
-       st.sampled_from(["S5", "KD45"]).flatmap(lambda fr: event_models(PROPS, AGENTS, 3, frame=fr)),
+       st.sampled_from(["S5", "KD45", "mA*"]).flatmap(lambda fr: event_models(PROPS, AGENTS, 3, frame=fr)),
        formulas(PROPS, AGENTS, 2, allow_common=False, allow_announce=True), st.data())
 def test_reduction_of_update_agrees_with_explicit_checker(m, em, phi, data):
     e = data.draw(st.integers(0, em.n_events - 1))

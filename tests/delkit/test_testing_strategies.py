@@ -139,3 +139,16 @@ def test_announce_is_only_generated_when_allowed():
         assert not any(isinstance(g, (Announce, Update)) for g in subformulas(f))
 
     check()
+
+
+@CFG
+@given(event_models(["p", "q"], ["a", "b", "c"], 2, frame="mA*"))
+def test_ma_star_event_models_follow_the_observability_frames(e):
+    real = [i for i, n in enumerate(e.events) if n != "eps"]
+    assert 1 <= len(real) <= 2 and e.designated == tuple(real)
+    for a in e.agents:
+        r = e.relation(a)
+        assert r.is_serial() and r.is_transitive() and r.is_euclidean()  # KD45 (S5 without oblivious)
+        if "eps" in e.events and not r.is_partition:  # oblivious: every event points to eps only
+            eps = e.events.index("eps")
+            assert all(list(r.successors(i)) == [eps] for i in range(e.n_events))
