@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from delkit.bisim import bisimilar, contract
+from delkit.testing import formulas, kripke_models
 from delkit.update import product_update
 from planners.demo import specs_dir
 from planners.epistemic import DelSpace, Limits, bfs, plan
@@ -144,3 +145,51 @@ def test_compiled_frames_equal_delkit_action_frames(ai: int, fm: int, pm: int) -
     ref = space._compile(build_event_model(act, ags, full, part, sensed), None)
     base = build_event_model(act, ags, frozenset(ags), frozenset(), sensed)
     assert space._frame(base, fm, pm) == ref
+
+
+# ----------------------------------------------------------------------------- property tests on random models
+
+
+_PROPS, _AGENTS = ("p", "q"), ("a", "b")
+
+
+def _tiny_space():
+    from planners.lang.mastar import parse_mastar
+
+    task = parse_mastar("fluent p, q; action x; agent a, b; initially p, q; goal p;", "tiny.txt")
+    return FastSpace(task), task
+
+
+@settings(max_examples=60, deadline=None)
+@given(m=kripke_models(_PROPS, _AGENTS, 5, frame="K"), f=formulas(_PROPS, _AGENTS, 3))
+def test_fast_truth_equals_delkit_truth(m, f) -> None:
+    """Formula truth at the pointed world is the same in delkit and in the contracted fast state (which
+    also checks that contraction preserves every formula: bisimulation invariance)."""
+    space, _ = _tiny_space()
+    s = from_kripke(m)
+    assert space.holds(s, f) == m.holds(f)
+
+
+@settings(max_examples=60, deadline=None)
+@given(m1=kripke_models(_PROPS, _AGENTS, 4, frame="KD45"), m2=kripke_models(_PROPS, _AGENTS, 4, frame="KD45"))
+def test_canonical_key_iff_bisimilar(m1, m2) -> None:
+    assert (from_kripke(m1).key == from_kripke(m2).key) == bisimilar(m1, m2)
+    assert from_kripke(m1).key == from_kripke(contract(m1)).key
+
+
+@settings(max_examples=15, deadline=None)
+@given(goal=formulas(("tail", "opened"), ("a", "b", "c"), 2, allow_group=True))
+def test_random_goals_plan_found_implies_independent_replay_reaches_goal(goal) -> None:
+    """For random goals on Coin in the Box: every plan BFS finds is valid under the independent checker,
+    and no shorter plan exists among its prefixes."""
+    from dataclasses import replace
+
+    task = load_task(D / "coin_in_the_box" / "domain.epddl", D / "coin_in_the_box" / "problem.epddl")
+    t2 = replace(task, goal=goal, _cache={})
+    res = plan(t2, limits=Limits(max_expanded=150, timeout=10))
+    if res.solved:
+        assert check_plan(t2, list(res.plan)).valid
+        for k in range(len(res.plan)):
+            assert not check_plan(t2, list(res.plan[:k])).valid
+    else:
+        assert res.plan is None and res.status in ("limit", "unsolvable")
