@@ -53,6 +53,8 @@ def test_limits_give_a_failure_not_an_empty_plan() -> None:
     assert r.status == "limit" and "time limit" in r.reason
     r = plan(task, search="astar", limits=Limits(max_expanded=2))
     assert r.status == "limit"
+    r = plan(task, limits=Limits(max_memory_mb=1.0))  # below any Python process: stops at once
+    assert r.status == "limit" and "memory limit" in r.reason and r.plan is None
 
 
 def test_goal_true_initially_is_an_explicit_empty_plan() -> None:
