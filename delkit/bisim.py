@@ -142,6 +142,17 @@ def bisimulation_classes(model: KripkeModel) -> list[list[int]]:
     return [out[k] for k in sorted(out)]
 
 
+def _quotient_labels(blocks: np.ndarray, labels: np.ndarray, k: int) -> np.ndarray:
+    """Class of each block in the quotient of the partition ``labels`` by ``blocks`` (k blocks)."""
+    import scipy.sparse as sp
+    from scipy.sparse.csgraph import connected_components
+
+    n_lab = int(labels.max(initial=-1)) + 1
+    g = sp.csr_matrix((np.ones(blocks.size, dtype=bool), (blocks, k + labels)), shape=(k + n_lab, k + n_lab))
+    _, comp = connected_components(g, directed=False)
+    return comp[:k]
+
+
 def contract(model: KripkeModel, *, generated: bool = True) -> KripkeModel:
     """Bisimulation contraction: the quotient of (the designated-generated submodel of) ``model``.
 
@@ -156,7 +167,9 @@ def contract(model: KripkeModel, *, generated: bool = True) -> KripkeModel:
     rels: dict[str, Relation] = {}
     for a, r in m.relations.items():
         if r.labels is not None:
-            rels[a] = Relation.from_labels(r.labels[rep])
+            # X R Y iff some w ∈ X and v ∈ Y share a class. Because bisimulation classes respect R this
+            # quotient is again an equivalence: the components of the bipartite block–class graph.
+            rels[a] = Relation.from_labels(_quotient_labels(blocks, r.labels, k))
         else:
             coo = r.matrix.tocoo()
             rels[a] = Relation.from_pairs(k, zip(blocks[coo.row].tolist(), blocks[coo.col].tolist(), strict=True))

@@ -342,7 +342,7 @@ def show(f: Formula) -> str:
         return "~" + _wrap(f.arg, _ATOMIC)
     if isinstance(f, And):
         if not f.args:
-            return "(T & T)" if False else "T"
+            return "T"
         if len(f.args) == 1:
             return "(" + show(f.args[0]) + " & T)"
         return " & ".join(_wrap(a, _PREC[And] + 1) for a in f.args)

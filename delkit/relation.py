@@ -120,7 +120,7 @@ class Relation:
         """Vector of worlds all of whose successors satisfy ``truth`` (the modal box)."""
         truth = np.asarray(truth, dtype=bool)
         if self.labels is not None:
-            bad = np.bincount(self.labels, weights=~truth, minlength=int(self.labels.max(initial=-1)) + 1)
+            bad = np.bincount(self.labels[~truth], minlength=int(self.labels.max(initial=-1)) + 1)
             return bad[self.labels] == 0
         bad = self.matrix @ (~truth).astype(np.int64)
         return bad == 0
@@ -139,7 +139,9 @@ class Relation:
         """Relation on the points ``keep`` (an index array, in that order)."""
         keep = np.asarray(keep, dtype=np.int64)
         if self.labels is not None:
-            return Relation.from_labels(self.labels[keep]) if keep.size else Relation(0, np.zeros(0, np.int64))
+            # labels stay as they are (not renumbered): they only need to be equal within a class and
+            # bounded by the original size, which keeps restriction a single gather
+            return Relation(n=int(keep.size), labels=self.labels[keep])
         return Relation.from_matrix(self.matrix[keep][:, keep])
 
     def product(self, other: Relation, pairs: np.ndarray) -> Relation:

@@ -221,3 +221,12 @@ def test_composition_theorem_with_epistemic_precondition():
     macro = product_update(m, compose(peek, tell))
     assert bisimilar(seq, macro)
     assert macro.holds("C{a,b} p")
+
+
+def test_contraction_of_partitions_merges_classes_through_bisimilar_worlds():
+    # b links w0-w3 and w1-w2; w0~w1 and w2~w3 are bisimilar, so in the quotient b links the two classes
+    m = KripkeModel.build([set(), set(), {"p"}, {"p"}], {"a": [[0, 1, 2, 3]], "b": [[0, 3], [1, 2]]}, [0])
+    c = contract(m)
+    assert c.n_worlds == 2 and bisimilar(c, m)
+    assert c.holds("~Kw_b p") and m.holds("~Kw_b p")
+    assert canonical_hash(c) == canonical_hash(m)
