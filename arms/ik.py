@@ -353,7 +353,8 @@ class DualArmIK:
         iters = restarts = k = 0
         history: list[float] = []
         pin_targets = {r: pin.SE3(np.asarray(t, dtype=float)) for r, t in targets.items()}
-        self.set_targets(targets)
+        # an arm without a target holds its pose (its frame task stays in the QP)
+        self.set_targets({**{r: self.tcp_pose(q, r) for r in self.robots if r not in targets}, **targets})
         self.configuration.update(q)
         while True:
             ep, er = self._errors_here(targets)
@@ -364,7 +365,9 @@ class DualArmIK:
                 break
             history.append(ep + er)
             if k >= max_iter or (k > stall and history[-1] > 0.9 * history[-1 - stall]):
-                q = self.full_q({r: self.pin[r]._restart(rng, pin_targets[r], candidates) for r in self.robots})
+                q = q.copy()
+                for r in targets:
+                    q[self.qadr[r]] = self.pin[r]._restart(rng, pin_targets[r], candidates)
                 self.configuration.update(q)
                 restarts += 1
                 k = 0
