@@ -38,7 +38,7 @@ from planners.allocation import Robot as BidRobot
 from planners.allocation import Task as AllocTask
 from planners.allocation import allocate, euclidean_cost
 from sim.grid import LidarModel, OccupancyGrid, WorldMap, frontier_mask, random_map, read_movingai
-from sim.motion import GridGraph, integrate
+from sim.motion import GridGraph, integrate, line_free
 from sim.particles import (
     BeliefRecord,
     CommonBelief,
@@ -491,6 +491,14 @@ class Mission:
         planned = None if r.nav.goal is None else self.world.centre(np.array(divmod(r.nav.goal, self.shape[1])))
         need = (planned is None or r.nav.goal_xy is None or np.hypot(*(planned - goal_xy)) > tol
                 or r.nav.version != r.map.version)
+        if need and np.hypot(*(goal_xy - r.xy)) < 8.0 and r.nav.version == r.map.version and \
+                line_free(r.map.occupied_mask(), self.res, r.xy, np.asarray(goal_xy, float)):
+            # in sight on the known map: the A* path is the straight segment, no search needed
+            r.nav.goal = self._cell(goal_xy)
+            r.nav.goal_xy = np.asarray(goal_xy, float)
+            k = max(2, int(np.hypot(*(r.nav.goal_xy - r.xy)) / self.res) + 2)
+            r.nav.path_xy = r.xy[None, :] + np.linspace(0, 1, k)[:, None] * (r.nav.goal_xy - r.xy)[None, :]
+            return
         if need:
             cell = self._cell(goal_xy)
             sp = g.to_cell(self._cell(r.xy), cell)

@@ -154,7 +154,7 @@ class LidarModel:
         blocked_before = np.cumsum(occ, axis=1) - occ  # number of blocking samples strictly before
         free = (blocked_before == 0) & ~occ
         hit = (blocked_before == 0) & occ & inside
-        return np.unique(flat[free]), np.unique(flat[hit])
+        return flat[free], flat[hit]  # may repeat cells; every consumer is idempotent per cell
 
 
 def frontier_mask(state: np.ndarray) -> np.ndarray:
@@ -200,6 +200,8 @@ class OccupancyGrid:
 
     def update(self, free_cells: np.ndarray, hit_cells: np.ndarray) -> bool:
         """Log-odds update from one scan; True when the set of occupied cells changed (replan needed)."""
+        free_cells = np.asarray(free_cells, dtype=np.intp)
+        hit_cells = np.asarray(hit_cells, dtype=np.intp)
         lo, ob = self.logodds.ravel(), self.observed.ravel()
         before = lo[hit_cells] > 0
         lo[free_cells] = np.clip(lo[free_cells] + self.l_free, -self.l_max, self.l_max)
