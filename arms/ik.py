@@ -34,6 +34,7 @@ import mink
 import mujoco
 import numpy as np
 import pinocchio as pin
+from scipy.linalg.lapack import dposv
 
 from arms.scene import ARM_JOINTS, TCP_BODY, build_scene, panda_urdf_path
 from arms.world import Layout
@@ -157,7 +158,7 @@ class PinocchioArm:
         best_score, best = np.inf, (np.inf, np.inf, q.copy())
         iters = restarts = k = 0
         history: list[float] = []
-        eye6 = np.eye(6)
+        diag6 = np.diag_indices(6)
         diag7 = np.diag_indices(7)
         no_rows = np.zeros((0, 7))
         model, data, frame, qf = self.model, self.data, self.frame, self._q
@@ -178,14 +179,17 @@ class PinocchioArm:
                 break
             history.append(dp + dr)
             if k >= max_iter or (k > stall and history[-1] > 0.9 * history[-1 - stall]):
-                q = self._restart(rng, target_se3, candidates)
+                # alternate nearest-of-candidates restarts (exploit) with plain random ones (explore)
+                q = self._restart(rng, target_se3, candidates if restarts % 2 == 0 else 1)
                 restarts += 1
                 k = 0
                 history.clear()
                 continue
             jac = pin.getFrameJacobian(model, data, frame, pin.LOCAL)[:, :7]
             lam = damping + float(e @ e)
-            dq = jac.T @ np.linalg.solve(jac @ jac.T + lam * eye6, e)  # the box is rarely active:
+            gram = jac @ jac.T
+            gram[diag6] += lam
+            dq = jac.T @ dposv(gram, e)[1]  # Cholesky solve (LAPACK, SPD); the box is rarely active:
             qn = q + dq
             if (qn < lower).any() or (qn > upper).any():  # ...only then solve the box QP
                 hess = jac.T @ jac
