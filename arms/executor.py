@@ -70,6 +70,7 @@ class RunResult:
     arm_contacts: int
     grasp: str
     max_slip: float = 0.0
+    fk_disagreement: float = 0.0
     failure: str | None = None
     files: Mapping[str, str] = field(default_factory=dict)
 
@@ -84,7 +85,7 @@ class RunResult:
                     b: dict(p) for b, p in self.final_poses.items()},
                 "sim_seconds": self.sim_seconds, "wall_seconds": self.wall_seconds,
                 "realtime_factor": self.realtime_factor, "arm_contacts": self.arm_contacts,
-                "max_slip_m": self.max_slip,
+                "max_slip_m": self.max_slip, "max_fk_disagreement_m": self.fk_disagreement,
                 "files": dict(self.files)}
 
 
@@ -121,6 +122,7 @@ class Executor:
         self.frames: list[np.ndarray] = []
         self._next_frame = 0.0
         self.arm_contacts = 0
+        self.fk_disagreement = 0.0
         g1, g2 = (set(self.scene.arm_geoms(r)) for r in world.robots)
         self._arm_pairs = (g1, g2)
         self._arm_adr = {r: self.scene.arm_qpos_adr(r) for r in world.robots}
@@ -187,6 +189,10 @@ class Executor:
             if err < 3e-4 and track < 3e-3:
                 break
             self._tick(targets, posture=False)
+        # every IK solution is cross-checked against pinocchio's FK of the same URDF
+        self.fk_disagreement = max(self.fk_disagreement, self.ik.fk_disagreement(self.q_ik))
+        if self.fk_disagreement > 1e-9:
+            raise MotionError(f"MuJoCo and pinocchio FK disagree by {self.fk_disagreement:.2e} m")
         if err > 5e-3:
             raise MotionError(f"{robot} cannot reach {np.round(targets[robot][:3, 3], 3).tolist()} "
                               f"(IK residual {err * 1000:.1f} mm)")
@@ -360,7 +366,8 @@ class Executor:
                          actions=tuple(outcomes), final_poses=self.final_poses(),
                          sim_seconds=float(self.data.time), wall_seconds=time.perf_counter() - t0,
                          arm_contacts=self.arm_contacts, grasp=self.grasp,
-                         max_slip=max(self.slips, default=0.0), failure=failure)
+                         max_slip=max(self.slips, default=0.0), fk_disagreement=self.fk_disagreement,
+                         failure=failure)
 
 
 def _down_pose(xyz) -> np.ndarray:

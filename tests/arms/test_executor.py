@@ -30,6 +30,7 @@ def test_two_robot_plan_completes_with_blocks_within_1cm(demo_run):
     assert final.places["red"].robot == "robot2"
     assert result.final_poses["red"]["pos"][1] > 0.25
     assert result.arm_contacts == 0
+    assert 0.0 < result.fk_disagreement < 1e-9  # every move's IK solution was checked with pinocchio
     assert result.sim_seconds > 5.0  # it was moved by the arms, not teleported
     sensed = result.actions[0].observed
     assert sensed == {"red": "red", "black": "black"}
