@@ -643,7 +643,10 @@ class Mission:
             u = self.anchor_nav.control(self.anchor, lead.map.occupied_mask(), eta_g=self.cfg.eta_g,
                                         eta_o=self.cfg.eta_o, rho_o=self.cfg.rho_o,
                                         v_max=self.cfg.particle_speed * self.cfg.v_max)
-            self.anchor = integrate(self.anchor, u, self.cfg.dt, self.world.is_occupied, None)
+            moved = integrate(self.anchor, u, self.cfg.dt, self.world.is_occupied, None)
+            # the leader only moves where every robot stays within r_c/2 of it (pairwise ≤ r_c)
+            if np.linalg.norm(xs - moved[None, :], axis=1).max() <= self._flock_disk():
+                self.anchor = moved
         slots = []
         radius = self.cfg.flock_radius if self.n > 1 else 0.0
         if np.hypot(*(goal_xy - self.home)) < 1e-6 and np.hypot(*(self.anchor - self.home)) < 3.0:
@@ -661,6 +664,20 @@ class Mission:
                 slot = np.array(lead.tasks[task_here].spec.xy)
             slots.append(slot)
         return slots
+
+    def _flock_disk(self) -> float:
+        return self.cfg.comm_range / 2 - 0.1
+
+    def _flock_clip(self, old: np.ndarray, new: np.ndarray) -> np.ndarray:
+        """Keep a flock robot inside the disk of radius r_c/2 − 0.1 around the leader (connectivity)."""
+        off = new - self.anchor
+        d = float(np.hypot(*off))
+        if d <= self._flock_disk():
+            return new
+        cand = self.anchor + off * (self._flock_disk() / d)
+        if not self.world.is_occupied(np.linspace(old, cand, 8)).any():
+            return cand
+        return old  # inside the disk already: the leader only moves when everyone stays inside
 
     # ------------------------------------------------------------------ main loop
     def _tasks_step(self) -> None:
@@ -723,6 +740,8 @@ class Mission:
                 u = r.nav.control(r.xy, r.map.occupied_mask(), eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
                                   v_max=cfg.v_max)
             new = integrate(r.xy, u, cfg.dt, self.world.is_occupied, self.rng, cfg.noise_std)
+            if slots is not None:
+                new = self._flock_clip(r.xy, new)
             r.distance += float(np.hypot(*(new - r.xy)))
             r.xy = new
             if self.world.is_occupied(r.xy[None, :]).any():

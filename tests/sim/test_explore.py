@@ -1,0 +1,107 @@
+"""End-to-end exploration missions (sim.explore): safety, completion, determinism, baselines, particles."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scipy.sparse.csgraph import connected_components
+
+from delkit.errors import SimulationError
+from sim.explore import Mission, MissionConfig, make_scenario, run_mission
+from sim.particles import BeliefRecord, believed_position
+
+
+def _check_mission(res, cfg):
+    assert res.success, res.row()
+    assert res.all_home
+    assert res.collisions == 0
+    assert res.tasks_done == res.n_tasks
+    _, tasks, _, _ = make_scenario(cfg)
+    for spec, who in zip(tasks, res.task_completers, strict=True):
+        assert len(who) >= spec.n_required  # every task done by at least N_τ robots
+
+
+@pytest.fixture(scope="module")
+def epistemic_case2():
+    cfg = MissionConfig(case=2, n_robots=3, method="epistemic", seed=2)
+    return cfg, run_mission(cfg)
+
+
+def test_epistemic_case2_end_to_end(epistemic_case2):
+    cfg, res = epistemic_case2
+    _check_mission(res, cfg)
+    assert res.explored > 0.97  # Case II covers the whole map
+    h = res.history
+    # no recorded position lies in an obstacle
+    assert not h.world.is_occupied(h.positions.reshape(-1, 2)).any()
+    # the robots did lose contact (so the epistemic machinery was used) and met again
+    kinds = {e[1] for e in h.events}
+    assert {"disconnect", "connect", "discover", "complete"} <= kinds
+
+
+def test_same_seed_same_result(epistemic_case2):
+    cfg, res = epistemic_case2
+    again = run_mission(cfg)
+    a, b = res.row(), again.row()
+    a.pop("wall_time"), b.pop("wall_time")
+    assert a == b
+    assert np.array_equal(res.history.positions, again.history.positions)
+
+
+@pytest.mark.parametrize("method", ["flock", "ideal"])
+def test_baselines_complete_case1(method):
+    cfg = MissionConfig(case=1, n_robots=3, method=method, seed=1)
+    res = run_mission(cfg)
+    _check_mission(res, cfg)
+    if method == "flock":  # never leaves the communication range of the team
+        x = res.history.positions
+        d = np.linalg.norm(x[:, :, None, :] - x[:, None, :, :], axis=-1)
+        assert d.max() <= cfg.comm_range
+
+
+def test_particles_only_while_disconnected(epistemic_case2):
+    cfg, res = epistemic_case2
+    h = res.history
+    x = h.positions
+    d = np.linalg.norm(x[:, :, None, :] - x[:, None, :, :], axis=-1)
+    connected = np.array([connected_components(a, directed=False)[0] == 1 for a in d <= cfg.comm_range])
+    has_particles = np.isfinite(h.particles).all(axis=(1, 2))
+    # eq. 15: while the whole team is within range every particle is the true state, so no propagation;
+    # steps right after a split start the common belief set
+    assert has_particles[~connected].mean() > 0.9
+    assert not has_particles[connected][1:].all()
+    # robots track their empathy particle closely while disconnected (median gap below the comm range)
+    gap = np.linalg.norm(h.positions - h.particles, axis=-1)[has_particles]
+    assert np.median(gap) < 3.0
+
+
+def test_delkit_status_model_checks_eqs_14_and_18():
+    res = run_mission(MissionConfig(case=1, n_robots=3, method="epistemic", seed=2, status_model=True))
+    checks = {k: (p, t) for k, p, t in res.epistemic_checks}
+    for k in ("eq14", "eq18", "outsiders_unchanged"):
+        passed, total = checks[k]
+        assert total > 0 and passed == total, (k, passed, total)
+
+
+def test_believed_position_follows_the_last_record():
+    rec = BeliefRecord(10.0, (0.0, 0.0), "task", target=(30.0, 40.0))
+    mid = believed_position(rec, None, 0, 10.0 + 50 / 3 / 2, 3.0)
+    assert np.allclose(mid, [15.0, 20.0])  # half way at 3 m/s
+    assert np.allclose(believed_position(rec, None, 0, 100.0, 3.0), [30.0, 40.0])
+
+
+def test_bad_configuration_is_reported():
+    with pytest.raises(SimulationError, match="unknown method"):
+        Mission(MissionConfig(method="swarm"))
+    with pytest.raises(SimulationError, match="case study"):
+        Mission(MissionConfig(case=3))
+
+
+def test_movingai_map_mission(tmp_path):
+    rows = ["." * 30 for _ in range(30)]
+    rows[10] = "." * 12 + "@@@" + "." * 15
+    p = tmp_path / "room.map"
+    p.write_text("type octile\nheight 30\nwidth 30\nmap\n" + "\n".join(rows) + "\n")
+    cfg = MissionConfig(case=1, n_robots=2, method="ideal", seed=0, map_path=str(p), resolution=1.0)
+    res = run_mission(cfg)
+    _check_mission(res, cfg)
