@@ -267,7 +267,7 @@ def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = 
                                  diffuse=[0.7, 0.7, 0.7], castshadow=True)
         spec.worldbody.add_light(name="fill", pos=[-0.6, 0.6, 2.0], dir=[0.3, -0.2, -1.0],
                                  diffuse=[0.35, 0.35, 0.35], castshadow=False)
-        for name, eye, look in (("overview", (1.45, -0.5, 1.0), (0.35, 0.0, 0.12)),
+        for name, eye, look in (("overview", (1.75, -0.95, 1.15), (0.25, 0.0, 0.18)),
                                 ("front", (1.6, 0.0, 0.7), (0.35, 0.0, 0.12)),
                                 ("top", (0.45, 0.0, 1.9), (0.45, 0.0, 0.0))):
             spec.worldbody.add_camera(name=name, pos=list(eye), xyaxes=_look_at(eye, look))

@@ -68,7 +68,6 @@ def test_symbolically_wrong_action_fails_before_moving():
     assert ex.data.time == 0.0
 
 
-@pytest.mark.slow
 def test_friction_grasp_also_completes_but_slips_more(demo_run):
     plan, weld, _ = demo_run
     result, _ = run_plan(plan, grasp="friction")
