@@ -17,8 +17,8 @@ No vacuous success: a state where some agent has no accessible world at the poin
 ⊥) is a dead end and is not expanded (``allow_inconsistent=True`` keeps it).
 
 BFS tests the goal when a state is generated; since every action costs 1 the first plan found is of
-minimal length. A* uses the admissible ``h_depth`` and GBFS the goal count ``h_gc``
-(:mod:`planners.heuristics`).
+minimal length. A* uses the admissible and consistent observer-cover bound ``h_cover`` and GBFS the
+goal count ``h_gc`` (:mod:`planners.heuristics`).
 """
 
 from __future__ import annotations
@@ -219,19 +219,23 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
     """GBFS (f = h) or A* (f = g + h) with duplicate detection.
 
     Default heuristics: GBFS uses the goal count h_gc (unsatisfied top-level goal conjuncts; informative,
-    not admissible); A* uses h_0/1 (0 on goal states, else 1), which is admissible, so A* returns plans of
-    optimal length. Goal test at expansion.
+    not admissible); A* uses h_cover, admissible and consistent, so A* (goal test at expansion, no
+    reopening) returns plans of optimal length.
     """
     budget = _Budget(limits)
     if h is None:
-        from planners.heuristics import h_depth, h_gc
+        from planners.heuristics import h_cover, h_gc
 
-        h = h_gc(space) if kind == "gbfs" else h_depth(space)
+        h = h_gc(space) if kind == "gbfs" else h_cover(space)
     s0, k0 = space.initial()
     best_g: dict[Hashable, int] = {k0: 0}
     parent: dict[Hashable, Any] = {k0: None}
     counter = 0
-    heap: list = [(h(s0), 0, counter, s0, k0)]
+    h0 = h(s0)
+    if h0 == float("inf"):
+        return SearchResult("unsolvable", None, 0, 1, budget.seconds, kind, "the heuristic proves the goal "
+                            "unreachable: a false goal conjunct that no action can change", 0, 1)
+    heap: list = [(h0, 0, counter, s0, k0)]  # (f, -g: ties to the deeper node, FIFO, ...)
     expanded = generated = 0
     closed: set[Hashable] = set()
     while heap:
@@ -239,7 +243,8 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
         if why:
             return SearchResult("limit", None, expanded, generated, budget.seconds, kind,
                                 "no plan within limits: " + why, space.dead_ends, len(parent))
-        _, g, _, state, key = heapq.heappop(heap)
+        _, neg_g, _, state, key = heapq.heappop(heap)
+        g = -neg_g
         if key in closed:
             continue
         if space.is_goal(state):
@@ -259,7 +264,7 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
             if hv == float("inf"):
                 continue
             f = hv if kind == "gbfs" else ng + hv
-            heapq.heappush(heap, (f, ng, counter, nxt, nkey))
+            heapq.heappush(heap, (f, -ng, counter, nxt, nkey))
     return SearchResult("unsolvable", None, expanded, generated, budget.seconds, kind,
                         "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
 
