@@ -136,6 +136,13 @@ def section_d(epochs: int, seeds: int) -> str:
             rows.append([label(*inp), "ENFORCEAC: " + name, ms([r.not_ac for r in res], 1),
                          ms([r.comms for r in res]), ms([r.observations_sent for r in res]),
                          f"{statistics.fmean(r.time_s for r in res):.2f}"])
+        for tie in ("random", "index"):
+            res = [episode(SARConfig(epochs=epochs, seed=s, comm_restr=round(restr * epochs / 200),
+                                     primitives=prims, init=init, tie_break=tie), "baseline2")  # type: ignore[arg-type]
+                   for s in range(seeds)]
+            rows.append([label(*inp), f"Baseline-II, tie-break {tie}", ms([r.not_ac for r in res], 1),
+                         ms([r.comms for r in res]), ms([r.observations_sent for r in res]),
+                         f"{statistics.fmean(r.time_s for r in res):.2f}"])
         for resend in (True, False):
             res = [episode(SARConfig(epochs=epochs, seed=s, comm_restr=round(restr * epochs / 200),
                                      primitives=prims, init=init, resend=resend), "baseline1")  # type: ignore[arg-type]
