@@ -73,3 +73,20 @@ def test_friction_grasp_also_completes_but_slips_more(demo_run):
     result, _ = run_plan(plan, grasp="friction")
     assert result.success, result.failure
     assert result.max_slip > weld.max_slip
+
+
+@pytest.mark.slow
+def test_long_plan_with_round_trips_and_a_four_block_tower():
+    """14 actions: both robots use the shared table in both directions; a 4-block tower is built."""
+    from pathlib import Path
+
+    from arms.plan import load_plan
+
+    plan = load_plan(Path(__file__).with_name("long_plan.json"))
+    result, _ = run_plan(plan)
+    assert result.success, result.failure
+    final = symbolic_trace(plan)[-1]
+    assert final.places["yellow"].level == 3
+    for b, loc in final.places.items():
+        assert np.linalg.norm(np.array(result.final_poses[b]["pos"]) - plan.world.position(loc)) < 0.01
+    assert result.arm_contacts == 0
