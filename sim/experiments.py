@@ -67,7 +67,7 @@ def run_one(cfg: MissionConfig) -> dict:
 
 
 @contextmanager
-def executor(workers: int | None = None, dask: str | None = None):
+def executor(workers: int | None = None, dask: str | None = None, dask_timeout: float = 10.0):
     """A local process pool, or the executor of the Dask cluster at ``dask`` (e.g. ``tcp://127.0.0.1:8786``)."""
     if dask:
         try:
@@ -75,7 +75,7 @@ def executor(workers: int | None = None, dask: str | None = None):
         except ImportError as exc:  # pragma: no cover - dask is a declared extra
             raise SimulationError("--dask needs the 'distributed' package (pip install 'delkit[dask]')") from exc
         try:
-            client = Client(dask, timeout=10)
+            client = Client(dask, timeout=dask_timeout)
         except OSError as exc:
             raise SimulationError(f"cannot reach the Dask scheduler at {dask!r} ({exc}); start one with "
                                   "'dask scheduler' or leave --dask out to use local processes") from exc
@@ -89,7 +89,8 @@ def executor(workers: int | None = None, dask: str | None = None):
 
 
 def run_sweep(spec: SweepSpec, *, workers: int | None = None, dask: str | None = None,
-              pool: Executor | None = None, progress: Callable[[int, int], None] | None = None) -> list[dict]:
+              pool: Executor | None = None, progress: Callable[[int, int], None] | None = None,
+              dask_timeout: float = 10.0) -> list[dict]:
     """Run every mission of ``spec``; rows come back in the order of :func:`sweep_configs`."""
     cfgs = sweep_configs(spec)
     rows: list[dict | None] = [None] * len(cfgs)
@@ -104,7 +105,7 @@ def run_sweep(spec: SweepSpec, *, workers: int | None = None, dask: str | None =
     if pool is not None:
         drive(pool)
     else:
-        with executor(workers, dask) as ex:
+        with executor(workers, dask, dask_timeout) as ex:
             drive(ex)
     return [r for r in rows if r is not None]
 

@@ -1,0 +1,75 @@
+"""The statuses as a delkit epistemic state: eq. 14 after a global and eq. 18 after a local announcement."""
+
+from __future__ import annotations
+
+import itertools
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from delkit.formula import K
+from sim.status_model import STATUSES, StatusModel, agent, eq14, eq18, status_prop
+
+
+def _all_edges(n):
+    return [(i, j) for i, j in itertools.product(range(n), repeat=2) if i != j]
+
+
+def test_initial_statuses_are_common_knowledge():
+    m = StatusModel.initial(3)
+    assert m.model.n_worlds == 1
+    assert m.holds(eq14(m.statuses, _all_edges(3)))
+
+
+def test_unobserved_change_breaks_eq14_and_global_announcement_restores_it():
+    m = StatusModel.initial(3)
+    m.change(0, "task", group=[0, 1])  # robot 2 is out of range
+    assert m.knows_status(0, 0) and m.knows_status(1, 0)  # eq. 17: K_0 σ_0, and the group perceives it
+    assert not m.knows_status(2, 0)
+    assert not m.holds(eq14(m.statuses, _all_edges(3)))
+    # knowledge, not false belief: robot 2 still considers the true status possible (S5, no B ⊥)
+    assert m.model.is_s5()
+    m.announce_global()
+    assert m.holds(eq14(m.statuses, _all_edges(3)))
+    assert m.model.n_worlds == 1
+
+
+def test_local_announcement_gives_eq18_and_leaves_outsiders_unchanged():
+    m = StatusModel.initial(3)
+    m.change(1, "gossiping", group=[1])
+    m.change(2, "task", group=[2])
+    before = [[m.holds(K(agent(k), status_prop(j, m.statuses[j]))) for j in range(3)] for k in range(3)]
+    assert not m.holds(eq18(m.statuses, [1, 2]))
+    m.announce_local([1, 2])
+    assert m.holds(eq18(m.statuses, [1, 2]))
+    after = [[m.holds(K(agent(k), status_prop(j, m.statuses[j]))) for j in range(3)] for k in range(3)]
+    assert after[0] == before[0]  # robot 0 was not connected: its knowledge is unchanged
+    assert not m.knows_status(0, 2)
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.lists(st.tuples(st.integers(0, 2), st.sampled_from(STATUSES), st.sets(st.integers(0, 2))),
+                min_size=1, max_size=6),
+       st.sets(st.integers(0, 2), min_size=2, max_size=3))
+def test_eq18_after_any_history(changes, group):
+    m = StatusModel.initial(3)
+    for i, s, g in changes:
+        m.change(i, s, group=g)
+    m.announce_local(sorted(group))
+    assert m.holds(eq18(m.statuses, sorted(group)))
+    m.announce_global()
+    assert m.holds(eq14(m.statuses, _all_edges(3)))
+
+
+def test_perceive_a_proposition():
+    m = StatusModel.initial(2)
+    m.perceive(0, status_prop(1, "exploring"))
+    assert m.knows_status(0, 1)
+
+
+@pytest.mark.parametrize("n", [2, 4])
+def test_sizes(n):
+    m = StatusModel.initial(n)
+    m.change(n - 1, "home", group=[n - 1])
+    assert m.model.n_worlds <= 4 ** n
