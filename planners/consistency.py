@@ -80,6 +80,7 @@ from dataclasses import dataclass, field
 from typing import Any, Literal, Protocol
 
 import numpy as np
+from scipy.special import entr
 
 from delkit.errors import PlanningError
 
@@ -589,8 +590,7 @@ def information_gain(sensors: np.ndarray, costs: np.ndarray | None = None) -> Ca
     costs = np.zeros(sensors.shape[0]) if costs is None else np.asarray(costs, dtype=float)
 
     def entropy(p: np.ndarray, axis: int) -> np.ndarray:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return -np.sum(np.where(p > 0, p * np.log(p), 0.0), axis=axis)
+        return entr(p).sum(axis=axis)
 
     def objective(b: np.ndarray) -> np.ndarray:
         h = entropy(b, 1)                                        # (n,)

@@ -59,6 +59,7 @@ from dataclasses import asdict, dataclass, field, replace
 from typing import Literal
 
 import numpy as np
+from scipy.special import entr
 
 from delkit.errors import SimulationError
 from planners.consistency import Ledger, enforce_ac, own_actions, select_actions
@@ -143,11 +144,9 @@ class SARConfig:
         return self.width * self.height
 
 
-def _entropy_bits(p: np.ndarray) -> np.ndarray:
-    """Binary entropy in nats, elementwise (0 log 0 = 0)."""
-    q = 1.0 - p
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return -(np.where(p > 0, p * np.log(p), 0.0) + np.where(q > 0, q * np.log(q), 0.0))
+def _binary_entropy(p: np.ndarray) -> np.ndarray:
+    """:math:`H(p) = -p\\log p - (1-p)\\log(1-p)` in nats, elementwise (``scipy.special.entr``)."""
+    return entr(p) + entr(1.0 - p)
 
 
 @functools.lru_cache(maxsize=64)
@@ -158,8 +157,8 @@ def _binomial(k: int, q: float) -> tuple[np.ndarray, float]:
 
 
 def _pmf_entropy(p: np.ndarray, axis: int = -1) -> np.ndarray:
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return -np.sum(np.where(p > 0, p * np.log(p), 0.0), axis=axis)
+    """Shannon entropy (nats) of pmfs along ``axis``."""
+    return entr(p).sum(axis=axis)
 
 
 class SARBeliefModel:
@@ -218,7 +217,7 @@ class SARBeliefModel:
     def objective(self, beliefs: np.ndarray) -> np.ndarray:
         """:math:`J(b,a) = -2H(b) + I(x; z_{k+1}\\mid a)` for every candidate joint action, ``(n, m)``."""
         p = self.probabilities(beliefs)
-        total_h = _entropy_bits(p).sum(axis=1)                              # (n,)
+        total_h = _binary_entropy(p).sum(axis=1)                              # (n,)
         pt = p[:, self.targets]                                             # (n, |C|)
         gains = []
         for (bd, hd), (bf, hf) in self._bin:
