@@ -235,7 +235,10 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
     if h0 == float("inf"):
         return SearchResult("unsolvable", None, 0, 1, budget.seconds, kind, "the heuristic proves the goal "
                             "unreachable: a false goal conjunct that no action can change", 0, 1)
-    heap: list = [(h0, 0, counter, s0, k0)]  # (f, -g: ties to the deeper node, FIFO, ...)
+    # ties: A* prefers the deeper node (fewer expansions, still optimal with a consistent h); GBFS the
+    # shallower one (shorter plans)
+    tie = -1 if kind == "astar" else 1
+    heap: list = [(h0, 0, counter, s0, k0)]
     expanded = generated = 0
     closed: set[Hashable] = set()
     while heap:
@@ -243,8 +246,8 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
         if why:
             return SearchResult("limit", None, expanded, generated, budget.seconds, kind,
                                 "no plan within limits: " + why, space.dead_ends, len(parent))
-        _, neg_g, _, state, key = heapq.heappop(heap)
-        g = -neg_g
+        _, tg, _, state, key = heapq.heappop(heap)
+        g = tg * tie
         if key in closed:
             continue
         if space.is_goal(state):
@@ -264,7 +267,7 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
             if hv == float("inf"):
                 continue
             f = hv if kind == "gbfs" else ng + hv
-            heapq.heappush(heap, (f, -ng, counter, nxt, nkey))
+            heapq.heappush(heap, (f, tie * ng, counter, nxt, nkey))
     return SearchResult("unsolvable", None, expanded, generated, budget.seconds, kind,
                         "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
 
