@@ -417,8 +417,10 @@ class FastSpace:
                 else:
                     v &= ~(1 << pi)
             val.append(v)
-        if len(start) > 1:
-            raise NotImplementedError("multi-pointed results")  # cannot happen: events are disjoint
+        if len(start) > 1:  # the mA* frames have pairwise exclusive designated events: cannot happen
+            from delkit.errors import PlanningError
+
+            raise PlanningError("an update produced several actual worlds; use the generic engine (--engine del)")
         return refine_key(val, dist, cls, 0)
 
     def step(self, s: FastState, name: str) -> FastState | None:
