@@ -132,7 +132,7 @@ class PinocchioArm:
         return best_q
 
     def clik(self, target: np.ndarray, q0: np.ndarray | None = None, *, budget: float = 0.005,
-             seed: int = 0, damping: float = 1e-6, max_iter: int = 40, stall: int = 5,
+             seed: int = 0, damping: float = 1e-6, max_iter: int = 30, stall: int = 4, stall_ratio: float = 0.6,
              pos_tol: float = POS_TOL, rot_tol: float = ROT_TOL, clock=time.perf_counter,
              candidates: int = 8) -> IKResult:
         """Damped least squares CLIK with random restarts inside ``budget`` seconds.
@@ -144,8 +144,9 @@ class PinocchioArm:
         (Clipping the unconstrained step instead stalls at the joint limits and costs ~2 points of
         success rate.) ``clock`` is the time source of the budget (``time.perf_counter``: wall time;
         ``time.thread_time``: this thread's CPU time).
-        A restart happens after ``max_iter`` iterations, or when the error has not dropped by 10 % over
-        the last ``stall`` iterations (stuck at a joint limit or a singularity); it draws ``candidates``
+        A restart happens after ``max_iter`` iterations, or when the error has not dropped below
+        ``stall_ratio`` times its value ``stall`` iterations earlier (stuck at a joint limit or a
+        singularity; Gauss–Newton near a solution shrinks the error far faster); it draws ``candidates``
         configurations uniformly within the limits and starts from the one whose TCP is nearest the
         target. The first start is ``q0`` or the middle of the joint ranges (TRAC-IK's seed).
         """
@@ -178,7 +179,7 @@ class PinocchioArm:
             if score < 1.0 or clock() - t0 > budget:
                 break
             history.append(dp + dr)
-            if k >= max_iter or (k > stall and history[-1] > 0.9 * history[-1 - stall]):
+            if k >= max_iter or (k > stall and history[-1] > stall_ratio * history[-1 - stall]):
                 # alternate nearest-of-candidates restarts (exploit) with plain random ones (explore)
                 q = self._restart(rng, target_se3, candidates if restarts % 2 == 0 else 1)
                 restarts += 1
@@ -339,7 +340,8 @@ class DualArmIK:
         return ep, er
 
     def solve(self, targets: Mapping[str, np.ndarray], q0: Mapping[str, np.ndarray] | None = None, *,
-              budget: float = 0.05, seed: int = 0, dt: float = 0.1, max_iter: int = 40, stall: int = 5,
+              budget: float = 0.05, seed: int = 0, dt: float = 0.1, max_iter: int = 30, stall: int = 4,
+              stall_ratio: float = 0.6,
               pos_tol: float = POS_TOL, rot_tol: float = ROT_TOL, check_fk: bool = True,
               clock=time.perf_counter, candidates: int = 8) -> IKResult:
         """Iterate :meth:`step` until every TCP is within tolerance; random restarts within ``budget`` s.
@@ -347,8 +349,8 @@ class DualArmIK:
         Phase 1 (error ≥ 1 cm): frame tasks + posture. Phase 2 (polish): frame tasks alone, so that the
         fixed point is the exact target. The result carries the pinocchio/MuJoCo FK disagreement of the
         returned configuration. A restart (as in :meth:`PinocchioArm.clik`: the best of ``candidates``
-        random configurations) follows ``max_iter`` iterations or a stall (< 10 % progress over
-        ``stall`` iterations). ``clock`` as in :meth:`PinocchioArm.clik`.
+        random configurations) follows ``max_iter`` iterations or a stall (error above ``stall_ratio``
+        times its value ``stall`` iterations earlier). ``clock`` as in :meth:`PinocchioArm.clik`.
         """
         t0 = clock()
         rng = np.random.default_rng(seed)
@@ -368,7 +370,7 @@ class DualArmIK:
             if done or clock() - t0 > budget:
                 break
             history.append(ep + er)
-            if k >= max_iter or (k > stall and history[-1] > 0.9 * history[-1 - stall]):
+            if k >= max_iter or (k > stall and history[-1] > stall_ratio * history[-1 - stall]):
                 q = q.copy()
                 for r in targets:
                     q[self.qadr[r]] = self.pin[r]._restart(rng, pin_targets[r], candidates)
