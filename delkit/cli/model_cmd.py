@@ -1,4 +1,4 @@
-"""CLI commands on model files and formulas: ``delkit model check|dot|contract|show`` and ``delkit prove``.
+"""CLI commands on model files and formulas: ``delkit model check|dot|contract|show|macro``, ``delkit prove``.
 
 Model files are JSON in the schema of :mod:`delkit.io` (or DOT written by ``delkit model dot``).
 Exit status: 0 = yes (holds / valid), 1 = no (fails / counter-model found), 2 = bad input.
@@ -118,6 +118,31 @@ def register(app: typer.Typer) -> None:
         if isinstance(obj, KripkeModel):
             frames = [lg for lg in ("S5", "KD45") if not obj.frame_violations(lg)] or ["K"]
             print(f"frame: {', '.join(frames)}")
+
+    @model.command("macro")
+    def macro_cmd(
+        macro_file: str = typer.Argument(..., metavar="MACRO", help="Event model of the macro (JSON)."),
+        steps: list[str] = typer.Argument(..., metavar="STEP...", help="Event models it replaces, in order."),
+        logic: str = typer.Option("S5", "--logic", "-l", help="Frame class for modal preconditions."),
+        worlds: int = typer.Option(3, "--worlds", "-k", min=1, max=8, help="Bound for modal preconditions."),
+        as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    ) -> None:
+        """Check (z3) that MACRO is the composition STEP1;STEP2;… (events matched by name)."""
+        from delkit.io import load_event_model
+        from delkit.verify import check_macro
+
+        res = check_macro(load_event_model(macro_file), [load_event_model(p) for p in steps], logic=logic,
+                          worlds=worlds)
+        if as_json:
+            print(json.dumps({"equivalent": res.equivalent, "problems": list(res.problems),
+                              "events_compared": res.events_compared, "bounded": res.bounded}))
+        else:
+            verdict = "equals" if res.equivalent else "does NOT equal"
+            print(f"{macro_file} {verdict} the composition of {len(steps)} step(s) "
+                  f"({res.events_compared} event(s) compared{', modal parts bounded' if res.bounded else ''})")
+            for prob in res.problems:
+                print(f"  - {prob}")
+        raise typer.Exit(0 if res.equivalent else 1)
 
     @app.command("prove")
     def prove_cmd(

@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from delkit import KripkeModel, bisimilar, public_announcement
+from delkit import KripkeModel, bisimilar, compose, ontic, public_announcement, sensing
 from delkit.cli import main
 from delkit.io import load, load_model, save
 
@@ -123,3 +123,18 @@ def test_prove_valid_and_invalid(capsys):
     assert cm.is_kd45() and not cm.holds("K_a p -> p")
     assert main(["prove", "K_a p & K_b p -> C{a,b} p", "-k", "3"]) == 1
     assert "NOT valid in S5" in capsys.readouterr().out
+
+
+def test_macro_check(tmp_path, capsys):
+    look = sensing("m1", ["c1", "c2"], full=["c1"], name="look")
+    wipe = ontic({"m1": False}, ["c1", "c2"], full=["c1", "c2"], name="wipe")
+    for name, obj in (("look", look), ("wipe", wipe), ("good", compose(look, wipe, prune=True)),
+                      ("bad", compose(wipe, look))):
+        save(obj, tmp_path / f"{name}.json")
+    steps = [str(tmp_path / "look.json"), str(tmp_path / "wipe.json")]
+    assert main(["model", "macro", str(tmp_path / "good.json"), *steps]) == 0
+    assert "equals the composition of 2 step(s)" in capsys.readouterr().out
+    assert main(["model", "macro", str(tmp_path / "bad.json"), *steps, "--json"]) == 1
+    d = json.loads(capsys.readouterr().out)
+    assert d["equivalent"] is False and any("not an event of the sequence" in p for p in d["problems"])
+    assert main(["model", "macro", str(tmp_path / "good.json"), str(tmp_path / "nope.json")]) == 2

@@ -161,6 +161,24 @@ def test_sequential_update_equals_update_with_composition(m, e1, e2, prune):
     assert seq_all.n_worlds == mac_all.n_worlds
 
 
+@FEW
+@given(kripke_models(PROPS, AGENTS, 3, frame="S5"),
+       st.lists(st.sampled_from(["S5", "mA*"]).flatmap(lambda fr: event_models(PROPS, AGENTS, 2, frame=fr)),
+                min_size=3, max_size=3))
+def test_composition_is_associative(m, es):
+    e1, e2, e3 = es
+    left = product_update(m, compose(compose(e1, e2), e3))
+    right = product_update(m, compose(e1, compose(e2, e3)))
+    assert bisimilar(left, right)
+    assert bisimilar(left, product_update(product_update(product_update(m, e1), e2), e3))
+
+
+@FEW
+@given(s5_models(PROPS, AGENTS, 5), event_models(PROPS, AGENTS, 3, frame="S5"))
+def test_s5_updated_with_s5_events_stays_s5(m, e):
+    assert product_update(m, e).is_s5()
+
+
 # ----------------------------------------------------------------------------- bisimulation
 
 
