@@ -153,7 +153,8 @@ class PinocchioArm:
         t0 = clock()
         rng = np.random.default_rng(seed)
         target_se3 = pin.SE3(np.asarray(target, dtype=float))
-        p_target = target_se3.translation.copy()
+        target_base = self.base.actInv(target_se3)  # iterate in the base frame: one SE3 product less
+        p_target = target_base.translation.copy()
         q = (self.lower + self.upper) / 2.0 if q0 is None else np.array(q0, dtype=float)
         lower, upper = self.lower, self.upper
         best_score, best = np.inf, (np.inf, np.inf, q.copy())
@@ -163,13 +164,12 @@ class PinocchioArm:
         diag7 = np.diag_indices(7)
         no_rows = np.zeros((0, 7))
         model, data, frame, qf = self.model, self.data, self.frame, self._q
-        base = self.base
         while True:
             qf[:7] = q
             pin.computeJointJacobians(model, data, qf)  # FK and joint Jacobians in one pass
             pin.updateFramePlacement(model, data, frame)
-            cur = base * data.oMf[frame]
-            e = pin.log6(cur.actInv(target_se3)).vector
+            cur = data.oMf[frame]
+            e = pin.log6(cur.actInv(target_base)).vector
             dpv = cur.translation - p_target
             dp = math.sqrt(dpv @ dpv)
             dr = math.sqrt(e[3:] @ e[3:])
@@ -192,7 +192,7 @@ class PinocchioArm:
             gram[diag6] += lam
             dq = jac.T @ dposv(gram, e)[1]  # Cholesky solve (LAPACK, SPD); the box is rarely active:
             qn = q + dq
-            if (qn < lower).any() or (qn > upper).any():  # ...only then solve the box QP
+            if not ((lower <= qn) & (qn <= upper)).all():  # ...only then solve the box QP
                 hess = jac.T @ jac
                 hess[diag7] += lam
                 dqb, _f, flag, _info = daqp.solve(hess, -(jac.T @ e), no_rows, upper - q, lower - q)
