@@ -267,3 +267,15 @@ def test_satisfiable_is_what_compose_prune_uses():
     c = compose(e1, e2, prune=True)  # the only event is impossible; kept to stay well-formed
     assert c.n_events == 1 and not satisfiable(c.pre[0])
     assert Not(c.pre[0]) is not None
+
+
+def test_run_demo(tmp_path):
+    from delkit.io import load_model
+    from delkit.verify import run_demo
+
+    res = run_demo(tmp_path)
+    assert res["ok"], res
+    assert "KD45 false-belief counter-model 2 worlds" in res["summary"]
+    assert "mutual≠common counter-model 3 worlds" in res["summary"]
+    m = load_model(tmp_path / "mutual_not_common.json")
+    assert m.holds("K_a p & K_b p & ~C{a,b} p")
