@@ -22,7 +22,7 @@ def demo_plan() -> Plan:
 
 def execute_and_render(plan: Plan, out_dir: Path | None, *, grasp: str = "weld", render: bool = True,
                        video: bool = False, fps: float = 10.0, save_scene: bool = True, progress=None,
-                       tolerance: float = 0.01):
+                       tolerance: float = 0.01, save_frames: bool = False):
     """Run ``plan`` in physics; if ``out_dir`` is given write scene.xml, result.json and pictures.
 
     Returns (RunResult with ``files`` filled in, message about rendering).
@@ -33,7 +33,7 @@ def execute_and_render(plan: Plan, out_dir: Path | None, *, grasp: str = "weld",
     from arms.render import RenderSkipped, render_frames
     from arms.scene import save_mjcf
 
-    record = fps if (render and video and out_dir is not None) else 0.0
+    record = fps if (render and (video or save_frames) and out_dir is not None) else 0.0
     result, ex = run_plan(plan, grasp=grasp, record_fps=record, progress=progress,
                            tolerance=tolerance)
     files: dict[str, str] = {}
@@ -47,7 +47,9 @@ def execute_and_render(plan: Plan, out_dir: Path | None, *, grasp: str = "weld",
             frames = ex.frames if ex.frames else []
             frames = [*frames, ex.data.qpos.copy()]
             try:
-                files.update(render_frames(ex.scene.spec.to_xml(), frames, out_dir, video=video, fps=fps))
+                size = (480, 360) if len(frames) > 1 else (640, 480)
+                files.update(render_frames(ex.scene.spec.to_xml(), frames, out_dir, video=video, fps=fps,
+                                           width=size[0], height=size[1], save_frames=save_frames))
                 note = f"wrote {files.get('png')}" + (f" and {files['video']}" if "video" in files else "")
             except RenderSkipped as exc:
                 note = f"picture skipped: {exc}"

@@ -57,10 +57,13 @@ def gl_backend() -> tuple[str | None, str]:
 
 def render_frames(xml: str, frames: Sequence[np.ndarray], out_dir: str | Path, *, camera: str = "overview",
                   width: int = 640, height: int = 480, fps: float = 25.0, video: bool = True,
-                  still: str = "final.png", timeout: float = 600.0) -> dict[str, str]:
-    """Render qpos ``frames`` of the model ``xml`` to ``out_dir``: the last frame as PNG, all as GIF/MP4.
+                  still: str = "final.png", save_frames: bool = False, timeout: float = 600.0,
+                  ) -> dict[str, str]:
+    """Render qpos ``frames`` of the model ``xml`` to ``out_dir``: the last frame as PNG, all as GIF/MP4,
+    and with ``save_frames`` every frame as ``frames/frame_NNNN.png``.
 
-    Returns ``{"png": path, "video": path}``; raises :class:`RenderSkipped` if no GL is available.
+    Returns ``{"png": path, "video": path, "frames": dir}``; raises :class:`RenderSkipped` if no GL is
+    available.
     """
     backend, reason = gl_backend()
     if backend is None:
@@ -73,7 +76,7 @@ def render_frames(xml: str, frames: Sequence[np.ndarray], out_dir: str | Path, *
         npz = Path(tmp) / "frames.npz"
         np.savez(npz, qpos=np.asarray(frames, dtype=float))
         args = [sys.executable, "-m", "arms.render", str(xml_path), str(npz), str(out), camera, str(width),
-                str(height), str(fps), "1" if video else "0", still]
+                str(height), str(fps), "1" if video else "0", still, "1" if save_frames else "0"]
         env = dict(os.environ, MUJOCO_GL=backend, PYOPENGL_PLATFORM=backend)
         proc = subprocess.run(args, env=env, capture_output=True, text=True, timeout=timeout)
     if proc.returncode != 0:
@@ -81,14 +84,14 @@ def render_frames(xml: str, frames: Sequence[np.ndarray], out_dir: str | Path, *
     files = {}
     for line in proc.stdout.splitlines():
         key, _, val = line.partition("=")
-        if key in ("png", "video"):
+        if key in ("png", "video", "frames"):
             files[key] = val
     return files
 
 
 def _child(argv: list[str]) -> int:
     """Child process: render frames (MUJOCO_GL already set by the parent)."""
-    xml_path, npz, out, camera, width, height, fps, video, still = argv
+    xml_path, npz, out, camera, width, height, fps, video, still, save_frames = argv
     import imageio.v2 as imageio
     import mujoco
 
@@ -107,6 +110,12 @@ def _child(argv: list[str]) -> int:
     png = out_dir / still
     imageio.imwrite(png, images[-1])
     print(f"png={png}")
+    if save_frames == "1":
+        fdir = out_dir / "frames"
+        fdir.mkdir(exist_ok=True)
+        for i, img in enumerate(images):
+            imageio.imwrite(fdir / f"frame_{i:04d}.png", img)
+        print(f"frames={fdir}")
     if video == "1" and len(images) > 1:
         try:
             path = out_dir / "run.mp4"

@@ -72,6 +72,7 @@ def register(app: typer.Typer) -> None:
             grasp: str = typer.Option("weld", "--grasp", help="weld (default) or friction"),
             as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
             video: bool = typer.Option(True, "--video/--no-video", help="also write run.mp4 / run.gif"),
+            frames: bool = typer.Option(False, "--frames", help="also write every frame as PNG"),
             tolerance: float = typer.Option(0.01, "--tolerance", help="max block error (m)")) -> None:
         """Execute a primitive plan in physics, check every block after every action, render."""
         from arms.demo import execute_and_render
@@ -84,7 +85,7 @@ def register(app: typer.Typer) -> None:
         symbolic_trace(p)  # reject a plan that is wrong on paper before simulating it
         cb, stop = _progress_cb(len(p.actions), "executing")
         try:
-            result, note = _execute(execute_and_render, p, out, grasp, video, tolerance, cb)
+            result, note = _execute(execute_and_render, p, out, grasp, video, tolerance, cb, frames)
         finally:
             stop()
         raise typer.Exit(_report(result, note, as_json))
@@ -158,8 +159,6 @@ def register(app: typer.Typer) -> None:
     app.add_typer(sub, name="arms")
 
 
-def _execute(execute_and_render, plan, out, grasp, video, tolerance, cb):
-    from arms.executor import Executor  # noqa: F401  (import errors surface here, before the bar)
-
+def _execute(execute_and_render, plan, out, grasp, video, tolerance, cb, frames=False):
     return execute_and_render(plan, out, grasp=grasp, render=out is not None, video=video,
-                              progress=cb, tolerance=tolerance)
+                              progress=cb, tolerance=tolerance, save_frames=frames)
