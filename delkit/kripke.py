@@ -208,7 +208,12 @@ class KripkeModel:
         mask[src] = True
         if not ags:
             return mask
-        union = self.relation(ags[0]).union_matrix(self.relation(a) for a in ags[1:])
+        from delkit.semantics import common_reach
+
+        kind, data = common_reach(self, tuple(ags))  # cached per model and group
+        if kind == "components":  # S5: reachable = the connected components of the sources
+            return np.isin(data, data[mask])
+        union = data
         frontier = mask.copy()
         while frontier.any():
             nxt = (union.T @ frontier.astype(np.int64)) > 0
