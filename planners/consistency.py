@@ -91,6 +91,7 @@ __all__ = [
     "EnforceResult",
     "Ledger",
     "SendPolicy",
+    "TriggerRule",
     "Verification",
     "enforce_ac",
     "expected_reward",
