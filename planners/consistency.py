@@ -312,11 +312,13 @@ def _select_all(model: BeliefModel, common: Any, slots: np.ndarray, rows: np.nda
 
 def verify_ac(model: BeliefModel, common: Any, own_slots: np.ndarray, own_values: np.ndarray,
               other_slots: np.ndarray, *, robot: int = 0, other: int = 1, atol: float = DEFAULT_ATOL,
-              max_realisations: int = DEFAULT_MAX_REALISATIONS) -> Verification:
+              max_realisations: int = DEFAULT_MAX_REALISATIONS, belief: Any = None) -> Verification:
     """VERIFYAC (§III-C) for robot *r* = ``robot`` against *r'* = ``other``.
 
-    ``common`` is :math:`\\mathbb P(x\\mid{}^c\\mathcal H^{r,r'})` (a batch of one; obtain it from
-    :math:`b^r` by :meth:`DiscreteBeliefModel.downdate` when only :math:`b^r` is kept); ``own_slots`` /
+    ``common`` is :math:`\\mathbb P(x\\mid{}^c\\mathcal H^{r,r'})` (a batch of one).  A robot that keeps
+    only its own belief :math:`b^r` passes ``common=None, belief=b^r`` instead, and the common-history
+    belief is obtained by down-dating its unshared observations, ``model.downdate(b^r, own_slots,
+    own_values)`` (the form after eq. 14; the model must provide ``downdate``).  ``own_slots`` /
     ``own_values`` are :math:`\\Delta\\mathcal H^{r',r}` (the observations *r* has and *r'* lacks) with
     their actual values, ``other_slots`` is :math:`\\Delta\\mathcal H^{r,r'}` (values unknown to *r*).
 
@@ -330,6 +332,11 @@ def verify_ac(model: BeliefModel, common: Any, own_slots: np.ndarray, own_values
     other_slots = np.asarray(other_slots, dtype=np.int64).reshape(-1)
     if len(own_slots) != len(own_values):
         raise PlanningError(f"robot {robot}: {len(own_slots)} unshared slots but {len(own_values)} values")
+    if common is None:
+        if belief is None or not hasattr(model, "downdate"):
+            raise PlanningError("verify_ac needs the common-history belief, or the robot's own belief and a "
+                                "model with downdate(belief, slots, values)")
+        common = model.downdate(belief, own_slots, own_values[None, :])  # type: ignore[attr-defined]
     if len(own_slots):
         keep = np.asarray(model.relevant(own_slots), dtype=bool)
         own_slots, own_values = own_slots[keep], own_values[keep]

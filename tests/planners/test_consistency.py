@@ -97,6 +97,25 @@ def test_update_and_downdate_are_inverse_and_give_the_paper_belief_14() -> None:
     np.testing.assert_allclose(via_down, model.update(common, slots, other), atol=1e-12)
 
 
+def test_verify_ac_from_the_own_belief_by_down_dating() -> None:
+    """A robot that keeps only b^r gets the same verdict as one that keeps P(x | cH) (text after eq. 14)."""
+    checked = 0
+    for seed in range(300):
+        model, ledger, known = random_instance(seed)
+        own = np.flatnonzero(known[0] & ~known[1])
+        missing = np.flatnonzero(known[1] & ~known[0])
+        common_slots = np.flatnonzero(known[0] & known[1])
+        common = model.update(model.prior, common_slots, ledger.value[common_slots][None])
+        b_r = model.update(common, own, ledger.value[own][None])
+        a = verify_ac(model, common, own, ledger.value[own], missing)
+        b = verify_ac(model, None, own, ledger.value[own], missing, belief=b_r)
+        assert (a.agreed, a.action, a.send) == (b.agreed, b.action, b.send)
+        checked += len(own) > 0
+    assert checked > 100
+    with pytest.raises(PlanningError, match="common-history belief"):
+        verify_ac(model, None, own, ledger.value[own], missing)
+
+
 def test_verify_ac_on_a_hand_example() -> None:
     """Two states; each robot saw one binary reading.  Action 2 is a safe compromise that wins unless a
     belief is confident: verification fails with sharp sensors and succeeds with dull ones."""
