@@ -4,7 +4,8 @@ Control: every ``control_dt`` (10 ms) one mink QP step (both arms, TCP frame tas
 configuration and velocity limits, arm–arm collision avoidance) gives the joint set-points q*, which the
 position servos of the scene track for ``control_dt / timestep`` physics steps. A Cartesian move follows
 a minimum-jerk profile s(τ) = 10τ³ − 15τ⁴ + 6τ⁵ along the SE(3) geodesic from the commanded pose to the
-target. The idle arm holds its TCP pose (its frame task stays on).
+target. The idle arm holds its TCP pose (its frame task stays on, weighted 10× the moving arm's, so
+that when the arms meet the moving one gives way).
 
 Verification: after action *i* the symbolic state s_i (``arms.plan.symbolic_trace``) says where every
 block must be; the executor measures every block's centre in the simulation and fails the run at the
@@ -177,6 +178,7 @@ class Executor:
         duration = max(0.2, dp / speed, dr / 1.5)
         n = max(1, math.ceil(duration / self.control_dt))
         targets = self._hold_targets()
+        self._priority(robot)
         for k in range(1, n + 1):
             targets[robot] = start.interpolate(goal, _min_jerk(k / n)).as_matrix()
             self._tick(targets)
@@ -197,6 +199,14 @@ class Executor:
             raise MotionError(f"{robot} cannot reach {np.round(targets[robot][:3, 3], 3).tolist()} "
                               f"(IK residual {err * 1000:.1f} mm)")
         return float(err)
+
+    def _priority(self, moving: str | None) -> None:
+        """Weight the idle arm's TCP task 10× the moving arm's: when the collision constraint forces a
+        compromise, the arm that was told to move gives way, not the one holding still."""
+        for r, task in self.ik.frame_tasks.items():
+            w = 1.0 if (moving is None or r == moving) else 10.0
+            task.set_position_cost(w)
+            task.set_orientation_cost(w)
 
     def wait(self, seconds: float) -> None:
         targets = self._hold_targets()

@@ -90,3 +90,21 @@ def test_long_plan_with_round_trips_and_a_four_block_tower():
     for b, loc in final.places.items():
         assert np.linalg.norm(np.array(result.final_poses[b]["pos"]) - plan.world.position(loc)) < 0.01
     assert result.arm_contacts == 0
+
+
+def test_arms_in_physics_do_not_collide_when_sent_to_the_same_point():
+    """robot2 goes above the shared table, then robot1 is sent to the very same point: the QP's
+    collision avoidance stops robot1 short (MotionError: residual), and the arms never touch."""
+    from arms.executor import MotionError
+    from arms.ik import pose
+
+    plan = demo_plan()
+    ex = Executor(plan.world)
+    spot = np.append(plan.world.layout.barrier_xy(), 0.15)
+    ex.move("robot2", pose(spot))
+    with pytest.raises(MotionError, match="cannot reach"):
+        ex.move("robot1", pose(spot))
+    assert ex.arm_contacts == 0
+    assert ex.ik.min_arm_distance(ex.q_ik) > 0.005
+    # robot2 held its place meanwhile
+    assert np.linalg.norm(ex.tcp_actual("robot2")[:3, 3] - spot) < 0.01

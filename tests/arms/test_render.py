@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from arms.demo import demo_plan
@@ -28,3 +29,11 @@ def test_render_initial_scene_to_png(tmp_path):
     red = (r > 60) & (r > 3 * g) & (r > 3 * b)
     assert red.sum() > 5
     assert files["video"].endswith((".gif", ".mp4"))
+
+
+def test_rendering_is_skipped_with_a_reason_without_gl(monkeypatch, tmp_path):
+    import arms.render as render
+
+    monkeypatch.setattr(render, "gl_backend", lambda: (None, "no OpenGL here (test)"))
+    with pytest.raises(render.RenderSkipped, match="no OpenGL"):
+        render.render_frames("<mujoco/>", [np.zeros(1)], tmp_path)
