@@ -257,7 +257,8 @@ class EpisodeResult:
     (Theorem 3.3 says 0); ``max_unshared``: the largest number of one robot's observations the partner
     lacked at planning time (*p*); ``time_s`` / ``cpu_s``: wall-clock and process CPU time of the episode
     loop; ``team_j``: per step, *J* of the executed joint action under the belief
-    that holds every observation."""
+    that holds every observation; ``not_ac_steps`` / ``restricted_steps``: the steps with Not-AC and the
+    steps on which the channel was down."""
 
     config: SARConfig
     algorithm: str
@@ -272,6 +273,8 @@ class EpisodeResult:
     cpu_s: float = 0.0
     team_j: tuple[float, ...] = field(repr=False, default=())
     since_comm: tuple[int, ...] = field(repr=False, default=())
+    not_ac_steps: tuple[int, ...] = field(repr=False, default=())
+    restricted_steps: tuple[int, ...] = field(repr=False, default=())
 
     def as_dict(self) -> dict:
         d = asdict(self)
@@ -313,6 +316,7 @@ def run_episode(config: SARConfig, algorithm: Algorithm) -> EpisodeResult:
     not_ac = comms = sent = failed = violations = max_unshared = max_step_comms = 0
     since, last_comm = [], 0
     team_j: list[float] = []
+    not_ac_steps: list[int] = []
     slots = 0
     start, cpu_start = time.perf_counter(), time.process_time()
     for k in range(1, config.epochs + 1):
@@ -358,6 +362,7 @@ def run_episode(config: SARConfig, algorithm: Algorithm) -> EpisodeResult:
         chosen = own_actions(model, ledger, kn)          # each robot on its own history only
         if len(set(chosen)) > 1:
             not_ac += 1
+            not_ac_steps.append(k)
             violations += int(agreed)
         executed = np.array([model.moves[chosen[r], r] for r in range(n)])
         row = int(np.flatnonzero((model.moves == executed).all(axis=1))[0])
@@ -368,7 +373,8 @@ def run_episode(config: SARConfig, algorithm: Algorithm) -> EpisodeResult:
     return EpisodeResult(config=config, algorithm=algorithm, not_ac=not_ac, comms=comms, observations_sent=sent,
                          failed_comms=failed, violations=violations, max_unshared=max_unshared,
                          max_comms_per_step=max_step_comms, time_s=elapsed, cpu_s=cpu, team_j=tuple(team_j),
-                         since_comm=tuple(since))
+                         since_comm=tuple(since), not_ac_steps=tuple(not_ac_steps),
+                         restricted_steps=tuple(sorted(restricted)))
 
 
 @dataclass(frozen=True)

@@ -131,7 +131,10 @@ def test_episode_is_deterministic_and_comm_restrictions_bite() -> None:
     assert (a.not_ac, a.comms, a.team_j) == (b.not_ac, b.comms, b.team_j)
     b1 = run_episode(cfg, "baseline1")
     assert b1.comms == 2 * (60 - 20) and b1.failed_comms == 40
-    assert a.violations == 0 and a.not_ac <= 20     # Not-AC only on restricted steps
+    assert a.violations == 0 and len(a.restricted_steps) == 20
+    assert set(a.not_ac_steps) <= set(a.restricted_steps)   # ENFORCEAC: Not-AC only when the channel failed
+    assert a.not_ac == len(a.not_ac_steps) > 0
+    assert b1.restricted_steps == a.restricted_steps          # same failures for every algorithm
 
 
 @pytest.mark.parametrize("robots", [3, 4])
