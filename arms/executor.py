@@ -311,7 +311,8 @@ class Executor:
         return out
 
     def execute(self, action: Action, state: SymbolicState) -> dict[str, str]:
-        """Drive the arms through one action (no checking); returns sensed colours for ``sense``."""
+        """Drive the arms through one action (no checking); returns the sensed colours for ``sense`` and
+        the announcement's fields for ``announce``."""
         r, a = action.robot, action.args
         travel = self._travel_z(state)
         if action.name in ("pick", "take_from_barrier"):
@@ -328,6 +329,8 @@ class Executor:
             self.wait(0.2)
         elif action.name == "sense":
             return self._sense(action, state)
+        elif action.name == "announce":  # purely epistemic: nothing moves; the content is reported
+            return {k: (", ".join(map(str, v)) if isinstance(v, list) else str(v)) for k, v in a.items()}
         return {}
 
     def run(self, plan: Plan, *, progress: Callable[[int, Action], None] | None = None) -> RunResult:

@@ -34,6 +34,8 @@ def test_two_robot_plan_completes_with_blocks_within_1cm(demo_run):
     assert result.sim_seconds > 5.0  # it was moved by the arms, not teleported
     sensed = result.actions[0].observed
     assert sensed == {"red": "red", "black": "black"}
+    announced = next(a for a in result.actions if a.action == "announce").observed
+    assert announced == {"block": "red", "to": "robot2"}
 
 
 def test_weld_grasp_holds_the_block_to_a_fraction_of_a_millimetre(demo_run):

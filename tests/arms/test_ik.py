@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from arms.ik import POS_TOL, ROT_TOL, DualArmIK, PinocchioArm, pose, pose_error, random_reachable_poses
 from arms.world import Layout
@@ -77,3 +79,39 @@ def test_without_velocity_limit_collision_avoidance_is_stepped_past():
     """The linearised avoidance constraint only acts within the detection distance; a step longer than
     that jumps over it. This is why the velocity limit is part of the QP."""
     assert _min_distance_along(DualArmIK(velocity_limit=False)) < 0.0
+
+
+_unit = st.lists(st.floats(0.0, 1.0), min_size=7, max_size=7)
+
+
+@settings(max_examples=40, deadline=None)
+@given(_unit)
+def test_clik_round_trip_property(u):
+    """For any q within the limits: IK(FK(q)) reaches FK(q) to 1e-5 m / 1e-4 rad (not necessarily q)."""
+    arm = _ARM
+    q = arm.lower + np.asarray(u) * (arm.upper - arm.lower)
+    target = arm.fk(q)
+    res = arm.clik(target, budget=0.2)
+    assert res.converged, res
+    dp, dr = pose_error(arm.fk(res.q["arm"]), target)
+    assert dp < POS_TOL and dr < ROT_TOL
+    assert np.all(res.q["arm"] >= arm.lower) and np.all(res.q["arm"] <= arm.upper)
+
+
+@settings(max_examples=30, deadline=None)
+@given(_unit, _unit)
+def test_pinocchio_mujoco_fk_agree_property(u1, u2):
+    ik = _dual()
+    arms = {"robot1": _ARM.lower + np.asarray(u1) * (_ARM.upper - _ARM.lower),
+            "robot2": _ARM.lower + np.asarray(u2) * (_ARM.upper - _ARM.lower)}
+    assert ik.fk_disagreement(ik.full_q(arms)) < 1e-9
+
+
+_ARM = PinocchioArm()
+_DUAL: list[DualArmIK] = []
+
+
+def _dual() -> DualArmIK:
+    if not _DUAL:
+        _DUAL.append(DualArmIK())
+    return _DUAL[0]
