@@ -54,7 +54,7 @@ import functools
 import itertools
 import math
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field, replace
 from typing import Literal
 
@@ -62,7 +62,7 @@ import numpy as np
 from scipy.special import entr
 
 from delkit.errors import SimulationError
-from planners.consistency import Ledger, enforce_ac, own_actions, select_actions
+from planners.consistency import Ledger, enforce_ac, own_actions
 
 __all__ = [
     "ALGORITHMS",
@@ -420,14 +420,3 @@ def table_i(base: SARConfig | None = None, *, on_run: Callable[[TableRow], None]
             if on_run is not None:
                 on_run(row)
     return rows
-
-
-def iter_configs(base: SARConfig, seeds: list[int]) -> Iterator[SARConfig]:
-    """``base`` with each seed in turn (sweeps)."""
-    for s in seeds:
-        yield replace(base, seed=s)
-
-
-def chosen_action_values(model: SARBeliefModel, beliefs: np.ndarray) -> np.ndarray:
-    """Selected joint action per belief of a batch (helper for plots and tests)."""
-    return select_actions(model.objective(beliefs), ranks=model.tie_ranks)
