@@ -115,3 +115,20 @@ def _dual() -> DualArmIK:
     if not _DUAL:
         _DUAL.append(DualArmIK())
     return _DUAL[0]
+
+
+def test_seed_library_returns_configurations_near_the_target():
+    arm = PinocchioArm(pose(Layout().base_pos(0), np.eye(3)))
+    _, poses = random_reachable_poses(20, seed=4)
+    rng = np.random.default_rng(0)
+    for t in poses:
+        seeds = arm.seeds(t, k=4)
+        assert seeds.shape == (4, 7)
+        assert np.all(seeds >= arm.lower) and np.all(seeds <= arm.upper)
+        near = np.linalg.norm(arm.fk(seeds[0])[:3, 3] - t[:3, 3])
+        rand = np.median([np.linalg.norm(arm.fk(arm.random_q(rng))[:3, 3] - t[:3, 3]) for _ in range(20)])
+        assert near < rand  # the nearest stored pose is closer than a typical random one
+    # with and without the library the solver reaches the target
+    for lib in (True, False):
+        res = arm.clik(poses[0], budget=0.2, library=lib)
+        assert res.converged
