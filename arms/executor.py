@@ -148,7 +148,11 @@ class Executor:
             self._record()
 
     def _tick(self, targets: Mapping[str, np.ndarray], *, posture: bool = True) -> None:
-        self.q_ik = self.ik.step(self.q_ik, targets, self.control_dt, posture=posture)
+        try:
+            self.q_ik = self.ik.step(self.q_ik, targets, self.control_dt, posture=posture)
+        except mink.NoSolutionFound:
+            raise MotionError(f"the IK QP has no solution at t = {self.data.time:.2f} s (limits or the "
+                              "arm–arm distance constraint cannot be met)") from None
         for r in self.world.robots:
             self.data.ctrl[self._arm_act[r]] = self.q_ik[self.ik.qadr[r]]
         self._physics(self.n_sub)
