@@ -17,9 +17,13 @@ error is below 1 cm ("polish" phase), so the residual goes to the QP's tolerance
 
 **pinocchio.** The same URDF, loaded with ``pin.buildModelFromUrdf``: forward kinematics of every
 solution is compared with MuJoCo's (they agree to ~1e-15 m), and a damped-least-squares CLIK
-(Δq = Jᵀ(JJᵀ + λI)⁻¹ e with e = log₆(T(q)⁻¹T*) in the local frame, clipped to the limits) serves as a
-fallback solver. Both solvers restart from random configurations within the joint limits until the
-time budget is spent; the result says whether they converged and the residual.
+(Δq = argmin ‖JΔq − e‖² + λ‖Δq‖² within the joint limits, e = log₆(T(q)⁻¹T*) in the local frame,
+λ = λ₀ + ‖e‖²) serves as a fallback solver.
+
+**Starts and restarts.** Both solvers start from the configurations of a precomputed
+:class:`SeedLibrary` whose TCP poses are nearest to the target, then restart from random configurations
+within the joint limits, until the time budget is spent; the result says whether they converged and
+the residual.
 """
 
 from __future__ import annotations
@@ -40,7 +44,7 @@ from arms.scene import ARM_JOINTS, TCP_BODY, build_scene, panda_urdf_path
 from arms.world import Layout
 
 __all__ = [
-    "IKResult", "PinocchioArm", "DualArmIK", "pose", "pose_error", "random_reachable_poses",
+    "IKResult", "SeedLibrary", "PinocchioArm", "DualArmIK", "pose", "pose_error", "random_reachable_poses",
     "VELOCITY_LIMITS", "POS_TOL", "ROT_TOL",
 ]
 
