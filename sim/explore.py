@@ -308,9 +308,10 @@ class Mission:
         for k in np.flatnonzero(seen):
             spec = self.task_specs[k]
             if spec.id not in r.tasks:
-                r.tasks[spec.id] = _TaskKnowledge(spec)
-                self._event("discover", f"robot {r.id} finds task {spec.id} (N={spec.n_required})")
-                self._on_discovery(r, spec)
+                r.tasks[spec.id] = _TaskKnowledge(spec, completed=self.completed[k])
+                if not self.completed[k]:
+                    self._event("discover", f"robot {r.id} finds task {spec.id} (N={spec.n_required})")
+                    self._on_discovery(r, spec)
             if self.completed[k]:
                 r.tasks[spec.id].completed = True  # perceive(completed τ)
 
@@ -351,6 +352,8 @@ class Mission:
             best = ks[0]
             for k in ks[1:]:
                 best = best.merged(k)
+            if best.assumed_by is not None and best.assumed_by in members and not best.completed:
+                best = replace(best, assumed_by=None)  # ruleset 2 verified on contact: allocate it if undone
             for a in group:
                 a.tasks[tid] = replace(best, eta=dict(best.eta))
         for j in range(self.n):
@@ -708,7 +711,7 @@ class Mission:
                 r.gave_up.clear()
                 r.done_exploring = False
             for k in pending_possible:
-                k.assigned, k.eta = (), {}
+                k.assigned, k.eta, k.assumed_by = (), {}, None
             for r in self.robots:
                 r.excluded.clear()
             self._allocate_pending(r0, list(range(self.n)))

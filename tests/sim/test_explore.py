@@ -105,3 +105,39 @@ def test_movingai_map_mission(tmp_path):
     cfg = MissionConfig(case=1, n_robots=2, method="ideal", seed=0, map_path=str(p), resolution=1.0)
     res = run_mission(cfg)
     _check_mission(res, cfg)
+
+
+def test_ruleset_1_exclusion_and_reauction():
+    """A gossip target that is not at its believed particle is excluded and the task re-auctioned (§5.3.2)."""
+    from sim.explore import TaskSpec
+
+    cfg = MissionConfig(case=2, n_robots=3, method="epistemic", seed=3)
+    m = Mission(cfg)
+    while m.common is None or len(set(m.components.tolist())) < 3:
+        m.step()
+        assert m.t < 200, "the team never split"
+    finder = m.robots[0]
+    # a new 2-robot task right where robot 0 is
+    spec = TaskSpec(len(m.task_specs), (float(finder.xy[0]), float(finder.xy[1])), 2)
+    m.task_specs = (*m.task_specs, spec)
+    m.task_cells = np.append(m.task_cells, m._cell(finder.xy))
+    m.completed.append(False)
+    m.completers.append(())
+    m._scan(finder)  # perceive(task) → Algorithms 1–3
+    assert finder.gossip, "robot 0 must gossip the allocation to a disconnected teammate"
+    target = finder.gossip[0]
+    m.robots[target].xy = m.home.copy()  # a fault sent the target back to base: not at its believed particle
+    freeze_until = m.t + 60.0
+    decide = m._decide
+
+    def failing(r):
+        if r.id == target and m.t < freeze_until:
+            r.nav.clear()
+            return
+        decide(r)
+
+    m._decide = failing
+    res = m.run()
+    assert any(e[1] == "exclude" and f"robot {target}" in e[2] for e in res.history.events)
+    assert res.success and res.collisions == 0
+    assert len(res.task_completers[spec.id]) >= 2
