@@ -287,12 +287,13 @@ class DualArmIK:
         layout = layout or Layout()
         self.robots = tuple(robots)
         self.layout = layout
-        # a world with no blocks only carries the layout; cell=False keeps only the arms.
-        world = World(robots=("robot1", "robot2"), stacks={"robot1": ((),), "robot2": ((),)},
-                      layout=layout)
-        self.scene = build_scene(world, cell=False) if len(self.robots) == 2 else None
-        if self.scene is None:
-            self.scene = _single_arm_scene(layout, self.robots[0])
+        if len(self.robots) not in (1, 2):
+            raise ValueError("DualArmIK takes one or two robots")
+        # a world with no blocks only carries names and layout; cell=False keeps only the arms. A single
+        # arm stands at the first robot's base pose.
+        names = self.robots if len(self.robots) == 2 else (self.robots[0], f"{self.robots[0]}_other")
+        world = World(robots=names, stacks={r: ((),) for r in names}, layout=layout)
+        self.scene = build_scene(world, robots=self.robots, cell=False)
         self.model = self.scene.model
         self.configuration = mink.Configuration(self.model)
         self.qadr = {r: self.scene.arm_qpos_adr(r) for r in self.robots}
@@ -316,7 +317,7 @@ class DualArmIK:
                 collision_detection_distance=detection_distance)
             self.limits.append(self.collision_limit)
         self.pin = {r: PinocchioArm(pose(layout.base_pos(i), np.eye(3)))
-                    for i, r in enumerate(("robot1", "robot2")) if r in self.robots}
+                    for i, r in enumerate(self.robots)}
         self._geoms = ([self.scene.arm_geoms(r) for r in self.robots] if len(self.robots) == 2 else None)
         self._tcp_ids = {r: self.model.body(f"{r}/{TCP_BODY}").id for r in self.robots}
 
@@ -484,16 +485,6 @@ class DualArmIK:
         return IKResult(q=qs, converged=conv, position_error=ep, orientation_error=er, iterations=iters,
                         restarts=restarts, seconds=time.perf_counter() - t0, solver="pinocchio-clik",
                         fk_disagreement=self.fk_disagreement(full))
-
-
-def _single_arm_scene(layout: Layout, robot: str):
-    """Arms-only scene with one arm, at robot1's base pose (used by the single-arm benchmark)."""
-    if robot != "robot1":
-        raise ValueError("the single-arm IK model is robot1's")
-    from arms.world import World
-
-    world = World(robots=("robot1", "robot2"), stacks={"robot1": ((),), "robot2": ((),)}, layout=layout)
-    return build_scene(world, robots=("robot1",), cell=False)
 
 
 def random_reachable_poses(n: int, seed: int = 0, robot_index: int = 0, layout: Layout | None = None,

@@ -110,3 +110,18 @@ def test_arms_in_physics_do_not_collide_when_sent_to_the_same_point():
     assert ex.ik.min_arm_distance(ex.q_ik) > 0.005
     # robot2 held its place meanwhile
     assert np.linalg.norm(ex.tcp_actual("robot2")[:3, 3] - spot) < 0.01
+
+
+def test_robot_names_come_from_the_world_description():
+    obj = {"world": {"robots": ["left", "right"],
+                     "stacks": {"left": [["red", "black"], [], []], "right": [[], [], []]}},
+           "actions": [{"robot": "left", "action": "pick", "args": ["black", "red", 1, 0]},
+                       {"robot": "left", "action": "put_on_barrier", "args": ["black"]},
+                       {"robot": "right", "action": "take_from_barrier", "args": ["black"]},
+                       {"robot": "right", "action": "place", "args": ["black", "table", 0, 2]}]}
+    plan = parse_plan(obj)
+    result, ex = run_plan(plan)
+    assert result.success, result.failure
+    assert ex.model.body("right/panda_hand_tcp").id >= 0
+    want = plan.world.position(symbolic_trace(plan)[-1].places["black"])
+    assert np.linalg.norm(np.array(result.final_poses["black"]["pos"]) - want) < 0.01

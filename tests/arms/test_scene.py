@@ -79,3 +79,28 @@ def test_save_mjcf_round_trip(scene, tmp_path):
     m2 = mujoco.MjModel.from_xml_path(str(path))
     assert (m2.nq, m2.nu, m2.neq, m2.ngeom) == (scene.model.nq, scene.model.nu, scene.model.neq,
                                                  scene.model.ngeom)
+
+
+def test_scene_follows_the_world_description():
+    from arms.world import World, initial_state
+
+    world = World.from_json({
+        "robots": ["left", "right"],
+        "stacks": {"left": [["a", "b", "c"], ["d"]], "right": [[], ["e"]]},
+        "barrier": ["f"],
+        "colors": {"a": "red", "b": [0.2, 0.4, 0.6], "c": "yellow", "d": "green", "e": "blue", "f": "white"},
+        "layout": {"block_size": 0.05},
+    })
+    sc = build_scene(world)
+    m = sc.model
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, m.key("home").id)
+    mujoco.mj_forward(m, d)
+    state = initial_state(world)
+    for b in world.blocks:
+        body = sc.block_body(b)
+        assert np.allclose(d.xpos[body], world.position(state.places[b]))
+        assert np.allclose(m.geom_rgba[m.body_geomadr[body]], world.colors[b])
+        assert np.allclose(m.geom_size[m.body_geomadr[body]], 0.025)
+    assert np.allclose(m.geom_rgba[m.body_geomadr[sc.block_body("b")]][:3], [0.2, 0.4, 0.6])
+    assert m.body("left/panda_hand_tcp").id >= 0 and m.body("right/panda_hand_tcp").id >= 0
