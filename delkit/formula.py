@@ -314,6 +314,7 @@ def substitute(f: Formula, mapping: Mapping[str, Formula]) -> Formula:
 # ----------------------------------------------------------------------------- printing
 
 _SIMPLE_AGENT = re.compile(r"^[A-Za-z0-9]+$")
+_EVENT_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.']*$")
 _PREC = {Iff: 1, Implies: 2, Or: 3, And: 4}
 _ATOMIC = 9
 
@@ -366,6 +367,10 @@ def show(f: Formula) -> str:
         return "[!" + show(f.announced) + "] " + _wrap(f.arg, _ATOMIC)
     if isinstance(f, Update):
         ev = f.model.events[f.event]
+        if not _EVENT_NAME.match(ev):
+            import json
+
+            ev = json.dumps(ev)
         return f"[{f.name},{ev}] " + _wrap(f.arg, _ATOMIC)
     raise TypeError(f"not a formula: {f!r}")
 
@@ -390,7 +395,7 @@ _GRAMMAR = r"""
       | KWBRACE agentname "}" unary -> kwbrace
       | GROUPOP agents "}" unary  -> grp
       | "[" "!" iff "]" unary     -> announce
-      | "[" NAME "," NAME "]" unary -> update
+      | "[" NAME "," (NAME | QUOTED) "]" unary -> update
       | atom
 ?atom: "T"                        -> top
      | "F"                        -> bot
@@ -408,6 +413,7 @@ KBRACE.3: /(K|B)\{/
 KWBRACE.4: /Kw\{/
 GROUPOP.3: /[ECD]\{/
 NAME: /[A-Za-z_][A-Za-z0-9_.']*/
+QUOTED: /"([^"\\]|\\.)*"/
 %ignore /[ \t\r\n]+/
 %ignore /#[^\n]*/
 """
@@ -508,6 +514,10 @@ class _Build:
             return Announce(self.build(ch[0]), self.build(ch[1]))
         if d == "update":
             name, ev = str(ch[0]), str(ch[1])
+            if ch[1].type == "QUOTED":
+                import json
+
+                ev = json.loads(ev)
             if name not in self.events:
                 known = ", ".join(sorted(self.events)) or "none given"
                 raise ParseError(f"unknown event model {name!r} (known: {known})", source=self.source,

@@ -272,8 +272,49 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
                         "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
 
 
+def _group_d_formulas(task: Task) -> list[Formula]:
+    """D_G subformulas with |G| ≥ 2 anywhere in the task (goal, executability, effects, observability)."""
+    import dataclasses
+
+    from delkit.formula import D, subformulas
+
+    found: list[Formula] = []
+
+    def walk(x: Any) -> None:
+        if isinstance(x, Formula):
+            found.extend(g for g in subformulas(x) if isinstance(g, D) and len(g.group) > 1)
+        elif isinstance(x, (tuple, list, frozenset, set)):
+            for y in x:
+                walk(y)
+        elif isinstance(x, dict):
+            for y in x.values():
+                walk(y)
+        elif dataclasses.is_dataclass(x) and not isinstance(x, type):
+            for fld in dataclasses.fields(x):
+                walk(getattr(x, fld.name))
+
+    walk(task.goal)
+    for act in task.actions:
+        walk(act)
+    return found
+
+
 def make_space(task: Task, *, engine: Literal["fast", "del"] = "fast", allow_inconsistent: bool = False) -> Any:
-    """The state space for ``task``: the specialised one (default) or the generic delkit one."""
+    """The state space for ``task``: the specialised one (default) or the generic delkit one.
+
+    Both deduplicate states by bisimulation contraction, which preserves every formula of the language
+    except distributed knowledge of groups of two or more agents (D_G is not bisimulation-invariant). A
+    task that mentions such a D_G is refused with a clear error rather than planned unsoundly.
+    """
+    bad = _group_d_formulas(task)
+    if bad:
+        from delkit.formula import show
+
+        raise PlanningError(f"{task.source}: the task uses distributed knowledge of a group ({show(bad[0])}); "
+                            "D of two or more agents is not preserved by the bisimulation contraction the "
+                            "planner uses to merge states, so it cannot plan for it soundly. Rewrite the goal "
+                            "without D of a group, or check a given plan with `delkit check` (which replays "
+                            "without contraction).")
     if engine == "del":
         return DelSpace(task, allow_inconsistent=allow_inconsistent)
     if engine == "fast":

@@ -230,3 +230,11 @@ def test_contraction_of_partitions_merges_classes_through_bisimilar_worlds():
     assert c.n_worlds == 2 and bisimilar(c, m)
     assert c.holds("~Kw_b p") and m.holds("~Kw_b p")
     assert canonical_hash(c) == canonical_hash(m)
+
+
+def test_update_with_composed_event_names_round_trips():
+    peek = sensing("p", ["a", "b"], full=["a"])
+    macro = compose(peek, public_announcement("K_a p", ["a", "b"], name="tell"), name="M")
+    f = Update(macro, 0, parse("K_a p"), "M")
+    assert show(f) == '[M,"yes;e"] K_a p'
+    assert parse(show(f), events={"M": macro}) == f

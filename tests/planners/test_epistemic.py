@@ -195,3 +195,22 @@ def test_random_goals_plan_found_implies_independent_replay_reaches_goal(goal) -
             assert not check_plan(t2, list(res.plan[:k])).valid
     else:
         assert res.plan is None and res.status in ("limit", "unsolvable")
+
+
+def test_group_distributed_knowledge_goal_is_refused_not_planned_unsoundly():
+    """D_{a,b} is not bisimulation-invariant, so the contracting planner must refuse it with a clear error."""
+    import dataclasses
+
+    from delkit.errors import PlanningError
+    from delkit.formula import D as Dist
+    from delkit.formula import K, Prop
+
+    dom, prob, _ = OWN[0]
+    task = load_task(dom, prob)
+    agents, p = task.agents[:2], Prop(task.props[0])
+    for engine in ("fast", "del"):
+        with pytest.raises(PlanningError, match="distributed knowledge of a group"):
+            plan(dataclasses.replace(task, goal=Dist(agents, p)), engine=engine)
+    # D of a single agent is K, which contraction preserves: planned as usual
+    res = plan(dataclasses.replace(task, goal=Dist(agents[:1], p) | K(agents[0], p)), limits=Limits(timeout=10))
+    assert res.status in ("solved", "unsolvable", "limit")
