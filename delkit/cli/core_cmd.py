@@ -28,6 +28,12 @@ def _puzzles(out: Path) -> dict[str, Any]:
     return {"ok": ok, "rows": rows, "summary": text}
 
 
+def _verify(out: Path) -> dict[str, Any]:
+    from delkit.verify import run_demo as verify_demo
+
+    return verify_demo(out / "verify")
+
+
 def _planner(out: Path) -> dict[str, Any]:
     from planners.demo import run_demo as planner_demo
 
@@ -74,6 +80,7 @@ def _arms(out: Path) -> dict[str, Any]:
 
 SECTIONS: list[tuple[str, Callable[[Path], dict[str, Any]]]] = [
     ("DEL puzzles (literature answers)", _puzzles),
+    ("z3 proofs and counter-models", _verify),
     ("Epistemic planning + plan check", _planner),
     ("Action consistency (VERIFYAC/ENFORCEAC)", _consistency),
     ("Exploration with epistemic task allocation", _explore),
