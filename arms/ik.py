@@ -408,7 +408,7 @@ class DualArmIK:
               stall_ratio: float = 0.6,
               pos_tol: float = POS_TOL, rot_tol: float = ROT_TOL, check_fk: bool = True,
               clock=time.perf_counter, candidates: int = 8, library: bool = True,
-              library_k: int = 32) -> IKResult:
+              library_k: int = 32, fallback_budget: float = 0.0) -> IKResult:
         """Iterate :meth:`step` until every TCP is within tolerance; random restarts within ``budget`` s.
 
         Phase 1 (error ≥ 1 cm): frame tasks + posture. Phase 2 (polish): frame tasks alone, so that the
@@ -417,7 +417,10 @@ class DualArmIK:
         random configurations) follows ``max_iter`` iterations or a stall (error above ``stall_ratio``
         times its value ``stall`` iterations earlier). Without ``q0`` the starts are the
         :class:`SeedLibrary` configurations nearest to each target (``library=False``: home posture,
-        then random restarts). ``clock`` as in :meth:`PinocchioArm.clik`.
+        then random restarts). ``clock`` as in :meth:`PinocchioArm.clik`. If mink has not converged
+        and ``fallback_budget`` > 0, the pinocchio CLIK gets that many more seconds, starting from
+        mink's best configuration; its answer is taken if it converges with the arms apart
+        (``solver`` then says ``pinocchio-clik (fallback)``).
         """
         t0 = clock()
         rng = np.random.default_rng(seed)
@@ -462,9 +465,20 @@ class DualArmIK:
             k += 1
         ep, er, qb = best
         disagreement = self.fk_disagreement(qb) if check_fk else float("nan")
-        return IKResult(q=self.arms_of(qb), converged=bool(ep < pos_tol and er < rot_tol),
-                        position_error=ep, orientation_error=er, iterations=iters, restarts=restarts,
-                        seconds=clock() - t0, solver="mink", fk_disagreement=disagreement)
+        result = IKResult(q=self.arms_of(qb), converged=bool(ep < pos_tol and er < rot_tol),
+                          position_error=ep, orientation_error=er, iterations=iters, restarts=restarts,
+                          seconds=clock() - t0, solver="mink", fk_disagreement=disagreement)
+        if result.converged or fallback_budget <= 0.0:
+            return result
+        # fallback: the pinocchio CLIK, arm by arm; accepted only if the arms stay apart
+        fb = self.solve_clik(targets, {r: qb[self.qadr[r]] for r in targets}, budget=fallback_budget,
+                             seed=seed)
+        if fb.converged and self.min_arm_distance(self.full_q({**result.q, **fb.q})) > 0.0:
+            return IKResult(q={**result.q, **fb.q}, converged=True, position_error=fb.position_error,
+                            orientation_error=fb.orientation_error, iterations=iters + fb.iterations,
+                            restarts=restarts + fb.restarts, seconds=clock() - t0,
+                            solver="pinocchio-clik (fallback)", fk_disagreement=fb.fk_disagreement)
+        return result
 
     def solve_clik(self, targets: Mapping[str, np.ndarray], q0: Mapping[str, np.ndarray] | None = None, *,
                    budget: float = 0.005, seed: int = 0) -> IKResult:

@@ -132,3 +132,16 @@ def test_seed_library_returns_configurations_near_the_target():
     for lib in (True, False):
         res = arm.clik(poses[0], budget=0.2, library=lib)
         assert res.converged
+
+
+def test_clik_is_the_fallback_when_mink_runs_out_of_budget(ik):
+    lay = Layout()
+    target = {"robot1": pose([lay.stack_x - 0.05, lay.stack_xy(0, 2)[1], 0.12])}
+    home = ik.arms_of(ik.q_home)
+    alone = ik.solve(target, home, budget=1e-6)
+    assert not alone.converged and alone.solver == "mink"
+    res = ik.solve(target, home, budget=1e-6, fallback_budget=0.05)
+    assert res.converged and res.solver == "pinocchio-clik (fallback)"
+    assert res.fk_disagreement < 1e-9
+    dp, dr = pose_error(ik.pin["robot1"].fk(res.q["robot1"]), target["robot1"])
+    assert dp < POS_TOL and dr < ROT_TOL
