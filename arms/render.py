@@ -99,13 +99,17 @@ def _child(argv: list[str]) -> int:
     data = mujoco.MjData(model)
     qpos = np.load(npz)["qpos"]
     renderer = mujoco.Renderer(model, int(height), int(width))
-    images = []
-    for q in qpos:
+
+    def frame(q: np.ndarray, shadows: bool) -> np.ndarray:
         data.qpos[:] = q
         mujoco.mj_kinematics(model, data)
         mujoco.mj_camlight(model, data)  # cameras and lights follow the bodies
         renderer.update_scene(data, camera=camera)
-        images.append(renderer.render().copy())
+        renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = shadows
+        return renderer.render().copy()
+
+    # animation frames without shadows (3x faster with a software GL), the still with them
+    images = [frame(q, False) for q in qpos[:-1]] + [frame(qpos[-1], True)]
     out_dir = Path(out)
     png = out_dir / still
     imageio.imwrite(png, images[-1])
