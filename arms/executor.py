@@ -24,7 +24,7 @@ import mink
 import mujoco
 import numpy as np
 
-from arms.ik import DualArmIK, pose_error
+from arms.ik import DualArmIK, pose, pose_error
 from arms.plan import Action, Plan, apply_action
 from arms.scene import FINGER_OPEN, Scene, build_scene
 from arms.skills import pick, place
@@ -328,8 +328,8 @@ class Executor:
             place(self, r, target - offset, travel)
             if action.name == "put_on_barrier":  # clear the shared table for the other arm
                 lay = self.world.layout
-                home = lay.stack_xy(self.world.robot_index(r), 1, len(self.world.stacks[r]))
-                self.move(r, _down_pose([home[0] - 0.12, home[1], travel]))
+                base_y = lay.base_pos(self.world.robot_index(r))[1]
+                self.move(r, pose([lay.stack_x - 0.12, base_y, travel]))  # above its own table
             self.wait(0.2)
         elif action.name == "sense":
             return self._sense(action, state)
@@ -385,12 +385,6 @@ class Executor:
                          arm_contacts=self.arm_contacts, grasp=self.grasp,
                          max_slip=max(self.slips, default=0.0), fk_disagreement=self.fk_disagreement,
                          failure=failure)
-
-
-def _down_pose(xyz) -> np.ndarray:
-    from arms.ik import pose
-
-    return pose(xyz)
 
 
 def run_plan(plan: Plan, *, grasp: str = "weld", tolerance: float = 0.01, record_fps: float = 0.0,
