@@ -66,13 +66,16 @@ def pose(position, rotation=DOWN) -> np.ndarray:
 
 
 def pose_error(current: np.ndarray, target: np.ndarray) -> tuple[float, float]:
-    """(‖p − p*‖ in m, ‖log(Rᵀ R*)‖ in rad) between two 4×4 poses."""
-    dp = float(np.linalg.norm(current[:3, 3] - target[:3, 3]))
-    r = current[:3, :3].T @ target[:3, :3]
-    c = np.clip((np.trace(r) - 1.0) / 2.0, -1.0, 1.0)
-    ang = float(np.arccos(c))
-    if ang < 1e-6:  # arccos loses precision near 0: use the skew part
-        ang = float(np.linalg.norm([r[2, 1] - r[1, 2], r[0, 2] - r[2, 0], r[1, 0] - r[0, 1]]) / 2.0)
+    """(‖p − p*‖ in m, ‖log(Rᵀ R*)‖ in rad) between two 4×4 poses.
+
+    The angle is atan2(½‖skew(R)‖, ½(tr R − 1)) for R = Rᵀ R*, accurate near 0 and near π alike.
+    """
+    d = current[:3, 3] - target[:3, 3]
+    dp = math.sqrt(float(d @ d))
+    r = (current[:3, :3].T @ target[:3, :3]).tolist()
+    s = 0.5 * math.sqrt((r[2][1] - r[1][2]) ** 2 + (r[0][2] - r[2][0]) ** 2 + (r[1][0] - r[0][1]) ** 2)
+    c = 0.5 * (r[0][0] + r[1][1] + r[2][2] - 1.0)
+    ang = math.atan2(s, c)
     return dp, ang
 
 
