@@ -449,7 +449,9 @@ class Mission:
                    for t in sorted({t for b in current.values() for t in b})]
         todo = [AllocTask(k.spec.id, k.spec.xy, k.spec.n_required, k.spec.reward) for k in new]
         locked = {j: b for j, b in current.items() if j not in members}
-        informer = {j: (j if j in members else r.id) for j in avail}
+        # a disconnected robot's bid is made by the group member with the most recent record of it (set Q)
+        informer = {j: (j if j in members else max(members, key=lambda m: (self.robots[m].records[j].time, m == r.id)))
+                    for j in avail}
         newly = {t.id for t in todo}
         if self.cfg.case == 1:
             must = [j for j in range(self.n)]
