@@ -823,7 +823,7 @@ class Mission:
                  if c) and all(self.completed)
         return MissionResult(self.cfg.method, self.cfg.case, self.n, self.cfg.seed, round(self.t, 3),
                              round(sum(r.distance for r in self.robots), 3), sum(self.completed),
-                             len(self.task_specs), self.communications, bool(self.done),
+                             len(self.task_specs), self.communications, bool(self.done and all(self.completed)),
                              all(self._at_home(r) for r in self.robots), self.collisions, ok,
                              round(float((explored & free).sum() / free.sum()), 4), round(wall, 3),
                              tuple(self.completers), tuple((k, v[0], v[1]) for k, v in self.checks.items()),
