@@ -190,6 +190,9 @@ def gossip_auction(informed: Sequence[int], must_know: Sequence[int], positions:
     D = list(dict.fromkeys(informed))
     if not D:
         raise PlanningError("gossip auction needs at least one informed robot")
+    unknown = [g for g in [*D, *must_know] if g not in positions]
+    if unknown:
+        raise PlanningError(f"gossip auction: no (believed) position for robot(s) {sorted(set(unknown))}")
     t = {v: (ready or {}).get(v, 0.0) for v in positions}
     at = dict(positions)
     out: dict[int, list[int]] = {v: [] for v in positions}

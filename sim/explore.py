@@ -79,7 +79,7 @@ class MissionConfig:
     rho_o: float = 1.0
     delta: float = 20.0
     particle_speed: float = 0.85
-    flock_radius: float = 3.5
+    flock_radius: float = 3.0
     t_max: float = 1500.0
     wait_timeout: float = 120.0
     map_path: str | None = None
@@ -227,6 +227,7 @@ class _Robot:
         self.records: dict[int, BeliefRecord] = {}
         self.excluded: set[int] = set()
         self.wait_since: float | None = None
+        self.wait_task: int | None = None
         self.gave_up: set[int] = set()
         self.done_exploring = False
         self.blacklist: set[int] = set()
@@ -454,7 +455,7 @@ class Mission:
                     for j in avail}
         newly = {t.id for t in todo}
         if self.cfg.case == 1:
-            must = [j for j in range(self.n)]
+            must = list(avail)  # everybody must hear that the single task is found (and who does it)
         else:
             must = None
         alloc = allocate(bidders, todo, self.cost, connected=[m for m in members if m in avail] or [r.id],
@@ -575,16 +576,18 @@ class Mission:
             txy = np.array(k.spec.xy)
             r.status = "task"
             r.target = k.spec.xy
-            if np.hypot(*(txy - r.xy)) <= self.cfg.task_radius * 0.6:
-                r.nav.clear()
-                if r.wait_since is None:
-                    r.wait_since = self.t
+            near = np.hypot(*(txy - r.xy))
+            if near <= self.cfg.task_radius * 1.5:  # at the task (noise may push it in and out of r_t)
+                if r.wait_since is None or r.wait_task != k.spec.id:
+                    r.wait_since, r.wait_task = self.t, k.spec.id
                 elif self.t - r.wait_since > self.cfg.wait_timeout:
                     r.gave_up.add(k.spec.id)
                     self._event("timeout", f"robot {r.id} stops waiting at task {k.spec.id}")
                     r.wait_since = None
+                    return
+            if near <= self.cfg.task_radius * 0.6:
+                r.nav.clear()
                 return
-            r.wait_since = None
             self._goto(r, txy, tol=0.1)
             return
         r.wait_since = None
@@ -645,13 +648,22 @@ class Mission:
             self.anchor_nav.set_path(sp, self._cell(goal_xy), self.shape, lead.map.version, goal_xy=goal_xy)
         spread = np.linalg.norm(xs - self.anchor[None, :], axis=1).max()
         if spread < self.cfg.comm_range / 2 - 0.5:
+            # the leader is virtual: it follows the (clearance-weighted) A* path without obstacle repulsion
             u = self.anchor_nav.control(self.anchor, lead.map.occupied_mask(), eta_g=self.cfg.eta_g,
-                                        eta_o=self.cfg.eta_o, rho_o=self.cfg.rho_o,
+                                        eta_o=0.0, rho_o=self.cfg.rho_o,
                                         v_max=self.cfg.particle_speed * self.cfg.v_max)
             moved = integrate(self.anchor, u, self.cfg.dt, self.world.is_occupied, None)
-            # the leader only moves where every robot stays within r_c/2 of it (pairwise ≤ r_c)
-            if np.linalg.norm(xs - moved[None, :], axis=1).max() <= self._flock_disk():
-                self.anchor = moved
+            # the leader only moves where every robot stays within r_c/2 of it (pairwise ≤ r_c); a shorter step
+            # is taken when the full one would leave a robot behind
+            for frac in (1.0, 0.5, 0.25):
+                cand = self.anchor + frac * (moved - self.anchor)
+                if np.linalg.norm(xs - cand[None, :], axis=1).max() <= self._flock_disk():
+                    self.anchor = cand
+                    break
+            else:  # blocked by a robot held back (e.g. behind an obstacle): regroup towards it
+                self._flock_regroup(xs)
+        else:
+            self._flock_regroup(xs)
         slots = []
         radius = self.cfg.flock_radius if self.n > 1 else 0.0
         if np.hypot(*(goal_xy - self.home)) < 1e-6 and np.hypot(*(self.anchor - self.home)) < 3.0:
@@ -669,6 +681,17 @@ class Mission:
                 slot = np.array(lead.tasks[task_here].spec.xy)
             slots.append(slot)
         return slots
+
+    def _flock_regroup(self, xs: np.ndarray) -> None:
+        """Move the leader half a metre towards the robot farthest from it, if that keeps everyone inside."""
+        far = xs[int(np.argmax(np.linalg.norm(xs - self.anchor[None, :], axis=1)))]
+        d = float(np.hypot(*(far - self.anchor)))
+        if d < 1.0:
+            return
+        cand = self.anchor + (far - self.anchor) * (0.5 / d)
+        if np.linalg.norm(xs - cand[None, :], axis=1).max() <= self._flock_disk() and \
+                not self.world.is_occupied(cand[None, :]).any():
+            self.anchor = cand
 
     def _flock_disk(self) -> float:
         return self.cfg.comm_range / 2 - 0.1
@@ -705,9 +728,9 @@ class Mission:
         if self.cfg.method == "epistemic" and len(set(self.components.tolist())) > 1:
             return False
         r0 = self.robots[0]
-        if self.cfg.case == 1:
-            return all(self.completed)
-        if any(not k.completed for k in r0.tasks.values()):
+        if self.cfg.case == 1 and any(k.completed for k in r0.tasks.values()):
+            return True
+        if any(not k.completed for k in r0.tasks.values()):  # a known task is not done: allocate it again
             pending_possible = [k for k in r0.tasks.values() if not k.completed]
             for r in self.robots:
                 r.gave_up.clear()
@@ -727,7 +750,7 @@ class Mission:
             for r in self.robots:
                 r.done_exploring = False
             return False
-        return True
+        return True  # Case I with the task never found (unreachable) ends here too; success is False then
 
     def step(self) -> None:
         cfg = self.cfg
