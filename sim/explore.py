@@ -273,7 +273,7 @@ class Mission:
         self.cost = euclidean_cost(cfg.v_max)
         self.done = False
         self.anchor = self.robots[0].xy.copy() if self.n else self.home.copy()
-        self.anchor_nav = Navigator(self.res)
+        self.anchor_nav = Navigator(self.res, margin=0)  # the virtual leader has no body to keep clear
         self.anchor_blacklist: set[int] = set()
         self._hist_t: list[float] = []
         self._hist_x: list[np.ndarray] = []

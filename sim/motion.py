@@ -94,28 +94,35 @@ class GridGraph:
         return sp
 
 
-def line_free(blocked: np.ndarray, resolution: float, a: np.ndarray, b: np.ndarray) -> bool:
-    """True when the segment a→b crosses no blocked cell (sampled every quarter cell)."""
+def line_free(blocked: np.ndarray, resolution: float, a: np.ndarray, b: np.ndarray, margin: int = 0) -> bool:
+    """True when the segment a→b crosses no blocked cell (sampled every quarter cell), nor any cell within
+    ``margin`` cells of one."""
     n = max(2, int(np.ceil(np.hypot(*(b - a)) / (resolution / 4))) + 1)
     pts = a[None, :] + np.linspace(0, 1, n)[:, None] * (b - a)[None, :]
     h, w = blocked.shape
-    c = np.clip((pts[:, 0] / resolution).astype(int), 0, w - 1)
-    r = np.clip((pts[:, 1] / resolution).astype(int), 0, h - 1)
-    return not blocked[r, c].any()
+    c = (pts[:, 0] / resolution).astype(int)
+    r = (pts[:, 1] / resolution).astype(int)
+    if margin:
+        d = np.arange(-margin, margin + 1)
+        r = (r[:, None, None] + d[None, :, None]).repeat(len(d), 2).ravel()
+        c = (c[:, None, None] + d[None, None, :]).repeat(len(d), 1).ravel()
+    return not blocked[np.clip(r, 0, h - 1), np.clip(c, 0, w - 1)].any()
 
 
 def smooth_waypoint(path_xy: np.ndarray, xy: np.ndarray, blocked: np.ndarray, resolution: float,
-                    lookahead: float = 3.0) -> np.ndarray:
-    """The farthest path point within ``lookahead`` metres (along the path) visible from ``xy``."""
+                    lookahead: float = 3.0, margin: int = 1) -> np.ndarray:
+    """The farthest path point within ``lookahead`` metres (along the path) visible from ``xy`` with a clearance
+    of ``margin`` cells (so that the shortcut does not graze a corner the APF would then fight)."""
     if len(path_xy) == 0:
         return xy
     d = np.hypot(*(path_xy - xy).T)
     k0 = int(np.argmin(d))
     seg = np.r_[0.0, np.cumsum(np.hypot(*np.diff(path_xy[k0:], axis=0).T))]
     cand = k0 + np.flatnonzero(seg <= lookahead)
-    for k in cand[::-1]:
-        if line_free(blocked, resolution, xy, path_xy[k]):
-            return path_xy[k]
+    for m in dict.fromkeys((margin, 0)):  # in a tight spot no shortcut has the margin: fall back to none
+        for k in cand[::-1]:
+            if line_free(blocked, resolution, xy, path_xy[k], margin=m):
+                return path_xy[k]
     return path_xy[min(k0 + 1, len(path_xy) - 1)]
 
 

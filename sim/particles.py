@@ -101,8 +101,9 @@ def choose_frontier(graph: GridGraph, source: int, frontier: np.ndarray, sites: 
 class Navigator:
     """A* path (from a Dijkstra tree) to a goal, followed with line-of-sight smoothing and the APF."""
 
-    def __init__(self, res: float) -> None:
+    def __init__(self, res: float, margin: int = 1) -> None:
         self.res = res
+        self.margin = margin
         self.goal: int | None = None
         self.goal_xy: np.ndarray | None = None
         self.path_xy = np.empty((0, 2))
@@ -141,7 +142,7 @@ class Navigator:
                 v_max: float) -> np.ndarray:
         if self.goal_xy is None or len(self.path_xy) == 0:
             return np.zeros(2)
-        wp = smooth_waypoint(self.path_xy, xy, blocked, self.res)
+        wp = smooth_waypoint(self.path_xy, xy, blocked, self.res, margin=self.margin)
         if np.hypot(*(self.goal_xy - xy)) < 0.2:
             return np.zeros(2)
         obs = obstacle_points(blocked, self.res, xy, rho_o)
@@ -187,6 +188,7 @@ class CommonBelief:
                                     "home" if hm else "exploring", Navigator(self.res))
                           for p, qs, hm in zip(positions, queues, homing, strict=True)]
         self.history: list[np.ndarray] = []
+        self.given_up: set[int] = set()
 
     @property
     def positions(self) -> np.ndarray:
@@ -218,9 +220,11 @@ class CommonBelief:
         frontier = None
         sites = self.positions
         for j, p in enumerate(self.particles):
+            p.nav._now = self.t
+            stuck = p.nav.stuck(p.xy, self.t)  # no progress for 10 s (an APF local minimum in a tight gap)
             if p.queue:
                 tgt = p.queue[0]
-                if np.hypot(*(tgt - p.xy)) < 0.8:
+                if np.hypot(*(tgt - p.xy)) < 0.8 or stuck:
                     p.queue.pop(0)
                     p.nav.clear()
                     continue
@@ -234,8 +238,14 @@ class CommonBelief:
             elif p.status == "exploring":
                 if frontier is None:
                     fmask = frontier_mask(self.state())
+                    if self.given_up:
+                        fmask.ravel()[list(self.given_up)] = False
                     frontier = np.flatnonzero(fmask)
                     fset = fmask.ravel()
+                if stuck and p.nav.goal is not None:
+                    self.given_up.add(p.nav.goal)
+                    fset[p.nav.goal] = False
+                    frontier = frontier[frontier != p.nav.goal]
                 if p.nav.goal is None or not fset[p.nav.goal]:
                     g, sp = choose_frontier(self.graph, self._cell(p.xy), frontier, sites, j, self.delta,
                                             self.shape, self.res)
