@@ -32,7 +32,14 @@ def execute_and_render(plan: Plan, out_dir: Path | None, *, grasp: str = "weld",
     from arms.executor import run_plan
     from arms.render import RenderSkipped, render_frames
     from arms.scene import save_mjcf
+    from arms.world import ArmsError
 
+    if out_dir is not None:  # before the (long) simulation: an unusable directory is bad input
+        try:
+            Path(out_dir).mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise ArmsError(f"{out_dir}: cannot create the output directory: {exc.strerror}; "
+                            f"give a writable --out directory") from None
     record = fps if (render and (video or save_frames) and out_dir is not None) else 0.0
     result, ex = run_plan(plan, grasp=grasp, record_fps=record, progress=progress,
                            tolerance=tolerance)

@@ -139,6 +139,10 @@ def load_plan(path: str | Path) -> Plan:
         raise ArmsError(f"{path}: no such plan file") from None
     except json.JSONDecodeError as exc:
         raise ArmsError(f"{path}:{exc.lineno}:{exc.colno}: not valid JSON ({exc.msg})") from None
+    except UnicodeDecodeError:
+        raise ArmsError(f"{path}: not a text file; a plan is UTF-8 JSON (see arms/README.md)") from None
+    except OSError as exc:  # a directory, no permission, ...
+        raise ArmsError(f"{path}: cannot read the plan file: {exc.strerror}") from None
     return parse_plan(obj, source=str(path))
 
 

@@ -289,7 +289,12 @@ def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = 
 
 def save_mjcf(scene: Scene, path: str | Path) -> Path:
     """Write the scene as MJCF (mesh files referenced by absolute path into example-robot-data)."""
+    from arms.world import ArmsError
+
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(scene.spec.to_xml())
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(scene.spec.to_xml())
+    except OSError as exc:  # a directory, no permission, ...
+        raise ArmsError(f"{path}: cannot write the MJCF file: {exc.strerror}; give a writable file path") from None
     return path

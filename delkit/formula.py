@@ -434,6 +434,16 @@ _TOKEN_NAMES = {
 }
 
 
+def _token_name(name: str) -> str:
+    """Readable name of a lark terminal (anonymous ones such as ``->`` are looked up in the grammar)."""
+    if name in _TOKEN_NAMES:
+        return _TOKEN_NAMES[name]
+    try:
+        return str(_parser().get_terminal(name).pattern.value)
+    except Exception:  # noqa: BLE001 - unknown to the grammar: keep lark's name
+        return name
+
+
 def parse(text: str, *, events: Mapping[str, EventModel] | None = None, source: str = "<formula>",
           line_offset: int = 0, column_offset: int = 0) -> Formula:
     """Parse the text syntax into a :class:`Formula`.
@@ -450,7 +460,7 @@ def parse(text: str, *, events: Mapping[str, EventModel] | None = None, source: 
         tree = _parser().parse(text)
     except UnexpectedToken as exc:
         tok = exc.token
-        expected = sorted({_TOKEN_NAMES.get(t, t) for t in exc.expected})
+        expected = sorted({_token_name(t) for t in exc.expected})
         if tok.type == "$END":
             lines = text.splitlines() or [""]
             line, column, shown = len(lines), len(lines[-1]) + 1, "end of formula"
@@ -467,7 +477,7 @@ def parse(text: str, *, events: Mapping[str, EventModel] | None = None, source: 
         lines = text.splitlines() or [""]
         raise ParseError("formula ends too early", source=source, line=len(lines) + line_offset,
                          column=len(lines[-1]) + 1,
-                         expected=sorted({_TOKEN_NAMES.get(t, t) for t in exc.expected})) from None
+                         expected=sorted({_token_name(t) for t in exc.expected})) from None
     except UnexpectedInput as exc:  # pragma: no cover - other lark errors
         raise ParseError(str(exc), source=source) from None
     return _Build(events or {}, source).build(tree)

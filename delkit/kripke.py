@@ -17,7 +17,7 @@ import scipy.sparse as sp
 
 from delkit.errors import ModelError, UnknownSymbolError
 from delkit.formula import Formula, agents_of, props_of
-from delkit.relation import Relation
+from delkit.relation import Relation, RelationError
 
 __all__ = ["KripkeModel"]
 
@@ -102,12 +102,15 @@ class KripkeModel:
         n = len(truths)
         rels: dict[str, Relation] = {}
         for a, spec in relations.items():
-            if isinstance(spec, Relation):
-                rels[a] = spec
-            elif isinstance(spec, Mapping) and "pairs" in spec:
-                rels[a] = Relation.from_pairs(n, [(w_of(x), w_of(y)) for x, y in spec["pairs"]])
-            else:
-                rels[a] = Relation.from_blocks(n, [[w_of(x) for x in blk] for blk in spec])
+            try:
+                if isinstance(spec, Relation):
+                    rels[a] = spec
+                elif isinstance(spec, Mapping) and "pairs" in spec:
+                    rels[a] = Relation.from_pairs(n, [(w_of(x), w_of(y)) for x, y in spec["pairs"]])
+                else:
+                    rels[a] = Relation.from_blocks(n, [[w_of(x) for x in blk] for blk in spec])
+            except RelationError as exc:
+                raise RelationError(f"relation of agent {a!r}: {exc}") from None
         ags = tuple(agents) if agents is not None else tuple(relations.keys())
         return KripkeModel(all_props, ags, val, rels, tuple(w_of(d) for d in designated), names)
 

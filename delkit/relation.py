@@ -14,7 +14,20 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["Relation"]
+from delkit.errors import ModelError
+
+__all__ = ["Relation", "RelationError"]
+
+
+class RelationError(ModelError, ValueError):
+    """A relation given with worlds outside 0..n-1 or with overlapping blocks (also a ``ValueError``)."""
+
+
+def _check_points(n: int, points: np.ndarray, what: str) -> None:
+    """Every point must be a world 0..n-1 (a negative index would silently wrap around in numpy)."""
+    bad = points[(points < 0) | (points >= n)]
+    if bad.size:
+        raise RelationError(f"{what}: world {int(bad[0])} out of range 0..{n - 1} (the model has {n} world(s))")
 
 
 @dataclass(frozen=True, eq=False)
@@ -40,9 +53,12 @@ class Relation:
         labels = np.full(n, -1, dtype=np.int64)
         k = 0
         for block in blocks:
+            block = list(block)
+            _check_points(n, np.asarray(block, dtype=np.int64), f"block #{k}")
             for w in block:
                 if labels[w] != -1:
-                    raise ValueError(f"point {w} is in two blocks")
+                    raise RelationError(f"world {w} is in two blocks (#{labels[w]} and #{k}); an S5 relation "
+                                        f"is a partition: put each world in one block")
                 labels[w] = k
             k += 1
         missing = np.flatnonzero(labels == -1)
@@ -53,8 +69,7 @@ class Relation:
     def from_pairs(n: int, pairs: Iterable[tuple[int, int]]) -> Relation:
         """Arbitrary relation from (source, target) pairs."""
         arr = np.asarray(list(pairs), dtype=np.int64).reshape(-1, 2)
-        if arr.size and (arr.min() < 0 or arr.max() >= n):
-            raise ValueError(f"relation pair out of range 0..{n - 1}")
+        _check_points(n, arr.ravel(), "relation pair")
         m = sp.csr_matrix((np.ones(len(arr), dtype=bool), (arr[:, 0], arr[:, 1])), shape=(n, n), dtype=bool)
         m.sum_duplicates()
         return Relation(n=n, matrix=m)

@@ -51,6 +51,16 @@ class Limits:
     max_expanded: int | None = None
     max_memory_mb: float | None = 8192.0
 
+    def __post_init__(self) -> None:
+        for name, value, rule in (("timeout", self.timeout, ">= 0 (seconds)"),
+                                  ("max_expanded", self.max_expanded, ">= 0 (nodes)"),
+                                  ("max_memory_mb", self.max_memory_mb, "> 0 (MiB)")):
+            if value is None:
+                continue
+            if not (value > 0 if name == "max_memory_mb" else value >= 0):   # NaN fails too
+                raise PlanningError(f"limit {name}={value!r} is impossible: it must be {rule}, or None for "
+                                    f"no limit (CLI: --timeout, --max-nodes, --max-memory)")
+
 
 @dataclass(frozen=True)
 class SearchResult:

@@ -106,16 +106,25 @@ def read_plan(path: str | Path) -> list[str]:
 _PROP_RE = re.compile(r"^\s*(always|eventually|at\s+end)\s+(.+)$", re.S)
 
 
-def parse_property(text: str, task: Task) -> Property:
+def parse_property(text: str, task: Task, *, source: str = "--property", line: int = 1) -> Property:
     """``always φ`` / ``eventually φ`` / ``at end φ``; φ in delkit syntax (``K_a p``, ``C{a,b} p``) or mA*
-    syntax (``B(a, p)``, ``C([a,b], p)``, ``-p``)."""
+    syntax (``B(a, p)``, ``C([a,b], p)``, ``-p``). ``source``/``line`` say where the text came from (a
+    properties file and its line), for the error messages."""
     m = _PROP_RE.match(text)
     if not m:
         raise ParseError(f"property {text!r} must start with 'always', 'eventually' or 'at end'",
-                         source="--property", line=1, column=1, expected=["always φ", "eventually φ", "at end φ"])
+                         source=source, line=line, column=1, expected=["always φ", "eventually φ", "at end φ"])
     kind = "at end" if m.group(1).startswith("at") else m.group(1)
     body = m.group(2).strip()
-    f = parse_formula(body, task, source="--property")
+    try:
+        f = parse_formula(body, task, source=source)
+    except ParseError as exc:  # positions inside φ → positions in the property's line
+        if exc.line != 1 or exc.column is None:
+            raise
+        raise ParseError(exc.bare_message, source=source, line=line, column=exc.column + m.start(2),
+                         expected=exc.expected) from None
+    except DelkitError as exc:
+        raise type(exc)(f"{source}:{line}: {exc}") from None
     return Property(kind, f, text.strip())  # type: ignore[arg-type]
 
 
@@ -131,8 +140,15 @@ def parse_formula(body: str, task: Task, *, source: str = "<formula>") -> Formul
     except DelkitError as first:
         try:
             return parse_mastar_formula(body, task, source=source)
-        except ParseError:
-            raise first from None
+        except ParseError as second:
+            if isinstance(first, ParseError):
+                # report the reading that got further into the text (mA* ``B(zz, p)``: its unknown agent)
+                def pos(e: ParseError) -> tuple[int, int]:
+                    return (e.line or 0, e.column or 0)
+
+                raise (second if pos(second) > pos(first) else first) from None
+            # e.g. an unknown agent or fluent: say which formula
+            raise type(first)(f"{body!r}: {first}") from None
 
 
 # ----------------------------------------------------------------------------- explanations
@@ -188,15 +204,21 @@ def explain(m: KripkeModel, f: Formula, w: int, depth: int = 0) -> tuple[str, st
 # ----------------------------------------------------------------------------- replay
 
 def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[Property] | tuple = (), *,
-               allow_inconsistent: bool = False, require_goal: bool = True) -> CheckResult:
-    """Replay ``plan`` from the task's initial state with delkit's product update (see module docstring)."""
+               allow_inconsistent: bool = False, require_goal: bool = True,
+               plan_source: str = "plan") -> CheckResult:
+    """Replay ``plan`` from the task's initial state with delkit's product update (see module docstring).
+
+    ``plan_source`` names the plan (e.g. its file) in the error for an action the task does not have."""
     names = {a.name for a in task.actions}
     for i, name in enumerate(plan, 1):
         if name not in names:
             from delkit.errors import PlanningError
 
-            task.action(name)  # raises with suggestions
-            raise PlanningError(f"step {i}: unknown action {name!r}")
+            try:
+                task.action(name)  # raises with suggestions
+            except PlanningError as exc:
+                raise PlanningError(f"{plan_source}: step {i}: {exc}") from None
+            raise PlanningError(f"{plan_source}: step {i}: unknown action {name!r}")
     model = task.initial
     n = len(plan)
     seen_eventually = [False] * len(properties)

@@ -61,12 +61,20 @@ def main(argv: list[str] | None = None) -> int:
         print("delkit: interrupted", file=sys.stderr)
         return 130
     except Exception as exc:
-        # usage errors (unknown option, missing file, ...) from the click that typer bundles
-        if hasattr(exc, "show") and hasattr(exc, "exit_code"):
-            exc.show()
+        # usage errors (unknown option, bad option value, ...) from the click that typer bundles: one line too
+        if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
+            print(_usage_line(exc), file=sys.stderr)
             return int(exc.exit_code)
         raise
     return result if isinstance(result, int) else 0
+
+
+def _usage_line(exc: Exception) -> str:
+    """``delkit: error: COMMAND: what is wrong; see 'COMMAND --help'`` for a usage error from click."""
+    ctx = getattr(exc, "ctx", None)
+    path = getattr(ctx, "command_path", None) or "delkit"
+    message = " ".join(str(exc.format_message()).split()).rstrip(".")  # type: ignore[attr-defined]
+    return f"delkit: error: {path}: {message}; see '{path} --help'"
 
 
 def run() -> None:

@@ -81,6 +81,8 @@ def register(app: typer.Typer) -> None:
 
         if grasp not in ("weld", "friction"):
             raise ArmsError(f"--grasp must be weld or friction, not {grasp!r}")
+        if not tolerance > 0:
+            raise ArmsError(f"--tolerance must be a positive distance in metres (e.g. 0.01), not {tolerance!r}")
         p = load_plan(plan)
         symbolic_trace(p)  # reject a plan that is wrong on paper before simulating it
         cb, stop = _progress_cb(len(p.actions), "executing")
@@ -92,7 +94,7 @@ def register(app: typer.Typer) -> None:
 
     @sub.command("demo")
     def demo(out: Path = typer.Option(Path("arms-demo"), "--out", help="output directory"),
-             as_json: bool = typer.Option(False, "--json"),
+             as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
              video: bool = typer.Option(False, "--video/--no-video", help="also write a video")) -> None:
         """robot1 senses its stack, moves the block under another one to the shared table, robot2 takes it."""
         from arms.demo import demo_plan, execute_and_render
@@ -108,16 +110,18 @@ def register(app: typer.Typer) -> None:
     @sub.command("bench-ik")
     def bench_ik(targets: int = typer.Option(1000, "--targets", min=1, help="number of random poses"),
                  budget_ms: float = typer.Option(5.0, "--budget-ms", help="time budget per target"),
-                 seed: int = typer.Option(0, "--seed"),
+                 seed: int = typer.Option(0, "--seed", help="seed of the random target poses"),
                  clock: str = typer.Option("wall", "--clock", help="wall (default) or cpu: what the "
                                                                    "budget and the times measure"),
-                 as_json: bool = typer.Option(False, "--json")) -> None:
+                 as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """IK on N random reachable TCP poses: success rate, median / p95 time (mink and CLIK)."""
         from arms.benchmark import TRAC_IK_PANDA, benchmark_ik
         from arms.world import ArmsError
 
         if clock not in ("wall", "cpu"):
             raise ArmsError(f"--clock must be wall or cpu, not {clock!r}")
+        if not budget_ms > 0:
+            raise ArmsError(f"--budget-ms must be a positive time in milliseconds (e.g. 5), not {budget_ms!r}")
 
         cb, stop = _progress_cb(2 * targets, "IK")
         try:

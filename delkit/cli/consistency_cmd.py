@@ -17,8 +17,11 @@ ALGORITHM_CHOICES = ("enforce", "baseline1", "baseline2", "all")
 
 
 def _config(**kw):
+    from delkit.errors import SimulationError
     from sim.sar import SARConfig
 
+    if kw["epochs"] < 1:  # an episode without a planning step has no Not-AC rate and no mean J
+        raise SimulationError(f"--epochs must be at least 1 (the paper uses 200), got {kw['epochs']}")
     return SARConfig(**kw)
 
 

@@ -77,15 +77,16 @@ def register(app: typer.Typer) -> None:
                              source="delkit check")
         task = load_task(files[0], files[1] if len(files) == 3 else None)
         steps = read_plan(files[-1])
-        texts = list(prop)
+        texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop]   # (text, source, line)
         if props_file is not None:
             try:
                 lines = props_file.read_text().splitlines()
             except OSError as exc:
                 raise ParseError(f"cannot read: {exc.strerror}", source=str(props_file)) from None
-            texts += [ln.strip() for ln in lines if ln.strip() and not ln.lstrip().startswith("#")]
-        properties = [parse_property(t, task) for t in texts]
-        res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent)
+            texts += [(ln.strip(), str(props_file), i) for i, ln in enumerate(lines, 1)
+                      if ln.strip() and not ln.lstrip().startswith("#")]
+        properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
+        res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent, plan_source=str(files[-1]))
         if as_json:
             typer.echo(json.dumps(res.to_json()))
         elif res.valid:

@@ -1,0 +1,38 @@
+"""QA regressions: bad relations given to ``KripkeModel.build`` are a ``ModelError`` naming the agent (never
+a numpy ``IndexError``, never a silent wrap-around of a negative world), and parse errors list readable
+tokens."""
+
+from __future__ import annotations
+
+import pytest
+
+from delkit import KripkeModel, parse
+from delkit.errors import ModelError, ParseError
+from delkit.relation import Relation
+
+
+@pytest.mark.parametrize(("relation", "fragment"), [
+    ([[0, 7]], "world 7 out of range 0..1"),
+    ([[0, -1]], "world -1 out of range 0..1"),          # used to wrap around to world 1
+    ([[0, 1], [1]], "world 1 is in two blocks"),
+    ({"pairs": [[0, 9]]}, "world 9 out of range 0..1"),
+    ({"pairs": [[-1, 0]]}, "world -1 out of range 0..1"),
+])
+def test_bad_relations_are_model_errors_naming_the_agent(relation, fragment) -> None:
+    with pytest.raises(ModelError) as info:
+        KripkeModel.build([{"p"}, set()], {"a": [[0, 1]], "b": relation}, designated=[0])
+    assert "relation of agent 'b'" in str(info.value) and fragment in str(info.value)
+    assert isinstance(info.value, ValueError)               # still a ValueError for existing callers
+
+
+def test_relation_constructors_check_their_points() -> None:
+    with pytest.raises(ValueError, match="out of range"):
+        Relation.from_blocks(3, [[0, 3]])
+    assert Relation.from_blocks(3, [[0, 2]]).labels.tolist() == [0, 1, 0]
+
+
+def test_parse_errors_name_anonymous_tokens_readably() -> None:
+    with pytest.raises(ParseError) as info:
+        parse("p q")
+    assert "__ANON" not in str(info.value)
+    assert {"->", "<->", "&", "|"} <= set(info.value.expected)
