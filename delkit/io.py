@@ -88,6 +88,9 @@ def _world_names(m: KripkeModel) -> list[str]:
 
 def model_to_dict(model: KripkeModel) -> dict:
     """The JSON-ready dict of a Kripke model (schema in the module docstring)."""
+    if model.n_worlds == 0:  # the reader rejects such a file: do not write one that cannot be read back
+        raise ModelError("a Kripke model with no worlds cannot be written (the file format needs at least one "
+                         "world); it is what an update gives when no event applies: check the preconditions")
     names = _world_names(model)
     return {
         "delkit": "kripke-model", "version": SCHEMA_VERSION,

@@ -36,3 +36,18 @@ def test_parse_errors_name_anonymous_tokens_readably() -> None:
         parse("p q")
     assert "__ANON" not in str(info.value)
     assert {"->", "<->", "&", "|"} <= set(info.value.expected)
+
+
+def test_a_model_with_no_worlds_is_not_written_since_it_cannot_be_read_back(tmp_path) -> None:
+    from delkit import product_update, public_announcement
+    from delkit.io import dumps, loads, save
+
+    m = KripkeModel.build([{"p"}], {"a": [[0]]}, designated=[0])
+    empty = product_update(m, public_announcement("~p", ["a"]))    # no event applies
+    assert empty.n_worlds == 0
+    with pytest.raises(ModelError, match="no worlds cannot be written"):
+        dumps(empty)
+    with pytest.raises(ModelError):
+        save(empty, tmp_path / "e.json")
+    assert not (tmp_path / "e.json").exists()
+    assert loads(dumps(m)).n_worlds == 1

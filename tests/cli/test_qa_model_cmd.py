@@ -1,0 +1,38 @@
+"""QA regressions for ``delkit model``: a model without designated worlds is bad input for ``check`` and
+``contract`` (no vacuous "holds" for both p and ~p, no unreadable contracted file)."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from delkit import KripkeModel
+from delkit.cli import main
+from delkit.io import save
+
+
+@pytest.fixture
+def unpointed(tmp_path):
+    path = tmp_path / "m.json"
+    save(KripkeModel.build({"u": {"p"}, "v": set()}, {"a": [["u", "v"]]}, designated=[]), path)
+    assert json.loads(path.read_text())["designated"] == []
+    return str(path)
+
+
+@pytest.mark.parametrize("argv", [["model", "check", "{m}", "p"], ["model", "check", "{m}", "~p", "--json"],
+                                  ["model", "contract", "{m}"]])
+def test_model_without_designated_world_is_bad_input(capsys, unpointed, argv) -> None:
+    rc = main([a.format(m=unpointed) for a in argv])
+    out, err = capsys.readouterr()
+    assert rc == 2 and out == ""
+    assert err.strip() == (f"delkit: error: {unpointed}: the model has no designated world, so every formula "
+                           f"would vacuously hold there; list the actual world(s) in \"designated\"")
+
+
+def test_pointed_model_still_checks(capsys, tmp_path) -> None:
+    path = tmp_path / "m.json"
+    save(KripkeModel.build({"u": {"p"}, "v": set()}, {"a": [["u", "v"]]}, designated=["v"]), path)
+    assert main(["model", "check", str(path), "~p", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["true_at"] == ["v"]
+    assert main(["model", "check", str(path), "p"]) == 1
