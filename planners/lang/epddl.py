@@ -173,6 +173,12 @@ class _Grounder:
         args = [self.term(a, env) if isinstance(a, Atom) else None for a in x.items[1:]]
         if len(args) != len(sig) or any(a is None for a in args):
             raise self.ctx.err(f"predicate {name!r} takes {len(sig)} argument(s)", x)
+        for i, (arg, typ) in enumerate(zip(args, sig, strict=True), 1):  # the fluent exists only for these
+            objects = self.ctx.of_type(typ, x)
+            if arg not in objects:
+                raise self.ctx.err(f"argument {i} of {name!r} is {arg!r}, which is not an object of type {typ!r} "
+                                   f"(objects of that type: {', '.join(objects) or 'none'}); declare it in "
+                                   f":objects or fix the name", x)
         return "_".join([name, *args])  # type: ignore[list-item]
 
     # ------------------------------------------------------------------ quantifiers
