@@ -150,6 +150,18 @@ class _Reader:
                             "fix the entry's type")
         return val
 
+    def symbols(self, d: Mapping, key: str, where: str, default: list[str]) -> list[str]:
+        """A list of distinct non-empty strings (the "props" or "agents" entry)."""
+        val = self.get(d, key, list, where, default=default)
+        bad = [x for x in val if not isinstance(x, str) or not x]
+        if bad:
+            raise self.fail(f"{where}: {key!r} must list names as strings, got {json.dumps(bad[0])[:40]}",
+                            f"write \"{key}\": [\"{'p' if key == 'props' else 'a'}\", ...]")
+        dup = sorted({x for x in val if val.count(x) > 1})
+        if dup:
+            raise self.fail(f"{where}: {key!r} lists {dup} more than once", "list each name once")
+        return val
+
     def names(self, items: list, kind: str) -> list[str]:
         out = []
         for i, it in enumerate(items):
@@ -217,7 +229,7 @@ class _Reader:
         """The agents and one relation per agent (the "agents" and "relations" entries)."""
         what = "the model" if kind == "world" else "the event model"
         rel_specs = self.get(data, "relations", dict, what)
-        agents = self.get(data, "agents", list, what, default=list(rel_specs))
+        agents = self.symbols(data, "agents", what, default=list(rel_specs))
         missing = [a for a in agents if a not in rel_specs]
         if missing:
             raise self.fail(f"no relation for agent(s) {missing}", "add an entry for each agent under \"relations\"")
@@ -268,7 +280,7 @@ def model_from_dict(data: Any, *, source: str = "<data>") -> KripkeModel:
         if not all(isinstance(p, str) for p in t):
             raise r.fail(f"world {names[i]!r}: \"true\" must list proposition names", "write [\"p\", \"q\"]")
         truths.append(t)
-    props = r.get(data, "props", list, "the model", default=sorted({p for t in truths for p in t}))
+    props = r.symbols(data, "props", "the model", default=sorted({p for t in truths for p in t}))
     unknown = sorted({p for t in truths for p in t} - set(props))
     if unknown:
         raise r.fail(f"world(s) make proposition(s) {unknown} true that are not in \"props\"",

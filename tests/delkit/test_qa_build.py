@@ -51,3 +51,18 @@ def test_a_model_with_no_worlds_is_not_written_since_it_cannot_be_read_back(tmp_
         save(empty, tmp_path / "e.json")
     assert not (tmp_path / "e.json").exists()
     assert loads(dumps(m)).n_worlds == 1
+
+
+@pytest.mark.parametrize(("entry", "fragment"), [
+    ('"props": ["p", [1]]', "'props' must list names as strings, got [1]"),
+    ('"props": ["p", "p"]', "'props' lists ['p'] more than once"),
+    ('"agents": ["a", 3]', "'agents' must list names as strings, got 3"),
+])
+def test_model_file_with_non_string_symbols_is_a_model_file_error(entry, fragment) -> None:
+    from delkit.io import ModelFileError, loads
+
+    text = ('{"delkit": "kripke-model", ' + entry + ', "worlds": [{"name": "u", "true": ["p"]}], '
+            '"relations": {"a": [["u"]]}, "designated": ["u"]}')
+    with pytest.raises(ModelFileError) as info:       # was a TypeError (unhashable list) from the reader
+        loads(text, source="m.json")
+    assert str(info.value).startswith("m.json: ") and fragment in str(info.value)
