@@ -89,10 +89,10 @@ def _action(obj: Any, i: int, world: World, source: str) -> Action:
     if not isinstance(obj, Mapping):
         raise ArmsError(f"{where}: must be an object with 'robot' and 'action'")
     name = obj.get("action")
-    if name not in ACTIONS:
+    if not isinstance(name, str) or name not in ACTIONS:
         raise ArmsError(f"{where}: unknown action {name!r}; known: {', '.join(ACTIONS)}")
     robot = obj.get("robot")
-    if robot not in world.robots:
+    if not isinstance(robot, str) or robot not in world.robots:
         raise ArmsError(f"{where}: 'robot' must be one of {', '.join(world.robots)}, got {robot!r}")
     args: dict[str, Any] = {k: v for k, v in obj.items() if k not in ("robot", "action", "args")}
     pos = obj.get("args", [])
@@ -109,6 +109,9 @@ def _action(obj: Any, i: int, world: World, source: str) -> Action:
                 args[key] = int(args[key])
             except (TypeError, ValueError):
                 raise ArmsError(f"{where}: '{key}' must be an integer, got {args[key]!r}") from None
+    for key in ("block", "on", "onto"):  # block names (or "table"): strings, e.g. "red"
+        if key in args and not isinstance(args[key], str):
+            raise ArmsError(f"{where}: '{key}' must be a block name (a string), got {json.dumps(args[key])[:40]}")
     if name in ("place",) and "stack" not in args:
         raise ArmsError(f"{where}: place needs a 'stack'")
     return Action(robot=robot, name=name, args=MappingProxyType(args))

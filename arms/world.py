@@ -51,6 +51,10 @@ def rgba_of(color: str | list[float] | tuple[float, ...], *, where: str = "colou
             raise ArmsError(f"{where}: unknown colour {color!r}; use one of {', '.join(sorted(COLORS))} "
                             "or an [r, g, b] list")
         return COLORS[key]
+    if not isinstance(color, (list, tuple)) or not all(
+            isinstance(c, (int, float)) and not isinstance(c, bool) for c in color):
+        raise ArmsError(f"{where}: a colour is a name such as 'red' or a list [r, g, b] of numbers in [0, 1], "
+                        f"got {color!r}")
     vals = tuple(float(c) for c in color)
     if len(vals) not in (3, 4) or not all(0.0 <= v <= 1.0 for v in vals):
         raise ArmsError(f"{where}: a colour list must have 3 or 4 numbers in [0, 1], got {list(color)}")
@@ -163,22 +167,35 @@ class World:
         """Read and validate a ``world`` object (names unique, two robots, colour per block)."""
         if not isinstance(obj, Mapping):
             raise ArmsError(f"{source}: 'world' must be an object")
-        robots = tuple(obj.get("robots", ("robot1", "robot2")))
+        raw_robots = obj.get("robots", ["robot1", "robot2"])
+        if not isinstance(raw_robots, list) or not all(isinstance(r, str) for r in raw_robots):
+            raise ArmsError(f"{source}: 'robots' must be a list of two robot names, got {raw_robots!r}")
+        robots = tuple(raw_robots)
         if len(robots) != 2 or len(set(robots)) != 2:
             raise ArmsError(f"{source}: 'robots' must name exactly two distinct robots, got {list(robots)}")
         raw_stacks = obj.get("stacks")
         if not isinstance(raw_stacks, Mapping) or set(raw_stacks) != set(robots):
             raise ArmsError(f"{source}: 'stacks' must map each of {list(robots)} to a list of stacks")
-        stacks = {r: tuple(tuple(str(b) for b in st) for st in raw_stacks[r]) for r in robots}
+        for r in robots:
+            if not isinstance(raw_stacks[r], list) or not all(
+                    isinstance(st, list) and all(isinstance(b, str) for b in st) for st in raw_stacks[r]):
+                raise ArmsError(f"{source}: stacks of {r} must be a list of stacks, each a list of block names "
+                                f"from the table up, e.g. [[\"green\"], [\"red\", \"black\"], []]")
+        stacks = {r: tuple(tuple(st) for st in raw_stacks[r]) for r in robots}
         for r in robots:
             if not 1 <= len(stacks[r]) <= 5:
                 raise ArmsError(f"{source}: {r} must have 1 to 5 stacks, has {len(stacks[r])}")
-        barrier = tuple(str(b) for b in obj.get("barrier", ()))
+        raw_barrier = obj.get("barrier", [])
+        if not isinstance(raw_barrier, list) or not all(isinstance(b, str) for b in raw_barrier):
+            raise ArmsError(f"{source}: 'barrier' must be a list of block names, got {raw_barrier!r}")
+        barrier = tuple(raw_barrier)
         names = [b for r in robots for st in stacks[r] for b in st] + list(barrier)
         dup = sorted({b for b in names if names.count(b) > 1})
         if dup:
             raise ArmsError(f"{source}: block names must be unique; repeated: {', '.join(dup)}")
         raw_colors = obj.get("colors", {})
+        if not isinstance(raw_colors, Mapping):
+            raise ArmsError(f"{source}: 'colors' must map block names to colours, got {raw_colors!r}")
         colors: dict[str, tuple[float, ...]] = {}
         for b in names:
             c = raw_colors.get(b, b)
@@ -188,6 +205,9 @@ class World:
             raise ArmsError(f"{source}: 'colors' names blocks that are not placed: {', '.join(extra)}")
         lay_obj = obj.get("layout", {})
         try:
+            if not isinstance(lay_obj, Mapping) or any(
+                    isinstance(v, bool) or not isinstance(v, (int, float)) for v in lay_obj.values()):
+                raise TypeError("an object of numbers (metres) is needed")
             layout = Layout(**{k: float(v) for k, v in lay_obj.items()})
         except TypeError as exc:
             raise ArmsError(f"{source}: bad 'layout' ({exc}); keys: base_y, stack_x, stack_pitch, "
