@@ -92,8 +92,18 @@ def run_demo(out: Path, only: list[str] | None = None) -> list[dict[str, Any]]:
     """Run the demo sections; returns one record per section (title, ok, seconds, result)."""
     from rich.console import Console
 
+    from delkit.errors import DelkitError
+
+    unmatched = [o for o in only or () if not any(o.lower() in title.lower() for title, _ in SECTIONS)]
+    if unmatched:  # a typo would otherwise run nothing and report success
+        raise DelkitError(f"--only {unmatched[0]!r} matches no demo section; sections: "
+                          f"{'; '.join(title for title, _ in SECTIONS)}")
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise DelkitError(f"{out}: cannot create the output directory ({exc.strerror}); give a writable "
+                          f"--out directory") from None
     console = Console(stderr=True)
-    out.mkdir(parents=True, exist_ok=True)
     records: list[dict[str, Any]] = []
     for title, fn in SECTIONS:
         if only and not any(o.lower() in title.lower() for o in only):
