@@ -165,7 +165,14 @@ class _Grounder:
             raise self.ctx.err(f"{name!r} is not an agent; agents are {self.ctx.agents}", a)
         return name
 
+    def arity(self, x: SExp, n: int, form: str) -> None:
+        """``x`` must be a list of ``n`` items, written like ``form``."""
+        if not isinstance(x, SList) or len(x.items) != n:
+            raise self.ctx.err(f"expected {form}", x)
+
     def atom(self, x: SList, env: dict[str, str]) -> str:
+        if not isinstance(x, SList) or not x.items or not isinstance(x.items[0], Atom):
+            raise self.ctx.err("expected an atom (predicate arg ...)", x)
         name = x.items[0].text  # type: ignore[union-attr]
         if name not in self.ctx.predicates:
             raise self.ctx.err(f"unknown predicate {name!r}; declared: {sorted(self.ctx.predicates)}", x)
@@ -239,6 +246,8 @@ class _Grounder:
             if len(args) != 2:
                 raise self.ctx.err("(imply φ ψ) takes two formulas", x)
             return Implies(self.formula(args[0], env), self.formula(args[1], env))
+        if h in ("forall", "exists"):
+            self.arity(x, 3, f"({h} (?x - type ...) BODY)")
         if h == "forall":
             return conj([self.formula(args[1], b) for b in self.bindings(args[0], env)])
         if h == "exists":
@@ -256,12 +265,15 @@ class _Grounder:
             for a in x.items[1:]:  # type: ignore[union-attr]
                 self.effects(a, env, cond, out)
         elif h == "when":
+            self.arity(x, 3, "(when CONDITION EFFECT)")
             c, e = x.items[1:]  # type: ignore[union-attr]
             self.effects(e, env, conj([cond, self.formula(c, env)]), out)
         elif h == "forall":
+            self.arity(x, 3, "(forall (?x - type ...) BODY)")
             for b in self.bindings(x.items[1], env):  # type: ignore[union-attr]
                 self.effects(x.items[2], b, cond, out)  # type: ignore[union-attr]
         elif h == "not":
+            self.arity(x, 2, "(not (predicate arg ...))")
             out.append((self.atom(x.items[1], env), False, cond))  # type: ignore[union-attr, arg-type]
         elif h in self.ctx.predicates:
             out.append((self.atom(x, env), True, cond))  # type: ignore[arg-type]
@@ -278,9 +290,11 @@ class _Grounder:
             for a in x.items[1:]:  # type: ignore[union-attr]
                 self.sensed(a, env, cond, out)
         elif h == "when":
+            self.arity(x, 3, "(when CONDITION EFFECT)")
             c, e = x.items[1:]  # type: ignore[union-attr]
             self.sensed(e, env, conj([cond, self.formula(c, env)]), out)
         elif h == "forall":
+            self.arity(x, 3, "(forall (?x - type ...) BODY)")
             for b in self.bindings(x.items[1], env):  # type: ignore[union-attr]
                 self.sensed(x.items[2], b, cond, out)  # type: ignore[union-attr]
         else:
@@ -293,9 +307,11 @@ class _Grounder:
             for a in x.items[1:]:  # type: ignore[union-attr]
                 self.observers(a, env, cond, out)
         elif h == "when":
+            self.arity(x, 3, "(when CONDITION EFFECT)")
             c, o = x.items[1:]  # type: ignore[union-attr]
             self.observers(o, env, conj([cond, self.formula(c, env)]), out)
         elif h == "forall":
+            self.arity(x, 3, "(forall (?x - type ...) BODY)")
             for b in self.bindings(x.items[1], env):  # type: ignore[union-attr]
                 self.observers(x.items[2], b, cond, out)  # type: ignore[union-attr]
         elif isinstance(x, SList):
