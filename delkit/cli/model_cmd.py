@@ -119,15 +119,26 @@ def register(app: typer.Typer) -> None:
     @model.command("show")
     def show_cmd(
         model_file: str = typer.Argument(..., metavar="MODEL", help="Kripke or event model (JSON or DOT)."),
+        as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Check a model file and print a one-line summary (and its frame class)."""
         from delkit.io import load
         from delkit.kripke import KripkeModel
 
         obj = load(model_file)
+        frames = ([lg for lg in ("S5", "KD45") if not obj.frame_violations(lg)] or ["K"]
+                  if isinstance(obj, KripkeModel) else None)
+        if as_json:
+            if isinstance(obj, KripkeModel):
+                info = {"kind": "kripke-model", "worlds": obj.n_worlds, "props": list(obj.props),
+                        "designated": [obj.world_name(d) for d in obj.designated], "frames": frames}
+            else:
+                info = {"kind": "event-model", "name": obj.name, "events": list(obj.events),
+                        "designated": [obj.events[d] for d in obj.designated]}
+            print(json.dumps({"file": model_file, **info, "agents": list(obj.agents)}))
+            return
         print(repr(obj))
-        if isinstance(obj, KripkeModel):
-            frames = [lg for lg in ("S5", "KD45") if not obj.frame_violations(lg)] or ["K"]
+        if frames is not None:
             print(f"frame: {', '.join(frames)}")
 
     @model.command("macro")

@@ -36,3 +36,19 @@ def test_pointed_model_still_checks(capsys, tmp_path) -> None:
     assert main(["model", "check", str(path), "~p", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["true_at"] == ["v"]
     assert main(["model", "check", str(path), "p"]) == 1
+
+
+def test_model_show_json(capsys, tmp_path) -> None:
+    from delkit import public_announcement
+
+    km, ev = tmp_path / "m.json", tmp_path / "e.json"
+    save(KripkeModel.build({"u": {"p"}, "v": set()}, {"a": {"pairs": [["u", "v"], ["v", "v"]]}},
+                           designated=["u"]), km)
+    save(public_announcement("p", ["a", "b"], name="ann"), ev)
+    assert main(["model", "show", str(km), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["kind"] == "kripke-model" and info["worlds"] == 2 and info["frames"] == ["KD45"]
+    assert info["designated"] == ["u"] and info["agents"] == ["a"]
+    assert main(["model", "show", str(ev), "--json"]) == 0
+    info = json.loads(capsys.readouterr().out)
+    assert info["kind"] == "event-model" and info["name"] == "ann" and info["agents"] == ["a", "b"]
