@@ -326,6 +326,8 @@ def _define(x: SExp, kind: str, ctx: _Ctx) -> tuple[str, dict[str, SExp], SList]
         raise ctx.err(f"expected (define ({kind} NAME) ...)", x)
     name_node = x.items[1]
     assert isinstance(name_node, SList)
+    if len(name_node.items) > 2 or len(name_node.items) == 2 and not isinstance(name_node.items[1], Atom):
+        raise ctx.err(f"expected ({kind} NAME) with one plain name", name_node)
     name = name_node.items[1].text if len(name_node.items) > 1 else kind  # type: ignore[union-attr]
     return name, _sections(x, ctx, 2), x
 

@@ -26,3 +26,14 @@ def test_malformed_forms_are_parse_errors(tmp_path, old, new, fragment) -> None:
     with pytest.raises(ParseError) as info:
         load_task(bad, SPEC / "problem.epddl")
     assert fragment in str(info.value) and str(info.value).startswith(f"{bad}:")
+
+
+@pytest.mark.parametrize("head", ["(domain (coin_in_the_box))", "(domain coin_in_the_box extra)"])
+def test_define_name_that_is_not_one_plain_name(tmp_path, head) -> None:
+    spec = specs_dir() / "coin_in_the_box"
+    text = (spec / "domain.epddl").read_text()
+    assert "(domain coin_in_the_box)" in text
+    bad = tmp_path / "domain.epddl"
+    bad.write_text(text.replace("(domain coin_in_the_box)", head, 1))
+    with pytest.raises(ParseError, match=r"expected \(domain NAME\) with one plain name"):
+        load_task(bad, spec / "problem.epddl")
