@@ -77,10 +77,15 @@ class KripkeModel:
         """
         if isinstance(worlds, Mapping):
             names = tuple(worlds.keys())
-            truths = [set(v) for v in worlds.values()]
+            specs = list(worlds.values())
         else:
             names = None
-            truths = [set(v) for v in worlds]
+            specs = list(worlds)
+        for i, v in enumerate(specs):  # set("rain") would silently be {'r', 'a', 'i', 'n'}
+            if isinstance(v, str):
+                raise ModelError(f"world {names[i] if names else i!r}: give the true propositions as a set or "
+                                 f"list, e.g. {{{v!r}}}, not the string {v!r}")
+        truths = [set(v) for v in specs]
         index = {nm: i for i, nm in enumerate(names)} if names else {}
 
         def w_of(x: int | str) -> int:

@@ -66,3 +66,10 @@ def test_model_file_with_non_string_symbols_is_a_model_file_error(entry, fragmen
     with pytest.raises(ModelFileError) as info:       # was a TypeError (unhashable list) from the reader
         loads(text, source="m.json")
     assert str(info.value).startswith("m.json: ") and fragment in str(info.value)
+
+
+@pytest.mark.parametrize("worlds", [["rain", []], {"u": "rain", "v": []}])
+def test_a_world_given_as_a_string_is_rejected_not_split_into_letters(worlds) -> None:
+    with pytest.raises(ModelError, match="not the string 'rain'"):
+        KripkeModel.build(worlds, {"a": [[0, 1]]}, designated=[0])
+    assert KripkeModel.build([["rain"], []], {"a": [[0, 1]]}, designated=[0]).props == ("rain",)
