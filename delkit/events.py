@@ -49,6 +49,8 @@ class EventModel:
         k = len(self.events)
         if len(set(self.events)) != k:
             raise ModelError(f"event model {self.name!r}: duplicate event names {self.events}")
+        if len(set(self.agents)) != len(self.agents):
+            raise ModelError(f"event model {self.name!r}: duplicate agent names {list(self.agents)}")
         if len(self.pre) != k or len(self.post) != k:
             raise ModelError(f"event model {self.name!r}: {k} events but {len(self.pre)} preconditions and "
                              f"{len(self.post)} postcondition maps")
@@ -136,6 +138,14 @@ class EventModel:
 
 # ----------------------------------------------------------------------------- constructors
 
+def _agent_names(names: Iterable[str], what: str, name: str) -> tuple[str, ...]:
+    """Agent names as a tuple; a bare string is an error (tuple("robot1") would be its letters)."""
+    if isinstance(names, str):
+        raise ModelError(f"{name}: {what} must be a list of agent names, e.g. [{names!r}], not the string "
+                         f"{names!r}")
+    return tuple(names)
+
+
 def action(agents: Sequence[str], outcomes: Sequence[tuple[str, Formula | str, Mapping[str, Formula | str]]],
            *, full: Iterable[str], partial: Iterable[str] = (), designated: Iterable[str] | None = None,
            name: str = "action") -> EventModel:
@@ -146,8 +156,8 @@ def action(agents: Sequence[str], outcomes: Sequence[tuple[str, Formula | str, M
     oblivious and maps every event to the skip event ``ε`` (added automatically when someone is
     oblivious). ``designated`` defaults to all outcomes (the one whose precondition holds is actual).
     """
-    agents = tuple(agents)
-    full_s, partial_s = set(full), set(partial)
+    agents = _agent_names(agents, "agents", name)
+    full_s, partial_s = set(_agent_names(full, "full", name)), set(_agent_names(partial, "partial", name))
     unknown = (full_s | partial_s) - set(agents)
     if unknown:
         raise ModelError(f"{name}: observer(s) {sorted(unknown)} are not agents ({list(agents)})")
@@ -197,7 +207,7 @@ def private_announcement(phi: Formula | str, group: Iterable[str], agents: Seque
 def semi_private_announcement(phi: Formula | str, group: Iterable[str], agents: Sequence[str],
                               name: str = "semi_private") -> EventModel:
     """``group`` learns whether φ; every other agent sees that it does, but not the answer."""
-    group = list(group)
+    group = list(_agent_names(group, "group", name))
     phi = _f(phi)
     others = [a for a in agents if a not in group]
     return action(agents, [("yes", phi, {}), ("no", Not(phi), {})], full=group, partial=others, name=name)

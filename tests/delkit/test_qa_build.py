@@ -73,3 +73,16 @@ def test_a_world_given_as_a_string_is_rejected_not_split_into_letters(worlds) ->
     with pytest.raises(ModelError, match="not the string 'rain'"):
         KripkeModel.build(worlds, {"a": [[0, 1]]}, designated=[0])
     assert KripkeModel.build([["rain"], []], {"a": [[0, 1]]}, designated=[0]).props == ("rain",)
+
+
+@pytest.mark.parametrize(("make", "fragment"), [
+    (lambda: __import__("delkit").public_announcement("p", "robot1"), "agents must be a list of agent names"),
+    (lambda: __import__("delkit").sensing("p", ["a", "b"], full="a"), "full must be a list of agent names"),
+    (lambda: __import__("delkit").semi_private_announcement("p", "robot1", ["robot1", "b"]),
+     "group must be a list of agent names"),
+    (lambda: __import__("delkit").public_announcement("p", ["a", "a"]), "duplicate agent names ['a', 'a']"),
+])
+def test_event_constructors_reject_agent_strings_and_duplicates(make, fragment) -> None:
+    with pytest.raises(ModelError) as info:       # a string used to become one agent per letter
+        make()
+    assert fragment in str(info.value)
