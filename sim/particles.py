@@ -101,7 +101,7 @@ def choose_frontier(graph: GridGraph, source: int, frontier: np.ndarray, sites: 
 class Navigator:
     """A* path (from a Dijkstra tree) to a goal, followed with line-of-sight smoothing and the APF."""
 
-    def __init__(self, res: float, margin: int = 1) -> None:
+    def __init__(self, res: float, margin: int = 0) -> None:
         self.res = res
         self.margin = margin
         self.goal: int | None = None
