@@ -81,6 +81,9 @@ class KripkeModel:
         else:
             names = None
             specs = list(worlds)
+        for what, given in (("props", props), ("agents", agents), ("designated", designated)):
+            if isinstance(given, (str, int)):  # a bare name would become its letters; a bare index fails later
+                raise ModelError(f"{what} must be a list, e.g. [{given!r}], not {given!r}")
         for i, v in enumerate(specs):  # set("rain") would silently be {'r', 'a', 'i', 'n'}
             if isinstance(v, str):
                 raise ModelError(f"world {names[i] if names else i!r}: give the true propositions as a set or "

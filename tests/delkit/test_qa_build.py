@@ -86,3 +86,15 @@ def test_event_constructors_reject_agent_strings_and_duplicates(make, fragment) 
     with pytest.raises(ModelError) as info:       # a string used to become one agent per letter
         make()
     assert fragment in str(info.value)
+
+
+@pytest.mark.parametrize(("kw", "fragment"), [
+    ({"agents": "ab"}, "agents must be a list, e.g. ['ab']"),
+    ({"props": "pq"}, "props must be a list, e.g. ['pq']"),
+    ({"designated": 0}, "designated must be a list, e.g. [0]"),
+    ({"designated": "u"}, "designated must be a list, e.g. ['u']"),
+])
+def test_build_rejects_a_bare_name_or_index_where_a_list_is_expected(kw, fragment) -> None:
+    args = {"designated": [0], **kw}
+    with pytest.raises(ModelError, match=fragment.replace("[", r"\[")):
+        KripkeModel.build({"u": {"p"}}, {"ab": [["u"]]}, **args)
