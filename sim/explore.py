@@ -532,7 +532,7 @@ class Mission:
             state[(state == 0) & others] = 1
             sites = self.common.positions
         fmask = frontier_mask(state).ravel()
-        r.nav._now = self.t
+        r.nav.now = self.t
         if r.nav.goal is not None and fmask[r.nav.goal] and r.nav.goal not in r.blacklist:
             if np.hypot(*(r.nav.goal_xy - r.xy)) < 0.6 or r.nav.stuck(r.xy, self.t):
                 r.blacklist.add(r.nav.goal)
@@ -621,7 +621,7 @@ class Mission:
                 task_here = pending[0]
         elif not lead.done_exploring and not self._mission_over_for(lead):
             fmask = frontier_mask(lead.map.state).ravel()
-            self.anchor_nav._now = self.t
+            self.anchor_nav.now = self.t
             if self.anchor_nav.goal is not None and self.anchor_nav.stuck(self.anchor, self.t):
                 self.anchor_blacklist.add(self.anchor_nav.goal)
             if self.anchor_blacklist:

@@ -108,6 +108,7 @@ class Navigator:
         self.goal_xy: np.ndarray | None = None
         self.path_xy = np.empty((0, 2))
         self.version = -1
+        self.now = 0.0  # simulation time, set by the owner before planning (for the stuck test)
         self._best = np.inf
         self._since = 0.0
 
@@ -124,7 +125,7 @@ class Navigator:
                  goal_xy: np.ndarray | None = None) -> None:
         cells = np.array(sp.path(goal), dtype=int)
         if goal != self.goal:
-            self._best, self._since = np.inf, getattr(self, "_now", 0.0)
+            self._best, self._since = np.inf, self.now
         self.goal, self.version = goal, version
         gxy = np.array([(goal % shape[1] + 0.5) * self.res, (goal // shape[1] + 0.5) * self.res])
         self.goal_xy = gxy if goal_xy is None else np.asarray(goal_xy, float)
@@ -220,7 +221,7 @@ class CommonBelief:
         frontier = None
         sites = self.positions
         for j, p in enumerate(self.particles):
-            p.nav._now = self.t
+            p.nav.now = self.t
             stuck = p.nav.stuck(p.xy, self.t)  # no progress for 10 s (an APF local minimum in a tight gap)
             if p.queue:
                 tgt = p.queue[0]
