@@ -107,7 +107,7 @@ class SeedLibrary:
     feature vector (p, w·vec(R)) — position in m and the rotation matrix entries weighted by w = 0.15 m
     — and a k-d tree (scipy ``cKDTree``) returns the k stored configurations whose TCP is nearest to a
     target. Starting Gauss–Newton there halves the median iteration count and, used for the restarts,
-    cuts the 99.7th percentile of iterations by about half as well (bench/RESULTS-arms.md).
+    cuts the 99.7th percentile of iterations by about half as well (bench/RESULTS.md (Franka arms section)).
     """
 
     def __init__(self, arm: PinocchioArm, n: int = 16384, seed: int = 12345, rot_weight: float = 0.15):

@@ -1,6 +1,6 @@
 """Benchmark of the arms layer: IK success rate / time (TRAC-IK protocol) and physics speed.
 
-    .venv/bin/python bench/ik.py [--targets 1000] [--seed 0] [--results bench/RESULTS-arms.md]
+    .venv/bin/python bench/ik.py [--targets 1000] [--seed 0] [--results FILE]
 
 IK: N random joint vectors within the Panda's limits → FK → solve IK for that TCP pose from the middle
 of the joint ranges (random restarts inside a 5 ms budget); success = position error < 1e-5 m and
