@@ -55,7 +55,8 @@ class ActionOutcome:
     def to_json(self) -> dict:
         return {"index": self.index, "action": self.action, "robot": self.robot, "text": self.text,
                 "success": self.success,
-                "message": self.message, "max_block_error_m": self.max_block_error,
+                "message": self.message,   # NaN (not measured: the action failed) is null in JSON
+                "max_block_error_m": None if math.isnan(self.max_block_error) else self.max_block_error,
                 "worst_block": self.worst_block, "sim_time_s": self.sim_time, "observed": dict(self.observed)}
 
 
@@ -85,7 +86,8 @@ class RunResult:
                 "actions": [a.to_json() for a in self.actions], "final_poses": {
                     b: dict(p) for b, p in self.final_poses.items()},
                 "sim_seconds": self.sim_seconds, "wall_seconds": self.wall_seconds,
-                "realtime_factor": self.realtime_factor, "arm_contacts": self.arm_contacts,
+                "realtime_factor": self.realtime_factor if math.isfinite(self.realtime_factor) else None,
+                "arm_contacts": self.arm_contacts,
                 "max_slip_m": self.max_slip, "max_fk_disagreement_m": self.fk_disagreement,
                 "files": dict(self.files)}
 

@@ -47,3 +47,16 @@ def test_wrong_json_types_are_arms_errors(path, value, fragment) -> None:
 def test_the_demo_plan_still_reads_and_traces() -> None:
     plan = parse_plan(copy.deepcopy(DEMO), source="demo")
     assert len(symbolic_trace(plan)) == len(plan.actions) + 1
+
+
+def test_result_json_is_strict_json_when_an_action_failed() -> None:
+    """A failed action has no measured block error (NaN inside); its JSON must still be valid JSON."""
+    from arms.executor import ActionOutcome, RunResult
+
+    failed = ActionOutcome(0, "pick", "robot1", "robot1: pick(red)", False, "IK failed", float("nan"), None, 0.5)
+    result = RunResult(success=False, actions=(failed,), final_poses={}, sim_seconds=0.5, wall_seconds=0.0,
+                       arm_contacts=0, failure="IK failed", grasp="weld")
+    obj = json.loads(json.dumps(result.to_json(), allow_nan=False))
+    assert obj["actions"][0]["max_block_error_m"] is None and obj["realtime_factor"] is None
+    ok = ActionOutcome(1, "place", "robot1", "t", True, "ok", 0.002, "red", 1.0)
+    assert ok.to_json()["max_block_error_m"] == 0.002
