@@ -57,6 +57,11 @@ def main(argv: list[str] | None = None) -> int:
     except typer.Abort:
         print("delkit: aborted", file=sys.stderr)
         return 1
+    except OSError as exc:
+        # a file or directory the user named cannot be read or written (any command): bad input, one line
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"delkit: error: {where}{exc.strerror or exc}; check the path and its permissions", file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print("delkit: interrupted", file=sys.stderr)
         return 130

@@ -85,3 +85,13 @@ def test_consistency_run_one_epoch_table_and_json(capsys) -> None:
     assert rc == 0 and json.loads(out)["results"][0]["config"]["epochs"] == 1
     rc, out, _ = _run(capsys, ["consistency", "run", "--epochs", "1", "--algorithm", "enforce"])
     assert rc == 0 and "ENFORCEAC" in out.upper()
+
+
+def test_an_unwritable_output_path_in_any_command_is_one_line(tmp_path, capsys) -> None:
+    """OSError from a path the user gave (here explore's --out under a file) is bad input, not a traceback."""
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    rc, out, err = _run(capsys, ["explore", "sweep", "--robots", "2", "--maps", "1", "--methods", "ideal",
+                                 "--case", "1", "--no-snapshots", "--out", str(blocker / "x")])
+    line = _one_error_line(err)
+    assert rc == 2 and str(blocker) in line and "Traceback" not in err
