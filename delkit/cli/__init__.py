@@ -57,6 +57,11 @@ def main(argv: list[str] | None = None) -> int:
     except typer.Abort:
         print("delkit: aborted", file=sys.stderr)
         return 1
+    except RecursionError:
+        # formulas are evaluated recursively: some hundreds of nested operators exceed Python's stack
+        print("delkit: error: the input is nested too deeply (more than a few hundred operators inside each "
+              "other); split the formula or flatten chains with E{...} / C{...}", file=sys.stderr)
+        return 2
     except OSError as exc:
         # a file or directory the user named cannot be read or written (any command): bad input, one line
         where = f"{exc.filename}: " if exc.filename else ""

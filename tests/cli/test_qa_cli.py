@@ -95,3 +95,8 @@ def test_an_unwritable_output_path_in_any_command_is_one_line(tmp_path, capsys) 
                                  "--case", "1", "--no-snapshots", "--out", str(blocker / "x")])
     line = _one_error_line(err)
     assert rc == 2 and str(blocker) in line and "Traceback" not in err
+
+
+def test_a_formula_nested_too_deeply_is_one_line(capsys) -> None:
+    rc, out, err = _run(capsys, ["prove", "~" * 2000 + "p"])
+    assert rc == 2 and out == "" and "nested too deeply" in _one_error_line(err)
