@@ -253,7 +253,7 @@ def subformulas(f: Formula) -> Iterable[Formula]:
 
 
 def props_of(f: Formula) -> set[str]:
-    """Proposition names occurring in f (and in the preconditions of event models it mentions)."""
+    """Proposition names occurring in f (and in the pre- and postconditions of event models it mentions)."""
     out: set[str] = set()
     for g in subformulas(f):
         if isinstance(g, Prop):
@@ -261,6 +261,10 @@ def props_of(f: Formula) -> set[str]:
         elif isinstance(g, Update):
             for pre in g.model.pre:
                 out |= props_of(pre)
+            for post in g.model.post:
+                for p, val in post.items():
+                    out.add(p)
+                    out |= props_of(val)
     return out
 
 

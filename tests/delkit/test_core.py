@@ -238,3 +238,10 @@ def test_update_with_composed_event_names_round_trips():
     f = Update(macro, 0, parse("K_a p"), "M")
     assert show(f) == '[M,"yes;e"] K_a p'
     assert parse(show(f), events={"M": macro}) == f
+
+
+def test_props_of_update_includes_postconditions():
+    from delkit.formula import props_of
+
+    flip = ontic([("q", True, "r")], ["a"], full=["a"])
+    assert props_of(Update(flip, 0, parse("p"))) == {"p", "q", "r"}
