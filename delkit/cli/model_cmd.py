@@ -16,8 +16,8 @@ import typer
 __all__ = ["register"]
 
 
-def _events_option(specs: list[str]) -> dict:
-    """``NAME=FILE`` pairs → {NAME: EventModel} for formulas with [NAME,e]."""
+def _events_option(specs: list[str], model=None, model_file: str = "") -> dict:
+    """``NAME=FILE`` pairs → {NAME: EventModel} for formulas with [NAME,e] (checked against ``model``)."""
     from delkit.errors import DelkitError
     from delkit.io import load_event_model
 
@@ -27,7 +27,30 @@ def _events_option(specs: list[str]) -> dict:
         if not sep or not name or not path:
             raise DelkitError(f"--event {spec!r}: write NAME=FILE.json, e.g. --event Ann=announce.json")
         out[name] = load_event_model(path)
+        if model is not None:
+            _fits(out[name], model, f"--event {spec}", model_file)
     return out
+
+
+def _fits(events, model, where: str, model_file: str) -> None:
+    """The event model can update ``model``: its formulas use the model's propositions, and it has a relation
+    for every agent of the model (so that a formula [NAME,e]φ is about this model)."""
+    from delkit.errors import UnknownSymbolError
+    from delkit.formula import props_of
+
+    used: set[str] = set()
+    for pre, post in zip(events.pre, events.post, strict=True):
+        used |= props_of(pre) | set(post)
+        for value in post.values():
+            used |= props_of(value)
+    unknown = sorted(used - set(model.props))
+    if unknown:
+        raise UnknownSymbolError(f"{where}: the event model uses proposition(s) {unknown} that {model_file} does "
+                                 f"not have (it has {list(model.props)})")
+    missing = sorted(set(model.agents) - set(events.agents))
+    if missing:
+        raise UnknownSymbolError(f"{where}: the event model has no relation for agent(s) {missing} of "
+                                 f"{model_file}; give every agent of the model a relation")
 
 
 def _load_pointed(path: str):
@@ -73,7 +96,7 @@ def register(app: typer.Typer) -> None:
         from delkit.formula import parse, show
 
         m = _load_pointed(model_file)
-        f = parse(formula, events=_events_option(event))
+        f = parse(formula, events=_events_option(event, m, model_file))
         m.validate_symbols(f)
         vec = m.check(f)
         where = [m.world_name(w) for w in range(m.n_worlds) if vec[w]]

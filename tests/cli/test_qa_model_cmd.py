@@ -52,3 +52,18 @@ def test_model_show_json(capsys, tmp_path) -> None:
     assert main(["model", "show", str(ev), "--json"]) == 0
     info = json.loads(capsys.readouterr().out)
     assert info["kind"] == "event-model" and info["name"] == "ann" and info["agents"] == ["a", "b"]
+
+
+@pytest.mark.parametrize(("event", "fragment"), [
+    (("p", ["a", "b"]), "the event model uses proposition(s) ['p']"),
+    (("q", ["x"]), "has no relation for agent(s) ['a']"),
+])
+def test_event_file_that_does_not_fit_the_model_names_the_event_option(capsys, tmp_path, event, fragment) -> None:
+    from delkit import public_announcement
+
+    km, ev = tmp_path / "m.json", tmp_path / "e.json"
+    save(KripkeModel.build({"u": {"q"}, "v": set()}, {"a": [["u", "v"]]}, designated=["u"]), km)
+    save(public_announcement(event[0] if event[0] != "p" else "q | p", event[1]), ev)
+    rc = main(["model", "check", str(km), "[F,e] q", "--event", f"F={ev}"])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.startswith(f"delkit: error: --event F={ev}: ") and fragment in err
