@@ -8,6 +8,13 @@ message on one line and exits with status 2; it never shows a traceback for a ``
 from __future__ import annotations
 
 
+def io_reason(exc: OSError | UnicodeDecodeError) -> str:
+    """Why a file could not be read, for a one-line message: the OS's reason, or that it is not text."""
+    if isinstance(exc, UnicodeDecodeError):
+        return f"not UTF-8 text (byte {exc.start}); is it the right file?"
+    return exc.strerror or str(exc)
+
+
 class DelkitError(Exception):
     """Base class of every error delkit reports to its users."""
 

@@ -23,7 +23,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from delkit.errors import DelkitError, ParseError
+from delkit.errors import DelkitError, ParseError, io_reason
 from delkit.formula import And, C, E, Formula, K, Kw, Not, Or, Prop, show
 from delkit.kripke import KripkeModel
 from delkit.update import product_update
@@ -99,8 +99,8 @@ def read_plan(path: str | Path) -> list[str]:
     p = Path(path)
     try:
         return parse_plan_text(p.read_text())
-    except OSError as exc:
-        raise ParseError(f"cannot read the plan file: {exc.strerror}", source=str(p)) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ParseError(f"cannot read the plan file: {io_reason(exc)}", source=str(p)) from None
 
 
 _PROP_RE = re.compile(r"^\s*(always|eventually|at\s+end)\s+(.+)$", re.S)

@@ -68,7 +68,7 @@ def register(app: typer.Typer) -> None:
         as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
         """Replay a plan on a spec and check its executability, goal and properties."""
-        from delkit.errors import ParseError
+        from delkit.errors import ParseError, io_reason
         from planners.lang import load_task
         from planners.validate import check_plan, parse_property, read_plan
 
@@ -81,8 +81,8 @@ def register(app: typer.Typer) -> None:
         if props_file is not None:
             try:
                 lines = props_file.read_text().splitlines()
-            except OSError as exc:
-                raise ParseError(f"cannot read: {exc.strerror}", source=str(props_file)) from None
+            except (OSError, UnicodeDecodeError) as exc:
+                raise ParseError(f"cannot read: {io_reason(exc)}", source=str(props_file)) from None
             texts += [(ln.strip(), str(props_file), i) for i, ln in enumerate(lines, 1)
                       if ln.strip() and not ln.lstrip().startswith("#")]
         properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]

@@ -20,7 +20,7 @@ def is_epddl(path: str | Path) -> bool:
         return True
     try:
         head = p.read_text()[:4096]
-    except OSError:
+    except (OSError, UnicodeDecodeError):  # the reader that is tried next reports it
         return False
     lines = [ln.split(";", 1)[0].strip() for ln in head.splitlines()]
     text = " ".join(ln for ln in lines if ln)

@@ -25,7 +25,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from delkit.errors import ParseError
+from delkit.errors import ParseError, io_reason
 from delkit.formula import TOP, C, Formula, Implies, K, Not, Or, Prop, conj
 from planners.lang.initial import finitary_s5
 from planners.task import ActionSpec, Task, merge_observers
@@ -463,8 +463,8 @@ def load_epddl(domain: str | Path, problem: str | Path | None = None) -> Task:
     def read(p: str | Path) -> str:
         try:
             return Path(p).read_text()
-        except OSError as exc:
-            raise ParseError(f"cannot read the E-PDDL file: {exc.strerror}", source=str(p)) from None
+        except (OSError, UnicodeDecodeError) as exc:
+            raise ParseError(f"cannot read the E-PDDL file: {io_reason(exc)}", source=str(p)) from None
 
     return parse_epddl(read(domain), read(problem) if problem is not None else None, domain_source=str(domain),
                        problem_source=str(problem) if problem is not None else str(domain))

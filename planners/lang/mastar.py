@@ -23,7 +23,7 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from delkit.errors import ParseError
+from delkit.errors import ParseError, io_reason
 from delkit.formula import TOP, C, D, E, Formula, K, Not, Or, Prop, conj
 from planners.lang.initial import finitary_s5
 from planners.task import ActionSpec, Task, merge_observers
@@ -348,6 +348,6 @@ def load_mastar(path: str | Path) -> Task:
     p = Path(path)
     try:
         text = p.read_text()
-    except OSError as exc:
-        raise ParseError(f"cannot read the mA* file: {exc.strerror}", source=str(p)) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ParseError(f"cannot read the mA* file: {io_reason(exc)}", source=str(p)) from None
     return parse_mastar(text, str(p))

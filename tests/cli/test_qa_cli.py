@@ -100,3 +100,16 @@ def test_an_unwritable_output_path_in_any_command_is_one_line(tmp_path, capsys) 
 def test_a_formula_nested_too_deeply_is_one_line(capsys) -> None:
     rc, out, err = _run(capsys, ["prove", "~" * 2000 + "p"])
     assert rc == 2 and out == "" and "nested too deeply" in _one_error_line(err)
+
+
+@pytest.mark.parametrize("where", ["plan", "properties", "mastar", "problem"])
+def test_a_binary_file_is_one_line_not_a_unicode_traceback(tmp_path, capsys, where) -> None:
+    binary = tmp_path / "binary.txt"
+    binary.write_bytes(bytes(range(128, 256)))
+    argv = {"plan": ["check", DOM, PROB, str(binary)],
+            "properties": ["check", DOM, PROB, PLAN, "--properties", str(binary)],
+            "mastar": ["plan", str(binary)],
+            "problem": ["plan", DOM, str(binary)]}[where]
+    rc, out, err = _run(capsys, argv)
+    line = _one_error_line(err)
+    assert rc == 2 and out == "" and f"{binary}: cannot read" in line and "not UTF-8 text" in line
