@@ -111,6 +111,10 @@ def parse_property(text: str, task: Task, *, source: str = "--property", line: i
     syntax (``B(a, p)``, ``C([a,b], p)``, ``-p``). ``source``/``line`` say where the text came from (a
     properties file and its line), for the error messages."""
     m = _PROP_RE.match(text)
+    bare = re.fullmatch(r"\s*(always|eventually|at\s+end)\s*", text)
+    if bare:
+        raise ParseError(f"property {text.strip()!r} has no formula after {bare.group(1)!r}; write e.g. "
+                         f"'{bare.group(1)} K_a p'", source=source, line=line, column=len(text.rstrip()) + 1)
     if not m:
         raise ParseError(f"property {text!r} must start with 'always', 'eventually' or 'at end'",
                          source=source, line=line, column=1, expected=["always φ", "eventually φ", "at end φ"])

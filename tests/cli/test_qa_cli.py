@@ -113,3 +113,10 @@ def test_a_binary_file_is_one_line_not_a_unicode_traceback(tmp_path, capsys, whe
     rc, out, err = _run(capsys, argv)
     line = _one_error_line(err)
     assert rc == 2 and out == "" and f"{binary}: cannot read" in line and "not UTF-8 text" in line
+
+
+@pytest.mark.parametrize(("prop", "keyword"), [("always", "always"), ("at end ", "at end"),
+                                               ("eventually", "eventually")])
+def test_a_property_without_a_formula_says_so(capsys, prop, keyword) -> None:
+    rc, _, err = _run(capsys, ["check", DOM, PROB, PLAN, "-p", prop])
+    assert rc == 2 and f"has no formula after '{keyword}'" in _one_error_line(err)
