@@ -91,7 +91,10 @@ def test_clik_round_trip_property(u):
     arm = _ARM
     q = arm.lower + np.asarray(u) * (arm.upper - arm.lower)
     target = arm.fk(q)
-    res = arm.clik(target, budget=0.2)
+    # a deterministic budget (a clock that ticks 1 ms per reading, 20 000 readings) so that the property
+    # does not depend on how loaded the machine is; the 5 ms wall-clock budget is the benchmark's business
+    ticks = iter(range(1, 10**9))
+    res = arm.clik(target, budget=20.0, clock=lambda: next(ticks) * 1e-3)
     assert res.converged, res
     dp, dr = pose_error(arm.fk(res.q["arm"]), target)
     assert dp < POS_TOL and dr < ROT_TOL
