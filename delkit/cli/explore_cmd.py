@@ -51,7 +51,7 @@ def register(app: typer.Typer) -> None:
         method: str = typer.Option("epistemic", "--method", help="epistemic | flock | ideal."),
         seed: int = typer.Option(0, "--seed", help="Map, tasks and motion noise all come from this seed."),
         map_file: Path | None = typer.Option(None, "--map", help="A MovingAI .map grid instead of a random map."),
-        t_max: float = typer.Option(1500.0, "--t-max", help="Give up after this many simulated seconds."),
+        t_max: float = typer.Option(1500.0, "--t-max", min=1.0, help="Give up after this many simulated seconds."),
         png: Path | None = typer.Option(None, "--png", help="Write snapshots of the mission (as Figures 5/7)."),
         status_model: bool = typer.Option(False, "--status-model",
                                           help="Also track statuses in a delkit model and check eqs. 14/18 "
@@ -105,7 +105,8 @@ def register(app: typer.Typer) -> None:
         robots: str = typer.Option("2,3,5,8", "--robots", help="Team sizes, comma-separated."),
         maps: int = typer.Option(15, "--maps", help="Number of random maps (seeds 0..maps-1)."),
         methods: str = typer.Option("epistemic,flock,ideal", "--methods", help="Methods, comma-separated."),
-        workers: int | None = typer.Option(None, "--workers", help="Local worker processes (default: all cores)."),
+        workers: int | None = typer.Option(None, "--workers", min=1,
+                                            help="Local worker processes (default: all cores)."),
         dask: str | None = typer.Option(None, "--dask", help="Address of a Dask scheduler, e.g. tcp://host:8786."),
         out: Path = typer.Option(Path("explore-sweep"), "--out", help="Output directory (CSV, PNGs, JSON)."),
         snapshots_too: bool = typer.Option(True, "--snapshots/--no-snapshots",
@@ -169,7 +170,7 @@ def register(app: typer.Typer) -> None:
 
     @sub.command("gap")
     def gap(
-        instances: int = typer.Option(20, "--instances", help="Number of random instances."),
+        instances: int = typer.Option(20, "--instances", min=1, help="Number of random instances."),
         seed: int = typer.Option(0, "--seed"),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:

@@ -120,3 +120,11 @@ def test_a_binary_file_is_one_line_not_a_unicode_traceback(tmp_path, capsys, whe
 def test_a_property_without_a_formula_says_so(capsys, prop, keyword) -> None:
     rc, _, err = _run(capsys, ["check", DOM, PROB, PLAN, "-p", prop])
     assert rc == 2 and f"has no formula after '{keyword}'" in _one_error_line(err)
+
+
+def test_explore_options_out_of_range_are_one_line_usage_errors(capsys):
+    for argv in (["explore", "gap", "--instances", "0"], ["explore", "run", "--t-max", "-1"],
+                 ["explore", "sweep", "--workers", "0"]):
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err
+        assert "Traceback" not in err and err.strip().count("\n") == 0, err
