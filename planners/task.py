@@ -30,7 +30,7 @@ from delkit.events import EventModel, action, ontic
 from delkit.formula import TOP, Formula, Not, Or, Prop, conj, show
 from delkit.kripke import KripkeModel
 
-__all__ = ["ActionSpec", "Task", "ActionKind"]
+__all__ = ["ActionSpec", "MacroSpec", "Task", "ActionKind"]
 
 ActionKind = Literal["ontic", "sensing", "announcement"]
 
@@ -65,6 +65,27 @@ class ActionSpec:
 
 
 @dataclass(frozen=True)
+class MacroSpec:
+    """A macro-action (seed 004, Definition 4.1): the grounded steps ``A_1; …; A_n`` offered to the planner as
+    one action whose transition is Φ(A_n, … Φ(A_1, s)).
+
+    In a state s its event model is the composition E_1;…;E_n (``delkit.compose``) of the steps' event
+    models, each step's observers decided in the state the previous steps lead to; it is applicable iff
+    every step is. ``planners.macros`` builds these from a spec's macro declarations (and proves each
+    composition equal to its sequence with z3); plans are flattened back to ``steps``' names.
+    """
+
+    name: str
+    steps: tuple[ActionSpec, ...]
+    where: str = ""
+    kind: str = "macro"
+
+    @property
+    def step_names(self) -> tuple[str, ...]:
+        return tuple(s.name for s in self.steps)
+
+
+@dataclass(frozen=True)
 class Task:
     """A grounded epistemic planning task."""
 
@@ -72,7 +93,7 @@ class Task:
     props: tuple[str, ...]
     agents: tuple[str, ...]
     initial: KripkeModel
-    actions: tuple[ActionSpec, ...]
+    actions: tuple[ActionSpec | MacroSpec, ...]
     goal: Formula
     source: str = "<task>"
     _cache: dict = field(default_factory=dict, repr=False, compare=False, hash=False)
