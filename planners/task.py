@@ -22,6 +22,7 @@ Semantics (the mA* frames, as in EFP with its default ``EXE_POINTED__COND_WORLD`
 from __future__ import annotations
 
 import itertools
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -30,7 +31,7 @@ from delkit.events import EventModel, action, ontic
 from delkit.formula import TOP, Formula, Not, Or, Prop, conj, show
 from delkit.kripke import KripkeModel
 
-__all__ = ["ActionSpec", "MacroSpec", "Task", "ActionKind"]
+__all__ = ["ActionSpec", "MacroSpec", "EventAction", "Task", "ActionKind", "goal_conjuncts"]
 
 ActionKind = Literal["ontic", "sensing", "announcement"]
 
@@ -65,6 +66,26 @@ class ActionSpec:
 
 
 @dataclass(frozen=True)
+class EventAction:
+    """A grounded action given as a general event model (EPDDL action types, hand-made event models).
+
+    Its event model may depend on the state only through the truth of ``conditions`` in the state (a formula
+    holds in a state when it holds in every designated world — e.g. EPDDL observability conditions, evaluated
+    before the update): the planner evaluates them and calls ``build(bits)`` with one bool per condition
+    (results are cached per bits). The action is applicable in a state s iff ``executable`` holds in s and
+    every designated world of s satisfies the precondition of at least one designated event; the designated
+    worlds of the result are the pairs (w, e) of designated w and designated e with w ⊨ pre(e).
+    """
+
+    name: str
+    build: Callable[[tuple[bool, ...]], EventModel]
+    conditions: tuple[Formula, ...] = ()
+    executable: Formula = TOP
+    where: str = ""
+    kind: str = "event"
+
+
+@dataclass(frozen=True)
 class MacroSpec:
     """A macro-action (seed 004, Definition 4.1): the grounded steps ``A_1; …; A_n`` offered to the planner as
     one action whose transition is Φ(A_n, … Φ(A_1, s)).
@@ -93,7 +114,7 @@ class Task:
     props: tuple[str, ...]
     agents: tuple[str, ...]
     initial: KripkeModel
-    actions: tuple[ActionSpec | MacroSpec, ...]
+    actions: tuple[ActionSpec | MacroSpec | EventAction, ...]
     goal: Formula
     source: str = "<task>"
     _cache: dict = field(default_factory=dict, repr=False, compare=False, hash=False)
@@ -168,6 +189,18 @@ def describe(act: ActionSpec) -> str:
         parts.append(("senses " if act.kind == "sensing" else "announces ")
                      + ", ".join(show(f) for f, _ in act.sensed))
     return "; ".join(parts)
+
+
+def goal_conjuncts(goal: Formula) -> tuple[Formula, ...]:
+    """Top-level conjuncts of a goal (nested conjunctions flattened)."""
+    from delkit.formula import And
+
+    if isinstance(goal, And):
+        out: list[Formula] = []
+        for g in goal.args:
+            out.extend(goal_conjuncts(g))
+        return tuple(out)
+    return (goal,)
 
 
 def merge_observers(obs: list[tuple[str, Formula]]) -> list[tuple[str, Formula]]:
