@@ -12,9 +12,11 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.sparse as sp
 
+from delkit._lazy import lazy_module
 from delkit.errors import ModelError
+
+sp = lazy_module("scipy.sparse")  # imported on first use (start-up time)
 
 __all__ = ["Relation", "RelationError"]
 
