@@ -229,14 +229,14 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
     """GBFS (f = h) or A* (f = g + h) with duplicate detection.
 
     Default heuristics: GBFS uses the goal count h_gc (unsatisfied top-level goal conjuncts; informative,
-    not admissible); A* uses h_cover, admissible and consistent, so A* (goal test at expansion, no
-    reopening) returns plans of optimal length.
+    not admissible); A* uses h_epi (the observer cover with the belief-content argument), admissible and
+    consistent, so A* (goal test at expansion, no reopening) returns plans of optimal length.
     """
     budget = _Budget(limits)
     if h is None:
-        from planners.heuristics import h_cover, h_gc
+        from planners.heuristics import h_epi, h_gc
 
-        h = h_gc(space) if kind == "gbfs" else h_cover(space)
+        h = h_gc(space) if kind == "gbfs" else h_epi(space)
     s0, k0 = space.initial()
     best_g: dict[Hashable, int] = {k0: 0}
     parent: dict[Hashable, Any] = {k0: None}
