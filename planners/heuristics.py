@@ -21,6 +21,29 @@ h_cover(s) = mincover(U(s)) (∞ if some false conjunct is in no cover: a dead e
 U(s) ⊆ U(s') ∪ cover(A) for a successor s' by A, so h(s) ≤ 1 + h(s'). With ≤ 16 conjuncts the minimum
 cover of every subset is tabulated once per task (BFS over unions of covers, then a superset minimum);
 above that the weaker ⌈|U(s)| / max_A |cover(A)|⌉ (also consistent) is used.
+
+* ``h_epi`` — the same set-cover bound with smaller covers for *first-order belief* conjuncts (A*'s
+  default). Write V_x(s) for the set of valuations of agent x's accessible worlds at the pointed world.
+  Under the mA* update V_x only shrinks when the action is epistemic (full observer of an announcement of
+  ψ: V ∩ [ψ]; of a sensing: V ∩ [actual outcome]; partial observer or oblivious: V unchanged), is the image
+  of V under the postconditions when x fully observes an ontic action, and is unchanged when x is
+  oblivious of it. Hence:
+
+  - ``¬K_x φ`` (φ propositional) false means V ⊆ [φ]; shrinking and ontic updates that do not set a
+    proposition of φ keep V ⊆ [φ]: only an ontic action that x may observe and that sets a proposition of
+    φ can make it true;
+  - ``K_x φ`` (φ a literal or a conjunction of literals; also ``Kw_x l``) false means some v ∈ V falsifies
+    a literal on q. If q is *independent* in V (V = V' × S_q) and stays so (every action keeps the product
+    form: :func:`safe_props`), then V ∩ [ψ] ⊆ [φ] with ψ not mentioning q would contain, with each v, its
+    q-flipped twin — so V ∩ [ψ] = ∅, a state where x believes ⊥, which the search never expands. Only an
+    action that x may *fully* observe and whose content (announced / sensed formula, or ontic effect)
+    mentions a proposition of φ can make it true. Independence is checked in the initial state (it is then
+    preserved along every path), the argument is not used with ``allow_inconsistent``, and an action given
+    as a general event model (``EventAction``) may change every conjunct; a macro's cover is the union of
+    its steps' covers.
+
+  Covers stay state-independent, so ``h_epi`` is admissible and consistent like ``h_cover``, and a false
+  conjunct that no action can change (Grapevine's ``¬B(a, sc)`` once a has heard sc) is a dead end (∞).
 """
 
 from __future__ import annotations
