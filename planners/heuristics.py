@@ -290,8 +290,8 @@ def content_conjuncts(space: Any) -> dict[int, tuple[str, str, frozenset[str]]]:
     if any(_steps(a) is None for a in task.actions):
         return {}
     s0, _ = space.initial()
-    if not hasattr(s0, "point"):
-        return {}
+    if not hasattr(s0, "point") or len(getattr(s0, "points", (s0.point,))) != 1:
+        return {}  # the argument is about one pointed world (general event models are excluded above)
     safe = safe_props(task)
     out = {}
     for i, g in enumerate(conj):
