@@ -14,7 +14,12 @@ delkit.cli import main ..."``) ``--runs`` times after one untimed warm-up and re
 
 Targets (issue 11): whole-process faster than EFP wherever EFP needs ≥ 0.3 s, never more than 0.2 s slower.
 
+``--expansions`` instead prints, in-process, BFS's and A*'s (default heuristic ``h_epi``) plan lengths and
+expanded nodes on every instance (and A*'s search seconds), with the ratio A*/BFS; ``--bfs-timeout`` caps
+BFS (a capped BFS is shown as a lower bound on its expansions).
+
     .venv/bin/python bench/planner.py [--runs 5] [--search bfs] [--engine fast] [--json out.json]
+    .venv/bin/python bench/planner.py --expansions [--bfs-timeout 1200]
 """
 
 from __future__ import annotations
@@ -89,6 +94,33 @@ def run(runs: int, search: str, engine: str, timeout: float) -> list[dict]:
     return out
 
 
+def expansions(bfs_timeout: float) -> list[dict]:
+    """BFS vs A* (h_epi) in-process on every instance: lengths, expanded nodes, A*'s seconds."""
+    from planners.epistemic import Limits, plan
+    from planners.lang import load_task
+
+    bench = shared_benchmarks()
+    if bench is None:
+        raise SystemExit("../shared/benchmarks is not available")
+    items = [(bench / "mastar" / r["file"], r["file"], int(r["expected_length"]))
+             for r in csv.DictReader((bench / "mastar" / "expected.csv").open())]
+    items += [(ROOT / f, f, n) for f, n in OWN]
+    out = []
+    for path, name, expected in items:
+        task = load_task(path)
+        c0 = time.process_time()
+        a = plan(task, search="astar", limits=Limits(timeout=600))
+        a_cpu = time.process_time() - c0
+        b = plan(task, search="bfs", limits=Limits(timeout=bfs_timeout))
+        out.append({"file": name, "expected": expected, "bfs_length": b.length, "bfs_status": b.status,
+                    "bfs_expanded": b.expanded, "bfs_seconds": b.seconds, "astar_length": a.length,
+                    "astar_expanded": a.expanded, "astar_seconds": a.seconds, "astar_cpu": a_cpu})
+        print(f"| {name.rsplit('/', 1)[-1].removesuffix('.txt')} | {expected} | {b.length} | "
+              f"{'>=' if b.status == 'limit' else ''}{b.expanded} | {b.seconds:.3f} | {a.length} | {a.expanded} | "
+              f"{a.seconds:.3f} | {a.expanded / max(1, b.expanded):.3f} |", flush=True)
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--runs", type=int, default=5)
@@ -96,7 +128,22 @@ def main() -> None:
     ap.add_argument("--engine", default="fast", choices=["fast", "del"])
     ap.add_argument("--timeout", type=float, default=60.0)
     ap.add_argument("--json", type=Path, default=None)
+    ap.add_argument("--expansions", action="store_true", help="BFS vs A* expanded nodes (in-process)")
+    ap.add_argument("--bfs-timeout", type=float, default=1200.0)
     args = ap.parse_args()
+    if args.expansions:
+        print("| instance | optimum | BFS len | BFS expanded | BFS search s | A* len | A* expanded | A* search s "
+              "| A*/BFS expanded |")
+        print("|---|--:|--:|--:|--:|--:|--:|--:|--:|")
+        rows = expansions(args.bfs_timeout)
+        big = [r for r in rows if r["bfs_expanded"] >= 1000]
+        print(f"\nA* length = BFS length on {sum(r['astar_length'] == r['bfs_length'] for r in rows)}/{len(rows)}; "
+              f"instances where BFS expands >= 1000 nodes: {len(big)}, A* <= 1/5 of BFS on "
+              f"{sum(5 * r['astar_expanded'] <= r['bfs_expanded'] for r in big)}/{len(big)}; "
+              f"load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+        if args.json:
+            args.json.write_text(json.dumps(rows, indent=1))
+        return
     rows = run(args.runs, args.search, args.engine, args.timeout)
     print(f"delkit plan --search {args.search} --engine {args.engine}, whole process, median of {args.runs} runs; "
           f"python {sys.version.split()[0]}, {os.cpu_count()} cores")
