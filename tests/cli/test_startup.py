@@ -105,6 +105,10 @@ def test_plan_and_check_import_nothing_heavy(tmp_path) -> None:
     plan_file.write_text("peek_up_key_a\nopen_a\n")
     assert not _modules_after(["plan", CB2]) & HEAVY
     assert not _modules_after(["check", CB2, str(plan_file)]) & HEAVY
+    # oblivious agents (relations built from pairs) and E-PDDL input: still no scipy
+    coin = str(BENCH / "mastar" / "Coin_In_The_Box" / "Coin_in_the_Box__pl_3.txt")
+    assert not _modules_after(["plan", coin, "--search", "astar"]) & HEAVY
+    assert not _modules_after(["plan", DOM, PROB]) & HEAVY
     # a property in the formula syntax needs the (cached) lark parser; replaying actions with oblivious agents
     # builds delkit's sparse relations (scipy); never the CLI framework
     assert _modules_after(["check", DOM, PROB, PLAN, "--properties", PROPS]) & HEAVY <= {"lark", "scipy"}
@@ -170,6 +174,23 @@ def test_formula_errors_same_with_and_without_cache(tmp_path) -> None:
                                    check=True).stdout)
     assert outs[0] == outs[1] == outs[2] and "unexpected" in outs[0]
     assert list((tmp_path / "delkit").glob("formula-*.lark"))
+
+
+def test_relation_from_pairs_without_scipy_matches_scipy() -> None:
+    import scipy.sparse as sp
+
+    from delkit.relation import Relation
+
+    rng = np.random.default_rng(7)
+    for n in (1, 2, 5, 17):
+        for _ in range(20):
+            pairs = [tuple(int(x) for x in rng.integers(0, n, 2)) for _ in range(int(rng.integers(0, 3 * n)))]
+            r = Relation.from_pairs(n, pairs)
+            want = sp.csr_matrix((np.ones(len(pairs), dtype=bool), ([p[0] for p in pairs], [p[1] for p in pairs])),
+                                 shape=(n, n), dtype=bool).toarray()
+            for w in range(n):
+                assert r.successors(w).tolist() == np.flatnonzero(want[w]).tolist()
+            assert np.array_equal(r.matrix.toarray(), want) and np.array_equal(r.to_matrix().toarray(), want)
 
 
 # ---------------------------------------------------------------------------------------------- C_G components
