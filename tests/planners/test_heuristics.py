@@ -127,13 +127,32 @@ def _distances(space, limit: int = 4000) -> tuple[list, dict, dict] | None:
     return list(states.items()), succ, dist
 
 
+def _variant(task, kind: str):
+    """The task itself, or with a macro of its first two actions, or with a general event-model action
+    (a public announcement of the first fluent) — the heuristic must stay admissible with both."""
+    import dataclasses
+
+    from delkit.events import public_announcement
+    from delkit.formula import Prop
+    from planners.task import EventAction, MacroSpec
+
+    acts = tuple(task.actions)
+    if kind == "macro":
+        acts += (MacroSpec(f"{acts[0].name}+{acts[1].name}", (acts[0], acts[1])),)
+    elif kind == "event":
+        p = task.props[0]
+        acts += (EventAction("shout", lambda bits: public_announcement(p, task.agents, name="shout"),
+                             executable=Prop(p)),)
+    return dataclasses.replace(task, actions=acts, _cache={})
+
+
 @settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
-@given(mastar_tasks())
-def test_h_epi_admissible_consistent_and_astar_optimal_on_random_tasks(text: str) -> None:
+@given(mastar_tasks(), st.sampled_from(["plain", "plain", "macro", "event"]))
+def test_h_epi_admissible_consistent_and_astar_optimal_on_random_tasks(text: str, kind: str) -> None:
     from delkit.errors import DelkitError
 
     try:
-        task = parse_mastar(text, "random.txt")
+        task = _variant(parse_mastar(text, "random.txt"), kind)
         space = make_space(task)
         got = _distances(space)
     except DelkitError:
@@ -215,3 +234,23 @@ def test_astar_expands_a_fifth_of_bfs_on_grapevine(name: str) -> None:
 def test_grapevine5_astar_matches_bfs() -> None:
     task = load_task(G5)
     assert plan(task, search="bfs", limits=Limits(timeout=1800)).length == 6 == plan(task, search="astar").length
+
+
+def test_macros_and_event_actions_stay_admissible() -> None:
+    base = parse_mastar("""fluent p, q; action tp, tq; agent a, b;
+    tp announces p; a observes tp;
+    tq announces q; b observes tq;
+    initially p, q; initially C([a,b], (B(a,q) | B(a,-q))); initially C([a,b], (B(b,p) | B(b,(-p))));
+    goal B(a, p), B(b, q);""", "two.txt")
+    s0 = make_space(base).initial()[0]
+    assert h_epi(make_space(base))(s0) == 2.0 == plan(base).length
+    macro = _variant(base, "macro")              # tp+tq does both in one step
+    assert h_epi(make_space(macro))(make_space(macro).initial()[0]) <= 1.0
+    assert plan(macro, search="astar").length == 1 == plan(macro).length
+    only_event = parse_mastar("""fluent p, q; action tq; agent a, b;
+    tq announces q; b observes tq;
+    initially p, q; goal B(a, p);""", "ev.txt")
+    ev = _variant(only_event, "event")           # only the general event-model action informs a
+    space = make_space(ev)
+    assert content_conjuncts(space) == {} and h_epi(space)(space.initial()[0]) == 1.0
+    assert plan(ev, search="astar").length == 1 == plan(ev).length
