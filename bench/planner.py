@@ -18,7 +18,7 @@ Targets (issue 11): whole-process faster than EFP wherever EFP needs ≥ 0.3 s, 
 expanded nodes on every instance (and A*'s search seconds), with the ratio A*/BFS; ``--bfs-timeout`` caps
 BFS (a capped BFS is shown as a lower bound on its expansions).
 
-    .venv/bin/python bench/planner.py [--runs 5] [--search bfs] [--engine fast] [--json out.json]
+    .venv/bin/python bench/planner.py [--runs 5] [--search bfs] [--engine fast] [--no-own] [--json out.json]
     .venv/bin/python bench/planner.py --expansions [--bfs-timeout 1200]
 """
 
@@ -69,14 +69,15 @@ def _once(path: Path, search: str, engine: str, timeout: float) -> tuple[float, 
     return wall, cpu, out
 
 
-def run(runs: int, search: str, engine: str, timeout: float) -> list[dict]:
+def run(runs: int, search: str, engine: str, timeout: float, own: bool = True) -> list[dict]:
     bench = shared_benchmarks()
     if bench is None:
         raise SystemExit("../shared/benchmarks is not available")
     items = [(bench / "mastar" / r["file"], r["file"], int(r["expected_length"]), _efp(r["efp_possibilities_s"]),
               _efp(r["efp_kripke_s"]), r["efp_kripke_s"])
              for r in csv.DictReader((bench / "mastar" / "expected.csv").open())]
-    items += [(ROOT / f, f, n, None, None, "-") for f, n in OWN]
+    if own:
+        items += [(ROOT / f, f, n, None, None, "-") for f, n in OWN]
     out = []
     for path, name, expected, poss, kripke, kripke_text in items:
         _once(path, search, engine, timeout)  # warm-up (page cache, parser cache)
@@ -130,6 +131,7 @@ def main() -> None:
     ap.add_argument("--json", type=Path, default=None)
     ap.add_argument("--expansions", action="store_true", help="BFS vs A* expanded nodes (in-process)")
     ap.add_argument("--bfs-timeout", type=float, default=1200.0)
+    ap.add_argument("--no-own", action="store_true", help="only the shared instances (not specs/grapevine5)")
     args = ap.parse_args()
     if args.expansions:
         print("| instance | optimum | BFS len | BFS expanded | BFS search s | A* len | A* expanded | A* search s "
@@ -144,7 +146,7 @@ def main() -> None:
         if args.json:
             args.json.write_text(json.dumps(rows, indent=1))
         return
-    rows = run(args.runs, args.search, args.engine, args.timeout)
+    rows = run(args.runs, args.search, args.engine, args.timeout, own=not args.no_own)
     print(f"delkit plan --search {args.search} --engine {args.engine}, whole process, median of {args.runs} runs; "
           f"python {sys.version.split()[0]}, {os.cpu_count()} cores")
     print("| instance | EFP len | our len | expanded | whole wall s | whole CPU s | search s | EFP-poss s "
