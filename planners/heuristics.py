@@ -32,15 +32,18 @@ above that the weaker ⌈|U(s)| / max_A |cover(A)|⌉ (also consistent) is used.
   - ``¬K_x φ`` (φ propositional) false means V ⊆ [φ]; shrinking and ontic updates that do not set a
     proposition of φ keep V ⊆ [φ]: only an ontic action that x may observe and that sets a proposition of
     φ can make it true;
-  - ``K_x φ`` (φ a literal or a conjunction of literals; also ``Kw_x l``) false means some v ∈ V falsifies
-    a literal on q. If q is *independent* in V (V = V' × S_q) and stays so (every action keeps the product
-    form: :func:`safe_props`), then V ∩ [ψ] ⊆ [φ] with ψ not mentioning q would contain, with each v, its
-    q-flipped twin — so V ∩ [ψ] = ∅, a state where x believes ⊥, which the search never expands. Only an
-    action that x may *fully* observe and whose content (announced / sensed formula, or ontic effect)
-    mentions a proposition of φ can make it true. Independence is checked in the initial state (it is then
-    preserved along every path), the argument is not used with ``allow_inconsistent``, and an action given
-    as a general event model (``EventAction``) may change every conjunct; a macro's cover is the union of
-    its steps' covers.
+  - ``K_x φ`` / ``Kw_x φ`` (φ propositional over props P) false: split the propositions into the finest
+    blocks that every action keeps apart (:func:`prop_blocks`: an announced conjunct, a sensed formula, an
+    ontic effect with its condition each lie in one block) and let Q be the least union of blocks ⊇ P on
+    which x's view factors, V = V_-Q × V_Q (blocks correlated with Q in V are merged in; checked in the
+    initial state). Every action keeps that product form (V ∩ [ψ] with each conjunct of ψ on one side; the
+    postconditions stay on one side), and an action whose content does not mention Q keeps V_Q — so V
+    keeps, beside any remaining world, a Q-part falsifying φ (for Kw: one falsifying and one satisfying
+    φ), unless V becomes empty, a state where x believes ⊥ that the search never expands. Only an action
+    that x may *fully* observe and whose content (announced / sensed formula, or ontic effect) mentions
+    a proposition of Q can make it true. The argument is not used with ``allow_inconsistent`` or when a
+    content or condition is not propositional; an action given as a general event model (``EventAction``)
+    may change every conjunct (and turns the argument off); a macro's cover is the union of its steps'.
 
   Covers stay state-independent, so ``h_epi`` is admissible and consistent like ``h_cover``, and a false
   conjunct that no action can change (Grapevine's ``¬B(a, sc)`` once a has heard sc) is a dead end (∞).
@@ -52,10 +55,10 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from delkit.formula import TOP, And, C, D, E, Formula, K, Kw, Not, Prop, is_propositional, props_of
+from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Prop, is_propositional, props_of
 from planners.task import Task, goal_conjuncts
 
-__all__ = ["h_gc", "h_01", "h_cover", "h_epi", "cover_sets", "safe_props", "content_conjuncts", "make_heuristic"]
+__all__ = ["h_gc", "h_01", "h_cover", "h_epi", "cover_sets", "prop_blocks", "content_conjuncts", "make_heuristic"]
 
 _MAX_EXACT = 16
 
@@ -123,62 +126,98 @@ def _literal_props(f: Formula) -> frozenset[str] | None:
 
 
 def _belief_goal(g: Formula) -> tuple[str, str, frozenset[str]] | None:
-    """("pos", x, P) for K_x φ / Kw_x l (φ a literal or conjunction of literals, l a literal; P = props(φ)),
-    ("neg", x, P) for ¬K_x φ / ¬Kw_x φ with φ propositional; None for any other conjunct."""
-    if isinstance(g, K) and _literal_props(g.arg) is not None:
-        return "pos", g.agent, _literal_props(g.arg)  # type: ignore[return-value]
-    if isinstance(g, Kw):
-        lit = _literal_props(g.arg)
-        if lit is not None and len(lit) == 1 and not isinstance(g.arg, And):
-            return "pos", g.agent, lit
+    """("pos", x, P) for K_x φ / Kw_x φ, ("neg", x, P) for ¬K_x φ / ¬Kw_x φ, φ propositional and P = props(φ);
+    None for any other conjunct."""
+    if isinstance(g, (K, Kw)) and is_propositional(g.arg):
+        return "pos", g.agent, frozenset(props_of(g.arg))
     if isinstance(g, Not) and isinstance(g.arg, (K, Kw)) and is_propositional(g.arg.arg):
         return "neg", g.arg.agent, frozenset(props_of(g.arg.arg))
     return None
 
 
-def safe_props(task: Task) -> frozenset[str]:
-    """Propositions q whose *independence* in an agent's view is preserved by every action of the task.
+def _conjuncts(f: Formula) -> list[Formula]:
+    if isinstance(f, And):
+        return [h for g in f.args for h in _conjuncts(g)]
+    return [f]
 
-    An agent x's view at the pointed world is the set V of valuations of its accessible worlds; q is
-    independent in V if V = V' × S_q (flipping q inside S_q stays in V). Announcing / sensing a formula that
-    does not mention q, or a conjunction of literals, keeps that product form (V ∩ [ψ]); so does an ontic
-    update whose conditions do not mention q and whose effects on q are unconditional. A conditional effect
-    on q, a condition or a non-literal content that mentions q, or any non-propositional content or
-    condition (its truth at a world is not a function of the world's valuation) breaks it."""
-    props = set(task.props)
+
+def prop_blocks(task: Task) -> dict[str, frozenset[str]] | None:
+    """The finest partition of the propositions whose blocks every action keeps *separate*: each announced
+    conjunct, each sensed formula and each ontic effect together with its condition lies within one block.
+    None if some content or condition is not propositional, or an action is a general event model.
+
+    Why: if an agent's view V (the valuations of its accessible worlds at the pointed world) is a product
+    V = V_-Q × V_Q for a union Q of blocks, every action keeps it one — V ∩ [ψ] with each conjunct of ψ on
+    one side, the image under postconditions that stay on one side — see the module docstring."""
+    parent = {p: p for p in task.props}
+
+    def find(p: str) -> str:
+        while parent[p] != p:
+            parent[p] = parent[parent[p]]
+            p = parent[p]
+        return p
+
+    def join(ps: set[str]) -> None:
+        ps = [p for p in ps if p in parent]
+        for q in ps[1:]:
+            parent[find(q)] = find(ps[0])
+
     for act in task.actions:
         steps = _steps(act)
         if steps is None:
-            return frozenset()
+            return None
         for st in steps:
             if st.kind == "ontic":
                 for p, _, cond in st.effects:
                     if not is_propositional(cond):
-                        return frozenset()
-                    props -= props_of(cond)
-                    if cond != TOP:
-                        props.discard(p)
+                        return None
+                    join({p} | props_of(cond))
                 continue
             for f, _ in st.sensed:
                 if not is_propositional(f):
-                    return frozenset()
-                lits = _literal_props(f)
-                if lits is None or (st.kind == "sensing" and isinstance(f, And)):
-                    props -= props_of(f)
-    return frozenset(props)
+                    return None
+                for part in (_conjuncts(f) if st.kind == "announcement" else [f]):
+                    join(set(props_of(part)))
+    blocks: dict[str, set[str]] = {}
+    for p in task.props:
+        blocks.setdefault(find(p), set()).add(p)
+    return {p: frozenset(blocks[find(p)]) for p in task.props}
 
 
-def _independent(space: Any, state: Any, agent: str, props: frozenset[str]) -> bool:
-    """Every q in ``props`` is independent in ``agent``'s view at the pointed world of ``state``."""
+def _factor_block(space: Any, state: Any, agent: str, props: frozenset[str],
+                  blocks: dict[str, frozenset[str]]) -> frozenset[str] | None:
+    """The least union Q of blocks containing ``props`` with ``agent``'s view at the pointed world of ``state``
+    a product V = V_-Q × V_Q (blocks correlated with Q in V are merged in), or None if there is none but all."""
     task = space.task
     ai = task.agents.index(agent)
     m = state.masks[ai][state.point]
     view = {v for w, v in enumerate(state.val) if (m >> w) & 1}
-    for q in props:
-        bit = 1 << task.props.index(q)
-        if len({v & bit for v in view}) > 1 and any((v ^ bit) not in view for v in view):
-            return False
-    return True
+    bit = {p: 1 << i for i, p in enumerate(task.props)}
+
+    def mask_of(ps: frozenset[str]) -> int:
+        out = 0
+        for p in ps:
+            out |= bit[p]
+        return out
+
+    def product(qm: int) -> bool:
+        return len(view) == len({v & qm for v in view}) * len({v & ~qm for v in view})
+
+    q = frozenset().union(*(blocks[p] for p in props))
+    others = {blocks[p] for p in task.props} - {blocks[p] for p in q}
+    changed = True
+    while changed and not product(mask_of(q)):
+        changed = False
+        qm = mask_of(q)
+        for b in list(others):
+            bm = mask_of(b)
+            pair = {v & (qm | bm) for v in view}
+            if len(pair) != len({v & qm for v in view}) * len({v & bm for v in view}):
+                q |= b
+                others.discard(b)
+                changed = True
+                break
+    return q if product(mask_of(q)) else None
 
 
 def cover_sets(task: Task, conjuncts: tuple[Formula, ...], *, content: dict[int, tuple[str, str, frozenset[str]]]
@@ -292,16 +331,19 @@ def content_conjuncts(space: Any) -> dict[int, tuple[str, str, frozenset[str]]]:
     s0, _ = space.initial()
     if not hasattr(s0, "point") or len(getattr(s0, "points", (s0.point,))) != 1:
         return {}  # the argument is about one pointed world (general event models are excluded above)
-    safe = safe_props(task)
+    blocks = prop_blocks(task)
     out = {}
     for i, g in enumerate(conj):
         c = _belief_goal(g)
         if c is None:
             continue
         kind, x, ps = c
-        if kind == "neg" or (not getattr(space, "allow_inconsistent", False) and ps <= safe
-                             and _independent(space, s0, x, ps)):
+        if kind == "neg":
             out[i] = c
+        elif blocks is not None and not getattr(space, "allow_inconsistent", False):
+            q = _factor_block(space, s0, x, ps, blocks)
+            if q is not None:
+                out[i] = ("pos", x, q)
     return out
 
 

@@ -11,7 +11,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from planners.epistemic import Limits, best_first, bfs, make_space, plan
-from planners.heuristics import content_conjuncts, h_cover, h_epi, safe_props
+from planners.heuristics import content_conjuncts, h_cover, h_epi, prop_blocks
 from planners.lang import load_task, shared_benchmarks
 from planners.lang.mastar import parse_mastar
 from planners.validate import check_plan
@@ -189,20 +189,34 @@ def test_content_argument_applies_to_grapevine_and_prunes() -> None:
     assert check_plan(task, list(res.plan), []).valid
 
 
-def test_content_argument_refused_where_unsound() -> None:
-    # announcing q can make a believe p when p and q are correlated in a's view: no content argument
-    text = """fluent p, q; action tell; agent a, b;
+def test_content_argument_merges_correlated_blocks_and_refuses_epistemic_content() -> None:
+    # announcing q can make a believe p when p and q are correlated in a's view: {p, q} is one block
+    text = """fluent p, q, r; action tell, other; agent a, b;
     tell announces q; a observes tell;
-    initially p, q; initially C([a,b], ((p, q) | (-p, -q)));
+    other announces r; a observes other;
+    initially p, q, r; initially C([a,b], ((p, q) | (-p, -q)));
     goal B(a, p);"""
     task = parse_mastar(text, "corr.txt")
     space = make_space(task)
-    assert content_conjuncts(space) == {}
+    assert content_conjuncts(space) == {0: ("pos", "a", frozenset({"p", "q"}))}
     assert plan(task, search="astar").length == 1
-    # a conditional effect on p breaks p's independence: p is not safe
-    task2 = parse_mastar("fluent p, q; action f; agent a; f causes p if q; a observes f; initially -p, q;"
+    # an effect with a condition joins the effect's and the condition's fluents
+    task2 = parse_mastar("fluent p, q, r; action f; agent a; f causes p if q; a observes f; initially -p, q, r;"
                          "goal B(a, p);", "cond.txt")
-    assert "p" not in safe_props(task2) and "q" not in safe_props(task2)
+    blocks = prop_blocks(task2)
+    assert blocks["p"] == blocks["q"] == frozenset({"p", "q"}) and blocks["r"] == frozenset({"r"})
+    # ... and so it must: after `f` (r := ⊤ where p) announcing r tells a that p
+    task4 = parse_mastar("""fluent p, r; action f, t; agent a, b;
+    f causes r if p; a observes f;
+    executable t if r; t announces r; a observes t;
+    initially p, -r; initially C([a,b], -r);
+    goal B(a, p);""", "learn.txt")
+    assert content_conjuncts(make_space(task4)) == {0: ("pos", "a", frozenset({"p", "r"}))}
+    assert plan(task4, search="astar").length == 2 == plan(task4).length
+    # an epistemic announcement: its truth at a world is not a function of the valuation -> no argument
+    task3 = parse_mastar("fluent p, q; action t; agent a, b; executable t if B(b, q); t announces B(b, q);"
+                         "a observes t; initially p, q; goal B(a, p);", "epi.txt")
+    assert prop_blocks(task3) is None and set(content_conjuncts(make_space(task3))) == set()
 
 
 def test_negative_belief_is_undone_only_by_an_observed_ontic_change() -> None:
