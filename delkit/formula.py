@@ -35,9 +35,13 @@ __all__ = [
 
 
 class Formula:
-    """Base class of all formulas. Supports ``~f``, ``f & g``, ``f | g``, ``f >> g`` (implication)."""
+    """Base class of all formulas. Supports ``~f``, ``f & g``, ``f | g``, ``f >> g`` (implication).
 
-    __slots__ = ()
+    Hashes are computed once per object and cached (slot ``_hash``): formulas are dictionary keys in the
+    evaluators' caches, and without the cache hashing a deep formula is linear in its size each time.
+    """
+
+    __slots__ = ("_hash",)
 
     def __invert__(self) -> Formula:
         return Not(self)
@@ -188,6 +192,25 @@ class Update(Formula):
     event: int
     arg: Formula
     name: str = "E"
+
+
+def _cache_hash(cls: type) -> None:
+    """Make ``cls.__hash__`` (the dataclass field hash) compute once per object and keep the value."""
+    field_hash = cls.__hash__
+
+    def __hash__(self: Formula) -> int:
+        try:
+            return self._hash
+        except AttributeError:
+            h = field_hash(self)
+            object.__setattr__(self, "_hash", h)
+            return h
+
+    cls.__hash__ = __hash__
+
+
+for _cls in (Top, Bot, Prop, Not, And, Or, Implies, Iff, K, Kw, E, C, D, Announce, Update):
+    _cache_hash(_cls)
 
 
 # ----------------------------------------------------------------------------- helpers
