@@ -194,23 +194,32 @@ class Update(Formula):
     name: str = "E"
 
 
-def _cache_hash(cls: type) -> None:
-    """Make ``cls.__hash__`` (the dataclass field hash) compute once per object and keep the value."""
-    field_hash = cls.__hash__
+_FIELD_HASH: dict[type, Any] = {}
 
-    def __hash__(self: Formula) -> int:
-        try:
-            return self._hash
-        except AttributeError:
-            h = field_hash(self)
-            object.__setattr__(self, "_hash", h)
-            return h
 
-    cls.__hash__ = __hash__
+def _cached_hash(self: Formula) -> int:
+    """The dataclass field hash, computed once per object; subformulas without a cached hash are hashed
+    first, bottom-up without recursion, so that deeply nested formulas (a stack of 400 announcements)
+    hash in linear time and without RecursionError."""
+    try:
+        return self._hash
+    except AttributeError:
+        pass
+    stack: list[tuple[Formula, bool]] = [(self, False)]
+    while stack:
+        f, ready = stack.pop()
+        if ready:
+            if not hasattr(f, "_hash"):
+                object.__setattr__(f, "_hash", _FIELD_HASH[type(f)](f))
+            continue
+        stack.append((f, True))
+        stack.extend((c, False) for c in children(f) if not hasattr(c, "_hash"))
+    return self._hash
 
 
 for _cls in (Top, Bot, Prop, Not, And, Or, Implies, Iff, K, Kw, E, C, D, Announce, Update):
-    _cache_hash(_cls)
+    _FIELD_HASH[_cls] = _cls.__hash__
+    _cls.__hash__ = _cached_hash
 
 
 # ----------------------------------------------------------------------------- helpers

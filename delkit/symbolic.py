@@ -62,6 +62,7 @@ from delkit.formula import (
     Prop,
     Top,
     Update,
+    children,
     conj,
     disj,
     parse,
@@ -151,6 +152,9 @@ class KnowledgeStructure:
     # keeps its computed-table entries for them instead of garbage-collecting and rebuilding them (muddy
     # children N = 100: 2.2x faster).
     _previous: Any = field(default=None, repr=False, compare=False)
+    # Truth sets of propositional formulas do not depend on θ: one cache for all structures derived
+    # from this one (announcements, products), which share the manager.
+    _props: dict = field(default_factory=dict, repr=False, compare=False)
 
     # ------------------------------------------------------------------ construction
     @staticmethod
@@ -170,7 +174,7 @@ class KnowledgeStructure:
         bare = KnowledgeStructure(mgr, voc, mgr.true, obs, mgr.true)
         law_node = bare._propositional(law)
         act = law_node if actual is None else law_node & bare._propositional(actual)
-        return KnowledgeStructure(mgr, voc, law_node, obs, act)
+        return KnowledgeStructure(mgr, voc, law_node, obs, act, _props=bare._props)
 
     def _propositional(self, f: Formula | str) -> Any:
         return self.evaluate(parse(f) if isinstance(f, str) else f)
@@ -201,15 +205,22 @@ class KnowledgeStructure:
         """``||φ||_F``: the BDD of the assignments where φ holds (meaningful on states, i.e. under θ)."""
         if isinstance(formula, str):
             formula = parse(formula)
-        try:
-            return self._cache[formula]
-        except KeyError:
-            pass
-        try:
-            hit = _DISPATCH[type(formula)](self, formula)
-        except KeyError:
-            raise TypeError(f"cannot evaluate {formula!r}") from None
-        self._cache[formula] = hit
+        hit = self._cache.get(formula)
+        if hit is not None:
+            return hit
+        props = self._props
+        hit = props.get(formula)
+        if hit is not None:
+            return hit
+        kind = type(formula)
+        rule = _DISPATCH.get(kind)
+        if rule is None:
+            raise TypeError(f"cannot evaluate {formula!r}")
+        hit = rule(self, formula)
+        if kind is Prop or (kind in _BOOLEAN and all(c in props for c in children(formula))):
+            props[formula] = hit  # propositional: the same BDD in every structure on this manager
+        else:
+            self._cache[formula] = hit
         return hit
 
     def holds(self, formula: Formula | str) -> bool:
@@ -256,16 +267,20 @@ class KnowledgeStructure:
         quantification instead of two and-abstracts and a disjunction; ∃H'θ is cached per (agent, x).
         """
         b = self.bdd
-        hidden = self._unobserved((agent,))
+        hidden = self._hidden.get(agent)
+        if hidden is None:
+            hidden = self._hidden[agent] = self._unobserved((agent,))
         x = u.var
         if x is not None and x in hidden:
             node = b.var(x)  # a positive literal is its own one-variable cube
             if u == node or u == ~node:
-                key = ("__proj", agent, x)
-                base = self._cache.get(key)
-                if base is None:
-                    rest = hidden - {x}
-                    base = self._cache[key] = b.exist(rest, self.law) if rest else self.law
+                if len(hidden) == 1:
+                    base = self.law
+                else:
+                    key = ("__proj", agent, x)
+                    base = self._cache.get(key)
+                    if base is None:
+                        base = self._cache[key] = b.exist(hidden - {x}, self.law)
                 return ~b.apply("\\A", node, base)  # the cube form skips dd's per-call cube building
         if not hidden:
             return b.true
@@ -289,7 +304,7 @@ class KnowledgeStructure:
         """Public announcement ``F|φ = (V, θ ∧ ||φ||_F, O)``; actual states outside φ drop out."""
         u = self.evaluate(formula)
         return KnowledgeStructure(self.bdd, self.vocabulary, self.law & u, self.observed, self.actual & u,
-                                  _hidden=self._hidden, _previous=self._cache)
+                                  _hidden=self._hidden, _previous=self._cache, _props=self._props)
 
     def transform(self, x: Transformer) -> KnowledgeStructure:
         """``F × X`` (module docstring); actual states: old actual ones paired with designated events."""
@@ -325,7 +340,7 @@ class KnowledgeStructure:
         actual = shift(self.actual) & self.evaluate(x.designated) & law
         observed = {a: tuple(copies.get(v, v) for v in vs) + tuple(x.observed[a]) for a, vs in self.observed.items()}
         voc = self.vocabulary + tuple(x.vocabulary) + tuple(copies.values())
-        return KnowledgeStructure(b, voc, law, observed, actual), copies
+        return KnowledgeStructure(b, voc, law, observed, actual, _props=self._props), copies
 
     def _eval_update(self, f: Update) -> Any:
         """||[E,e]ψ|| = ||pre(e)|| → ψ^×[V⁺ := code(e), V₋° := V₋, q := ||post_e(q)||] (simultaneously)."""
@@ -402,8 +417,21 @@ def _ev_every(ks: KnowledgeStructure, f: E) -> Any:
 
 
 def _ev_announce(ks: KnowledgeStructure, f: Announce) -> Any:
-    return ~ks.evaluate(f.announced) | ks.announce(f.announced).evaluate(f.arg)
+    """``||[!φ1]…[!φk]ψ||`` for a stack of announcements, iteratively (SMCDEL's drinking-logicians formula
+    nests hundreds): ``¬||φ1|| ∨ (¬||φ2||_{F|φ1} ∨ (… ∨ ||ψ||_{F|φ1…φk}))``."""
+    pres = []
+    cur: Any = f
+    while isinstance(cur, Announce):
+        pres.append(ks.evaluate(cur.announced))
+        ks = ks.announce(cur.announced)
+        cur = cur.arg
+    out = ks.evaluate(cur)
+    for pre in reversed(pres):
+        out = ~pre | out
+    return out
 
+
+_BOOLEAN = frozenset((Top, Bot, Not, And, Or, Implies, Iff))
 
 _DISPATCH: dict[type, Any] = {
     Prop: _ev_prop,
