@@ -143,12 +143,16 @@ class MissionResult:
     wall_time: float
     task_completers: tuple[tuple[int, ...], ...] = ()
     epistemic_checks: tuple[tuple[str, int, int], ...] = ()
+    cascade: tuple[int, int] = (0, 0)
+    min_separation: float = float("inf")
     history: MissionHistory | None = field(default=None, repr=False, compare=False)
 
     def row(self) -> dict:
         return {k: getattr(self, k) for k in ("method", "case", "n_robots", "seed", "mission_time", "distance",
                                               "tasks_done", "n_tasks", "communications", "success", "all_home",
-                                              "collisions", "min_completers_ok", "explored", "wall_time")}
+                                              "collisions", "min_completers_ok", "explored", "wall_time")} | {
+            "min_separation": self.min_separation, "cascade_assigned": self.cascade[0],
+            "cascade_delivered": self.cascade[1]}
 
 
 def make_scenario(cfg: MissionConfig) -> tuple[WorldMap, tuple[TaskSpec, ...], np.ndarray, np.ndarray]:
@@ -224,6 +228,11 @@ class _Robot:
         self.graph_version = -1
         self.tasks: dict[int, _TaskKnowledge] = {}
         self.gossip: list[int] = []
+        # Algorithm 3's gossip bundles of this allocation round, for every informer (also those told later):
+        # (version, informer) -> ordered targets. They travel with the allocation (merged on every local
+        # announcement), so a robot that is told later learns its own gossip bundle and continues the cascade.
+        self.plans: dict[tuple[float, int], tuple[int, ...]] = {}
+        self.adopted: set[float] = set()
         self.records: dict[int, BeliefRecord] = {}
         self.excluded: set[int] = set()
         self.wait_since: float | None = None
@@ -269,6 +278,10 @@ class Mission:
         self.prev_adj = np.ones((self.n, self.n), dtype=bool)
         self.communications = 0
         self.collisions = 0
+        self.cascade_assigned = 0  # gossip bundles given to robots outside the allocating group (Algorithm 3)
+        self.cascade_delivered = 0  # ... that reached their informer (it was told and took the bundle on)
+        self.cascade_pending: set[tuple[float, int]] = set()
+        self.min_sep = float("inf")
         self.events: list[tuple[float, str, str]] = []
         self.cost = euclidean_cost(cfg.v_max)
         self.done = False
@@ -361,12 +374,28 @@ class Mission:
             latest = max((a.records[j] for a in group), key=lambda rec: rec.time)
             for a in group:
                 a.records[j] = latest
+        plans: dict[tuple[float, int], tuple[int, ...]] = {}
         for a in group:
+            plans.update(a.plans)
+        for a in group:
+            a.plans = dict(plans)
             rec = self._record(a)
             for b in group:
                 b.records[a.id] = rec
+            self._adopt_gossip(a)
             a.gossip = [g for g in a.gossip if g not in members]
             a.excluded -= set(members)
+
+    def _adopt_gossip(self, a: _Robot) -> None:
+        """Take on the gossip bundle Algorithm 3 gave robot ``a`` in an allocation it has now heard of."""
+        for (version, informer), targets in sorted(a.plans.items()):
+            if informer != a.id or version in a.adopted:
+                continue
+            a.adopted.add(version)
+            a.gossip += [g for g in targets if g not in a.gossip and g != a.id]
+            if (version, informer) in self.cascade_pending:
+                self.cascade_pending.discard((version, informer))
+                self.cascade_delivered += 1
 
     def _communicate(self) -> None:
         adj = self._adjacency()
@@ -473,8 +502,14 @@ class Mission:
             k.version = version
             k.eta = {j: alloc.start.get(tid, 0.0) + 1e-3 * b.index(tid) for j, b in alloc.bundles.items()
                      if tid in b}
+        r.plans.update({(version, v): tuple(gs) for v, gs in alloc.gossip.items() if gs})
+        for v, gs in alloc.gossip.items():
+            if gs and v not in members:  # a cascade informer: it learns its bundle when it is told
+                self.cascade_pending.add((version, v))
+                self.cascade_assigned += 1
         for m in members:
-            self.robots[m].gossip += [g for g in alloc.gossip.get(m, ()) if g not in self.robots[m].gossip]
+            self.robots[m].plans.update(r.plans)
+            self._adopt_gossip(self.robots[m])
         self._event("allocate", f"robot {r.id} allocates {sorted(newly)}: "
                     + ", ".join(f"{j}:{list(b)}" for j, b in alloc.bundles.items() if b)
                     + (f"; gossip {dict(alloc.gossip)}" if alloc.gossip else ""))
@@ -775,6 +810,10 @@ class Mission:
             if self.world.is_occupied(r.xy[None, :]).any():
                 self.collisions += 1
             self._scan(r)
+        if self.n > 1:  # robot–robot separation, measured every step
+            x = np.array([r.xy for r in self.robots])
+            d = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
+            self.min_sep = min(self.min_sep, float(d[np.triu_indices(self.n, 1)].min()))
         self._tasks_step()
         if self.status_model is not None:
             self._update_status_model()
@@ -850,7 +889,7 @@ class Mission:
                              all(self._at_home(r) for r in self.robots), self.collisions, ok,
                              round(float((explored & free).sum() / free.sum()), 4), round(wall, 3),
                              tuple(self.completers), tuple((k, v[0], v[1]) for k, v in self.checks.items()),
-                             hist)
+                             (self.cascade_assigned, self.cascade_delivered), round(self.min_sep, 3), hist)
 
 
 def run_mission(cfg: MissionConfig, progress: Callable[[float, float], None] | None = None) -> MissionResult:
