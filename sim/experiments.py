@@ -123,7 +123,7 @@ def write_csv(rows: Sequence[dict], path: str | Path) -> Path:
 def read_csv(path: str | Path) -> list[dict]:
     conv = {"case": int, "n_robots": int, "seed": int, "mission_time": float, "distance": float,
             "tasks_done": int, "n_tasks": int, "communications": int, "explored": float, "wall_time": float,
-            "collisions": int}
+            "collisions": int, "min_separation": float, "cascade_assigned": int, "cascade_delivered": int}
     out = []
     with Path(path).open() as fh:
         for row in csv.DictReader(fh):
