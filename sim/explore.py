@@ -2,16 +2,21 @@
 
 Three team methods share the map, sensing, motion and task model:
 
-* ``epistemic`` — the paper's method. Each robot keeps its own log-odds map, belief records (timestamps Q)
-  and task knowledge. While the whole team is connected (one connected component of the r_c disk graph),
-  every step is a *global announcement* (eq. 15: all particles reset to the true states); when it breaks,
-  every robot propagates the same common belief set C (:class:`sim.particles.CommonBelief`) and follows
-  its empathy particle's frontier goal (§5.2). Robots that meet exchange maps, tasks, allocations and belief
-  records (the *local announcement*, eq. 19: p_ji,i ← x_i, and the most recent record per robot wins).
-  A robot that finds a task runs Algorithms 1–3 for its connected group, bidding on behalf of the
-  others from its beliefs; gossipers travel to the believed particle of the robot they must tell; if it is
-  not there, that robot is excluded and the task is re-auctioned (ruleset 1 of §5.3.2); a task that a
-  common-belief particle of another robot covered earlier is assumed to be handled by that robot (ruleset 2).
+* ``epistemic`` — the paper's method. Each robot keeps its own log-odds map and task knowledge, and its
+  N × N belief/empathy particles p_ij,k (eq. 2, :class:`sim.particles.BeliefParticles`) with timestamps Q.
+  The statuses the particles are propagated with come from the delkit epistemic model
+  (:class:`sim.status_model.FactoredStatusModel`), updated by the announce/perceive events of §5.3.1:
+  a robot's status is announced to its connected group, robots out of range are oblivious and keep a
+  (possibly false) belief. While the whole team is connected every particle is the true state (eq. 15);
+  when it breaks, the common belief set C (:class:`sim.particles.CommonBelief`) is propagated from the last
+  global state and every robot follows its empathy particle's frontier goal (§5.2). Robots that meet
+  exchange maps, tasks, allocations, gossip plans and particles (the local announcement, eq. 19:
+  p_ji,i ← x_i, and the most recent version of every particle wins). A robot that finds a task runs
+  Algorithms 1–3 for its connected group, bidding on behalf of the others from its particles; gossipers
+  travel to the most recent particle of the robot they must tell (the cascade of Algorithm 3 is delivered:
+  a robot told later learns its own gossip bundle); if it is not there, that robot is excluded and the task
+  re-auctioned (ruleset 1 of §5.3.2); a task that a common-belief particle of another robot covered earlier
+  is assumed to be handled by that robot (ruleset 2). Eqs. 14 and 18 are model-checked on the driving model.
 * ``ideal`` — unlimited communication: one shared map, Voronoi frontier assignment with the true positions,
   immediate allocation (Algorithms 1–2) of every discovered task.
 * ``flock`` — the team never leaves the communication range: a virtual leader follows the A* path to the
@@ -33,17 +38,15 @@ import numpy as np
 from scipy.sparse.csgraph import connected_components
 
 from delkit.errors import SimulationError
-from delkit.formula import K as K_
 from planners.allocation import Robot as BidRobot
 from planners.allocation import Task as AllocTask
 from planners.allocation import allocate, euclidean_cost
 from sim.grid import LidarModel, OccupancyGrid, WorldMap, frontier_mask, random_map, read_movingai
 from sim.motion import GridGraph, integrate, line_free
 from sim.particles import (
-    BeliefRecord,
+    BeliefParticles,
     CommonBelief,
     Navigator,
-    believed_position,
     choose_frontier,
     graph_for,
     obstacle_points,
@@ -84,7 +87,8 @@ class MissionConfig:
     wait_timeout: float = 120.0
     map_path: str | None = None
     record: bool = True
-    status_model: bool = False
+    status_model: bool = True  # model-check eqs. 14 and 18 on the DEL model that drives the run
+    linger: float = 10.0
 
     def validate(self) -> None:
         if self.method not in METHODS:
@@ -233,7 +237,6 @@ class _Robot:
         # announcement), so a robot that is told later learns its own gossip bundle and continues the cascade.
         self.plans: dict[tuple[float, int], tuple[int, ...]] = {}
         self.adopted: set[float] = set()
-        self.records: dict[int, BeliefRecord] = {}
         self.excluded: set[int] = set()
         self.wait_since: float | None = None
         self.wait_task: int | None = None
@@ -267,8 +270,6 @@ class Mission:
         shared = OccupancyGrid(self.shape, self.res) if cfg.method != "epistemic" else None
         self.robots = [_Robot(i, starts[i], shared if shared is not None else OccupancyGrid(self.shape, self.res),
                               self.n) for i in range(self.n)]
-        for r in self.robots:
-            r.records = {j: BeliefRecord(0.0, tuple(starts[j]), "exploring") for j in range(self.n)}
         self.task_cells = np.array([int(self.world.cell(np.array(t.xy))[0] * self.shape[1]
                                         + self.world.cell(np.array(t.xy))[1]) for t in self.task_specs], dtype=int)
         self.completed = [False] * len(self.task_specs)
@@ -292,13 +293,17 @@ class Mission:
         self._hist_x: list[np.ndarray] = []
         self._hist_s: list[np.ndarray] = []
         self._hist_p: list[np.ndarray] = []
-        self.status_model = None
         self.checks = {"eq14": [0, 0], "eq18": [0, 0], "outsiders_unchanged": [0, 0]}
-        if cfg.status_model:
-            if self.n > 4:
-                raise SimulationError("the delkit status model is tracked for at most 4 robots (4^N worlds)")
-            from sim.status_model import StatusModel
-            self.status_model = StatusModel.initial(self.n)
+        self.false_beliefs = 0  # robot-steps with a false first-order belief B_i σ_k (σ_k untrue)
+        self.del_model = None
+        self.beliefs = None
+        if cfg.method == "epistemic":
+            from sim.status_model import FactoredStatusModel
+
+            self.del_model = FactoredStatusModel(self.n)
+            self._told = [("exploring", frozenset(range(self.n)))] * self.n
+            self.beliefs = BeliefParticles(starts, self.home, eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
+                                           v_max=cfg.particle_speed * cfg.v_max, linger=cfg.linger)
         for r in self.robots:
             self._scan(r)
 
@@ -349,9 +354,6 @@ class Mission:
         d = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
         return d <= self.cfg.comm_range
 
-    def _record(self, r: _Robot) -> BeliefRecord:
-        return BeliefRecord(self.t, (float(r.xy[0]), float(r.xy[1])), r.status, r.target)
-
     def _share(self, members: list[int]) -> None:
         """Local announcement to a connected group (eq. 19 and the Q revision of §5.3.1)."""
         group = [self.robots[m] for m in members]
@@ -370,18 +372,11 @@ class Mission:
                 best = replace(best, assumed_by=None)  # ruleset 2 verified on contact: allocate it if undone
             for a in group:
                 a.tasks[tid] = replace(best, eta=dict(best.eta))
-        for j in range(self.n):
-            latest = max((a.records[j] for a in group), key=lambda rec: rec.time)
-            for a in group:
-                a.records[j] = latest
         plans: dict[tuple[float, int], tuple[int, ...]] = {}
         for a in group:
             plans.update(a.plans)
         for a in group:
             a.plans = dict(plans)
-            rec = self._record(a)
-            for b in group:
-                b.records[a.id] = rec
             self._adopt_gossip(a)
             a.gossip = [g for g in a.gossip if g not in members]
             a.excluded -= set(members)
@@ -407,6 +402,7 @@ class Mission:
             for i, j in zip(*np.nonzero(np.triu(new_links, 1)), strict=True):
                 self._event("connect", f"robots {i} and {j} connect")
         self.prev_adj = adj
+        split_now = False
         if self.cfg.method == "epistemic":
             if ncomp == 1:
                 if self.common is not None:
@@ -417,15 +413,14 @@ class Mission:
                 self.common = None
             elif self.common is None:
                 self._start_common_belief()
+                split_now = True
+            self._update_beliefs(labels, ncomp, split_now)
         for c in range(ncomp):
             members = [int(m) for m in np.flatnonzero(labels == c)]
             if len(members) > 1 or self.cfg.method != "epistemic":
                 self._share(members)
             if self.cfg.method == "epistemic" and len(members) > 1:
                 self._allocate_pending(self.robots[members[0]], members)
-        if ncomp == 1 and self.cfg.method == "epistemic":
-            for r in self.robots:  # eq. 15: every particle at the true state
-                r.records = {j: self._record(self.robots[j]) for j in range(self.n)}
 
     def _start_common_belief(self) -> None:
         base = self.robots[0].map
@@ -443,14 +438,14 @@ class Mission:
     def _believed_xy(self, r: _Robot, j: int, members: list[int]) -> np.ndarray:
         if j in members or self.cfg.method != "epistemic":
             return self.robots[j].xy.copy()
-        return believed_position(r.records[j], self.common, j, self.t, self.cfg.v_max)
+        return self.beliefs.believed_xy(r.id, j)
 
     def _on_discovery(self, r: _Robot, spec: TaskSpec) -> None:
         if self.cfg.method == "epistemic" and self.common is not None:
             c = self.task_cells[spec.id]
             j = int(self.common.seen_by.ravel()[c])
             seen = self.common.seen_time.ravel()[c]
-            if j not in (-1, r.id) and seen < self.t and r.records[j].time <= self.common.t0:
+            if j not in (-1, r.id) and seen < self.t and self._q(r.id, j) <= self.common.t0 + 1e-9:
                 r.tasks[spec.id].assumed_by = j  # ruleset 2: j's particle covered it first
                 self._event("assume", f"robot {r.id} assumes robot {j} handles task {spec.id}")
                 return
@@ -480,7 +475,7 @@ class Mission:
         todo = [AllocTask(k.spec.id, k.spec.xy, k.spec.n_required, k.spec.reward) for k in new]
         locked = {j: b for j, b in current.items() if j not in members}
         # a disconnected robot's bid is made by the group member with the most recent record of it (set Q)
-        informer = {j: (j if j in members else max(members, key=lambda m: (self.robots[m].records[j].time, m == r.id)))
+        informer = {j: (j if j in members else max(members, key=lambda m: (self._q(m, j), m == r.id)))
                     for j in avail}
         newly = {t.id for t in todo}
         if self.cfg.case == 1:
@@ -792,6 +787,7 @@ class Mission:
         self._communicate()
         if self.common is not None:
             self.common.step(cfg.dt)
+            self.beliefs.step(self.t, cfg.dt, self.common)
         slots = self._flock_step() if cfg.method == "flock" else None
         for r in self.robots:
             if slots is None:
@@ -815,8 +811,6 @@ class Mission:
             d = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
             self.min_sep = min(self.min_sep, float(d[np.triu_indices(self.n, 1)].min()))
         self._tasks_step()
-        if self.status_model is not None:
-            self._update_status_model()
         self.t += cfg.dt
         if cfg.record:
             self._hist_t.append(self.t)
@@ -827,37 +821,53 @@ class Mission:
         if self._finished():
             self.done = True
 
-    def _update_status_model(self) -> None:
-        """Mirror status changes and announcements in the delkit model and check eqs. 14 and 18 there."""
-        from sim.status_model import agent, eq14, eq18, status_prop
+    def _q(self, i: int, j: int) -> float:
+        """q_ii,j: the time of robot i's most recent information about robot j (set Q)."""
+        return float(self.beliefs.stamps(i)[i, j])
 
-        sm = self.status_model
-        labels = self.components
-        for r in self.robots:
-            if sm.statuses[r.id] != r.status:
-                sm.change(r.id, r.status, [int(m) for m in np.flatnonzero(labels == labels[r.id])])
-        comps = {int(c): [int(m) for m in np.flatnonzero(labels == c)] for c in set(labels.tolist())}
-        if len(comps) == 1 and self.n > 1:
-            sm.announce_global()
-            edges = [(i, j) for i in range(self.n) for j in range(self.n) if i != j and self.prev_adj[i, j]]
-            ok = sm.holds(eq14(sm.statuses, edges))
-            self.checks["eq14"][0] += int(ok)
-            self.checks["eq14"][1] += 1
-            return
-        for members in comps.values():
-            if len(members) < 2:
-                continue
-            outsiders = [k for k in range(self.n) if k not in members]
-            before = [sm.holds(K_(agent(k), status_prop(j, sm.statuses[j]))) for k in outsiders
-                      for j in range(self.n)]
-            sm.announce_local(members)
-            ok = sm.holds(eq18(sm.statuses, members))
-            self.checks["eq18"][0] += int(ok)
-            self.checks["eq18"][1] += 1
-            after = [sm.holds(K_(agent(k), status_prop(j, sm.statuses[j]))) for k in outsiders
-                     for j in range(self.n)]
-            self.checks["outsiders_unchanged"][0] += int(before == after)
-            self.checks["outsiders_unchanged"][1] += 1
+    def _update_beliefs(self, labels: np.ndarray, ncomp: int, split_now: bool) -> None:
+        """announce/perceive in the delkit model, then the particle resets (eqs. 15–19); checks eqs. 14, 18.
+
+        Robot k's status is announced to its connected group when it changed or when the group gained a
+        robot since k last announced (perceive on meeting); robots outside the group are oblivious.
+        """
+        dm = self.del_model
+        groups = {int(c): [int(m) for m in np.flatnonzero(labels == c)] for c in np.unique(labels)}
+        told_groups: set[int] = set()
+        before = dm.believed().copy()
+        for k, r in enumerate(self.robots):
+            c = int(labels[k])
+            g = frozenset(groups[c])
+            status, last = self._told[k]
+            if r.status != status or not g <= last:
+                dm.tell(k, r.status, g)
+                told_groups.add(c)
+            self._told[k] = (r.status, g)
+        check = self.cfg.status_model
+        if told_groups and check:
+            if ncomp == 1:
+                edges = [(i, j) for i in range(self.n) for j in range(self.n) if i != j and self.prev_adj[i, j]]
+                ok = dm.check_eq14(edges)
+                self.checks["eq14"][0] += int(ok)
+                self.checks["eq14"][1] += 1
+            else:
+                after = dm.believed()
+                for c in told_groups:
+                    g = groups[c]
+                    if len(g) < 2:
+                        continue
+                    ok = dm.check_eq18(g)
+                    self.checks["eq18"][0] += int(ok)
+                    self.checks["eq18"][1] += 1
+                    out = [m for m in range(self.n) if m not in g]
+                    same = bool(np.array_equal(before[np.ix_(out, out)][..., g], after[np.ix_(out, out)][..., g])
+                                ) if out else True
+                    self.checks["outsiders_unchanged"][0] += int(same)
+                    self.checks["outsiders_unchanged"][1] += 1
+        self.false_beliefs += dm.false_beliefs()
+        targets = [r.target for r in self.robots]
+        self.beliefs.update(self.t, labels, np.array([r.xy for r in self.robots]), targets, dm.believed(),
+                            self.common, split_now)
 
     def run(self, progress: Callable[[float, float], None] | None = None) -> MissionResult:
         wall = _time.perf_counter()

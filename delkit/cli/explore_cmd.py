@@ -53,9 +53,9 @@ def register(app: typer.Typer) -> None:
         map_file: Path | None = typer.Option(None, "--map", help="A MovingAI .map grid instead of a random map."),
         t_max: float = typer.Option(1500.0, "--t-max", min=1.0, help="Give up after this many simulated seconds."),
         png: Path | None = typer.Option(None, "--png", help="Write snapshots of the mission (as Figures 5/7)."),
-        status_model: bool = typer.Option(False, "--status-model",
-                                          help="Also track statuses in a delkit model and check eqs. 14/18 "
-                                               "(≤ 4 robots)."),
+        status_model: bool = typer.Option(True, "--status-model/--no-status-model",
+                                          help="Model-check eqs. 14/18 on the delkit status model that drives "
+                                               "the epistemic team (any N)."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Run one mission and report mission time, distance, tasks done and communications."""
@@ -88,7 +88,8 @@ def register(app: typer.Typer) -> None:
             t.add_column("quantity")
             t.add_column("value", justify="right")
             for k in ("mission_time", "distance", "tasks_done", "n_tasks", "communications", "success",
-                      "all_home", "collisions", "explored", "wall_time"):
+                      "all_home", "collisions", "min_separation", "cascade_assigned", "cascade_delivered",
+                      "explored", "wall_time"):
                 t.add_row(k, str(out[k]))
             if status_model:
                 for k, p, tot in res.epistemic_checks:
