@@ -77,18 +77,23 @@ class MissionConfig:
     comm_range: float = 10.0
     task_radius: float = 1.0
     noise_std: float = 0.2
-    eta_g: float = 1.0
+    eta_g: float = 3.0  # [1/s]: eq. 6 reaches v_max = 3 m/s 1 m from the waypoint (paper gives no value)
     eta_o: float = 5.0
     rho_o: float = 1.0
     delta: float = 20.0
     particle_speed: float = 0.85
-    flock_radius: float = 3.0
+    # formation slot radius inside the r_c/2 disk the connectivity constraint allows (None: r_c/2 − 0.5 m);
+    # 3 m is the fastest measured (bench/RESULTS-explore.md: 4.5 m stalls the leader, 4 m is slower)
+    flock_radius: float | None = 3.0
+    flock_leader_speed: float = 1.0  # × v_max
     t_max: float = 1500.0
     wait_timeout: float = 120.0
     map_path: str | None = None
     record: bool = True
     status_model: bool = True  # model-check eqs. 14 and 18 on the DEL model that drives the run
     linger: float = 10.0
+    robot_repulsion: bool = True
+    cruise: bool = False
 
     def validate(self) -> None:
         if self.method not in METHODS:
@@ -303,7 +308,8 @@ class Mission:
             self.del_model = FactoredStatusModel(self.n)
             self._told = [("exploring", frozenset(range(self.n)))] * self.n
             self.beliefs = BeliefParticles(starts, self.home, eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
-                                           v_max=cfg.particle_speed * cfg.v_max, linger=cfg.linger)
+                                           v_max=cfg.particle_speed * cfg.v_max, linger=cfg.linger,
+                                           cruise=cfg.cruise)
         for r in self.robots:
             self._scan(r)
 
@@ -431,7 +437,7 @@ class Mission:
         self.common = CommonBelief(self.t, base, np.array([r.xy for r in self.robots]), queues, self.home,
                                    self.lidar, delta=self.cfg.delta, eta_g=self.cfg.eta_g, eta_o=self.cfg.eta_o,
                                    rho_o=self.cfg.rho_o, v_max=self.cfg.particle_speed * self.cfg.v_max,
-                                   homing=homing)
+                                   homing=homing, cruise=self.cfg.cruise)
         self._event("disconnect", "team splits: common belief set C propagated from here")
 
     # ------------------------------------------------------------------ allocation
@@ -677,11 +683,11 @@ class Mission:
             sp = g.to_cell(self._cell(self.anchor), self._cell(goal_xy))
             self.anchor_nav.set_path(sp, self._cell(goal_xy), self.shape, lead.map.version, goal_xy=goal_xy)
         spread = np.linalg.norm(xs - self.anchor[None, :], axis=1).max()
-        if spread < self.cfg.comm_range / 2 - 0.5:
+        if spread < self._flock_disk():
             # the leader is virtual: it follows the (clearance-weighted) A* path without obstacle repulsion
             u = self.anchor_nav.control(self.anchor, lead.map.occupied_mask(), eta_g=self.cfg.eta_g,
                                         eta_o=0.0, rho_o=self.cfg.rho_o,
-                                        v_max=self.cfg.particle_speed * self.cfg.v_max)
+                                        v_max=self.cfg.flock_leader_speed * self.cfg.v_max)
             moved = integrate(self.anchor, u, self.cfg.dt, self.world.is_occupied, None)
             # the leader only moves where every robot stays within r_c/2 of it (pairwise ≤ r_c); a shorter step
             # is taken when the full one would leave a robot behind
@@ -695,7 +701,7 @@ class Mission:
         else:
             self._flock_regroup(xs)
         slots = []
-        radius = self.cfg.flock_radius if self.n > 1 else 0.0
+        radius = self._flock_radius() if self.n > 1 else 0.0
         if np.hypot(*(goal_xy - self.home)) < 1e-6 and np.hypot(*(self.anchor - self.home)) < 3.0:
             radius = min(radius, 1.5)  # gather at home base
         for k, r in enumerate(self.robots):
@@ -722,6 +728,9 @@ class Mission:
         if np.linalg.norm(xs - cand[None, :], axis=1).max() <= self._flock_disk() and \
                 not self.world.is_occupied(cand[None, :]).any():
             self.anchor = cand
+
+    def _flock_radius(self) -> float:
+        return self.cfg.comm_range / 2 - 0.5 if self.cfg.flock_radius is None else self.cfg.flock_radius
 
     def _flock_disk(self) -> float:
         return self.cfg.comm_range / 2 - 0.1
@@ -792,12 +801,12 @@ class Mission:
         for r in self.robots:
             if slots is None:
                 self._decide(r)
-                u = r.nav.control(r.xy, r.map.occupied_mask(), eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
-                                  v_max=cfg.v_max)
             else:
                 self._goto(r, slots[r.id], tol=1.0)
-                u = r.nav.control(r.xy, r.map.occupied_mask(), eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
-                                  v_max=cfg.v_max)
+            x = np.array([o.xy for o in self.robots if o is not r])
+            near = x[np.hypot(*(x - r.xy).T) <= cfg.rho_o] if len(x) and cfg.robot_repulsion else None
+            u = r.nav.control(r.xy, r.map.occupied_mask(), eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
+                              v_max=cfg.v_max, robots=near, cruise=cfg.cruise)
             new = integrate(r.xy, u, cfg.dt, self.world.is_occupied, self.rng, cfg.noise_std)
             if slots is not None:
                 new = self._flock_clip(r.xy, new)

@@ -139,21 +139,28 @@ class Navigator:
         self.goal, self.goal_xy, self.path_xy = None, None, np.empty((0, 2))
 
     def control(self, xy: np.ndarray, blocked: np.ndarray, *, eta_g: float, eta_o: float, rho_o: float,
-                v_max: float) -> np.ndarray:
+                v_max: float, robots: np.ndarray | None = None, cruise: bool = False) -> np.ndarray:
+        """Eqs. 6–8 towards the smoothed A* waypoint; the threats are the known obstacles within ρ_o and the
+        other ``robots`` (positions) within ρ_o.
+
+        ``cruise`` (off by default, not in the paper) adds the missing speed along the attractive direction
+        while more than 1 m from the goal, so that a robot keeps v_max between look-ahead waypoints instead of
+        the η_g ρ_g of eq. 6 (which slows it when the waypoint is near); ``bench/explore.py`` measures both.
+        """
         if self.goal_xy is None or len(self.path_xy) == 0:
             return np.zeros(2)
         wp = smooth_waypoint(self.path_xy, xy, blocked, self.res, margin=self.margin)
         if np.hypot(*(self.goal_xy - xy)) < 0.2:
             return np.zeros(2)
         obs = obstacle_points(blocked, self.res, xy, rho_o)
+        if robots is not None and len(robots):
+            obs = np.vstack([obs, robots])
         u = apf_velocity(xy, wp, obs, eta_g=eta_g, eta_o=eta_o, rho_o=rho_o, v_max=v_max)
-        # keep full speed while cruising: the attractive term eq. 6 is proportional to ρ_g, which would slow
-        # the robot near each look-ahead waypoint; the saturation keeps |u| ≤ v_max.
-        att = wp - xy
-        n = np.hypot(*att)
-        remaining = np.hypot(*(self.goal_xy - xy))
-        if n > 1e-9 and np.hypot(*u) < v_max and remaining > 1.0:
-            u = u + att / n * (v_max - np.hypot(*u))
+        if cruise:
+            att = wp - xy
+            n = np.hypot(*att)
+            if n > 1e-9 and np.hypot(*u) < v_max and np.hypot(*(self.goal_xy - xy)) > 1.0:
+                u = u + att / n * (v_max - np.hypot(*u))
         return u
 
 
@@ -170,7 +177,7 @@ class CommonBelief:
 
     def __init__(self, t0: float, base: OccupancyGrid, positions: np.ndarray, queues: list[list[np.ndarray]],
                  home: np.ndarray, lidar: LidarModel, *, delta: float, eta_g: float, eta_o: float, rho_o: float,
-                 v_max: float, homing: list[bool] | None = None) -> None:
+                 v_max: float, homing: list[bool] | None = None, cruise: bool = False) -> None:
         self.t0, self.t = t0, t0
         self.res = base.resolution
         self.shape = base.shape
@@ -181,7 +188,7 @@ class CommonBelief:
         self.seen_by = np.full(self.shape, -1, dtype=int)
         self.home = home
         self.lidar = lidar
-        self.params = dict(eta_g=eta_g, eta_o=eta_o, rho_o=rho_o, v_max=v_max)
+        self.params = dict(eta_g=eta_g, eta_o=eta_o, rho_o=rho_o, v_max=v_max, cruise=cruise)
         self.delta = delta
         homing = homing or [False] * len(positions)
         self.particles = [_Particle(np.array(p, float), [np.array(q, float) for q in qs],
@@ -296,11 +303,11 @@ class BeliefParticles:
     """
 
     def __init__(self, xy: np.ndarray, home: np.ndarray, *, eta_g: float, eta_o: float, rho_o: float,
-                 v_max: float, linger: float = 10.0) -> None:
+                 v_max: float, linger: float = 10.0, cruise: bool = False) -> None:
         n = len(xy)
         self.n = n
         self.home = np.asarray(home, float)
-        self.params = dict(eta_g=eta_g, eta_o=eta_o, rho_o=rho_o, v_max=v_max)
+        self.params = dict(eta_g=eta_g, eta_o=eta_o, rho_o=rho_o, v_max=v_max, cruise=cruise)
         self.linger = linger
         self.rec = np.broadcast_to(np.arange(n), (n, n, n)).copy()
         self.xy = np.vstack([xy, xy]).astype(float)
