@@ -62,13 +62,16 @@ def register(app: typer.Typer) -> None:
         policy: str = typer.Option("all", "--policy", help="What a triggered robot sends: all|greedy|oldest."),
         trigger: str = typer.Option("paper", "--trigger", help="T1/T2 rules: paper|useful."),
         tie_break: str = typer.Option("random", "--tie-break", help="Ties in J: random (common seed)|index."),
+        resend: bool = typer.Option(False, "--resend/--no-resend",
+                                    help="Baseline-I re-sends a backlog lost on a restricted step (ours, not the "
+                                         "paper's; off by default)."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Reproduce every row of Table I (Input, Algorithm, Not-AC, COMM, Time) beside the paper's."""
         from sim.sar import ALGORITHM_NAMES, INIT_NAMES, PAPER_TABLE_I, table_i
 
         base = _config(epochs=epochs, seed=seed, width=width, height=height, policy=policy, trigger=trigger,
-                       tie_break=tie_break)
+                       tie_break=tie_break, resend=resend)
         total = len(PAPER_TABLE_I) * 3
         with _progress() as bar:
             task = bar.add_task("Table I episodes", total=total)
@@ -106,6 +109,9 @@ def register(app: typer.Typer) -> None:
         policy: str = typer.Option("all", "--policy", help="What a triggered robot sends: all|greedy|oldest."),
         trigger: str = typer.Option("paper", "--trigger", help="T1/T2 rules: paper|useful."),
         tie_break: str = typer.Option("random", "--tie-break", help="Ties in J: random|index."),
+        resend: bool = typer.Option(False, "--resend/--no-resend",
+                                    help="Baseline-I re-sends a backlog lost on a restricted step (ours, not the "
+                                         "paper's; off by default)."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Run one search-and-rescue episode and report Not-AC, COMMs and time."""
@@ -116,7 +122,7 @@ def register(app: typer.Typer) -> None:
             raise SimulationError(f"--algorithm {algorithm!r} is not one of {', '.join(ALGORITHM_CHOICES)}")
         cfg = _config(robots=robots, primitives=primitives, init=init, comm_restr=comm_restr, epochs=epochs,
                       seed=seed, width=width, height=height, policy=policy, trigger=trigger,
-                      tie_break=tie_break)
+                      tie_break=tie_break, resend=resend)
         algs = ALGORITHMS if algorithm == "all" else (algorithm,)
         results = []
         with _progress() as bar:

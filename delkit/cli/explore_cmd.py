@@ -53,9 +53,9 @@ def register(app: typer.Typer) -> None:
         map_file: Path | None = typer.Option(None, "--map", help="A MovingAI .map grid instead of a random map."),
         t_max: float = typer.Option(1500.0, "--t-max", min=1.0, help="Give up after this many simulated seconds."),
         png: Path | None = typer.Option(None, "--png", help="Write snapshots of the mission (as Figures 5/7)."),
-        status_model: bool = typer.Option(False, "--status-model",
-                                          help="Also track statuses in a delkit model and check eqs. 14/18 "
-                                               "(≤ 4 robots)."),
+        status_model: bool = typer.Option(True, "--status-model/--no-status-model",
+                                          help="Model-check eqs. 14/18 on the delkit status model that drives "
+                                               "the epistemic team (any N)."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Run one mission and report mission time, distance, tasks done and communications."""
@@ -88,7 +88,8 @@ def register(app: typer.Typer) -> None:
             t.add_column("quantity")
             t.add_column("value", justify="right")
             for k in ("mission_time", "distance", "tasks_done", "n_tasks", "communications", "success",
-                      "all_home", "collisions", "explored", "wall_time"):
+                      "all_home", "collisions", "min_separation", "cascade_assigned", "cascade_delivered",
+                      "explored", "wall_time"):
                 t.add_row(k, str(out[k]))
             if status_model:
                 for k, p, tot in res.epistemic_checks:
@@ -174,18 +175,24 @@ def register(app: typer.Typer) -> None:
         seed: int = typer.Option(0, "--seed"),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
-        """Optimality gap of SSI bundling + makespan minimisation against the exact MILP (HiGHS)."""
+        """Optimality gap of SSI bundling + makespan minimisation against the exact MILP (HiGHS), on eq. 20's
+        team utility (``gap``) and on the makespan (``makespan_gap``)."""
         import numpy as np
 
         from sim.experiments import allocation_gap
 
         rows = allocation_gap(instances, seed=seed)
         g = np.array([r["gap"] for r in rows])
-        summary = {"instances": instances, "mean_gap": float(g.mean()), "median_gap": float(np.median(g)),
-                   "max_gap": float(g.max()), "optimal_fraction": float((g < 1e-6).mean()), "rows": rows}
+        mg = np.array([r["makespan_gap"] for r in rows])
+        summary = {"instances": instances, "objective": "eq. 20 team utility", "mean_gap": float(g.mean()),
+                   "median_gap": float(np.median(g)), "max_gap": float(g.max()),
+                   "optimal_fraction": float((g < 1e-6).mean()), "makespan_mean_gap": float(mg.mean()),
+                   "makespan_max_gap": float(mg.max()), "makespan_optimal_fraction": float((mg < 1e-6).mean()),
+                   "rows": rows}
         if as_json:
             print(json.dumps(summary))
             return
-        print(f"{instances} instances (2–4 robots, 2–4 tasks): mean gap {100 * g.mean():.1f} %, median "
-              f"{100 * np.median(g):.1f} %, max {100 * g.max():.1f} %, heuristic optimal in "
-              f"{100 * (g < 1e-6).mean():.0f} % of instances")
+        print(f"{instances} instances (2–4 robots, 2–4 tasks)\n  eq. 20 utility: mean gap {100 * g.mean():.1f} %, "
+              f"median {100 * np.median(g):.1f} %, max {100 * g.max():.1f} %, heuristic optimal in "
+              f"{100 * (g < 1e-6).mean():.0f} % of instances\n  makespan: mean gap {100 * mg.mean():.1f} %, max "
+              f"{100 * mg.max():.1f} %, optimal in {100 * (mg < 1e-6).mean():.0f} %")
