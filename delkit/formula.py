@@ -457,9 +457,9 @@ QUOTED: /"([^"\\]|\\.)*"/
 
 @lru_cache(maxsize=1)
 def _parser() -> Any:
-    from lark import Lark
+    from delkit._larkcache import build_lark
 
-    return Lark(_GRAMMAR, parser="lalr", propagate_positions=False, maybe_placeholders=False)
+    return build_lark("formula", _GRAMMAR, propagate_positions=False, maybe_placeholders=False)
 
 
 _TOKEN_NAMES = {
