@@ -1,16 +1,36 @@
-"""``delkit plan`` (epistemic planning on mA* / E-PDDL specs) and ``delkit check`` (plan + property checker).
+"""``delkit plan`` (epistemic planning on mA* / E-PDDL 2021 / EPDDL 2026 specs), ``delkit check`` (plan +
+property checker) and ``delkit convert`` (write a task as EPDDL 2026 or mA*).
 
 Exit statuses: ``plan`` — 0 plan found, 1 no plan exists (state space exhausted), 3 no plan within the
-limits; ``check`` — 0 valid, 1 invalid; both — 2 bad input. A failure is never printed as an empty plan.
-Heavy imports stay inside the commands.
+limits (the limit also covers reading, grounding and building the initial state); ``check`` — 0 valid,
+1 invalid; all — 2 bad input. A failure is never printed as an empty plan. The language of a file is
+decided by its content. Heavy imports stay inside the commands.
 """
 
 from __future__ import annotations
 
 import json
+import time
 from pathlib import Path
 
 import typer
+
+
+def _space(task, engine: str, allow_inconsistent: bool):
+    """The planner's state space; tasks with general event-model actions (EPDDL 2026) use the event-model
+    space when the chosen engine does not execute them."""
+    from planners.epistemic import make_space
+    from planners.lang.epddl_run import EventDelSpace, has_event_actions
+
+    if has_event_actions(task):
+        make_space(task, engine="del")  # refuses group-D goals like any task
+        if engine == "fast":
+            try:
+                return make_space(task, engine="fast", allow_inconsistent=True)
+            except (AttributeError, TypeError):  # a fast engine that does not execute EventActions yet
+                pass
+        return EventDelSpace(task)
+    return make_space(task, engine=engine, allow_inconsistent=allow_inconsistent)  # type: ignore[arg-type]
 
 
 def register(app: typer.Typer) -> None:
@@ -20,6 +40,8 @@ def register(app: typer.Typer) -> None:
     def plan_command(
         spec: Path = typer.Argument(..., help="mA* file, or E-PDDL domain file"),
         problem: Path | None = typer.Argument(None, help="E-PDDL problem file (with an E-PDDL domain)"),
+        library: list[Path] = typer.Option([], "--library", "-l", help="EPDDL action-type library (repeatable)"),
+        strict: bool = typer.Option(False, "--strict", help="refuse mA* duplicate declarations"),
         search: str = typer.Option("bfs", "--search", help="bfs (optimal), gbfs or astar"),
         timeout: float = typer.Option(60.0, "--timeout", help="wall-clock limit in seconds"),
         max_nodes: int | None = typer.Option(None, "--max-nodes", help="limit on expanded nodes"),
@@ -29,17 +51,30 @@ def register(app: typer.Typer) -> None:
                                                 help="expand states where an agent believes ⊥"),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
-        """Find a plan (BFS: of minimal length) for an mA* or E-PDDL problem."""
+        """Find a plan (BFS: of minimal length) for an mA*, E-PDDL (2021) or EPDDL (2026) problem."""
         from delkit.errors import PlanningError
-        from planners.epistemic import Limits, plan
+        from planners.epistemic import Limits, SearchResult, best_first, bfs
         from planners.lang import load_task
+        from planners.lang.epddl2026 import LoadTimeout
+        from planners.lang.initial import InitTimeout
 
         if search not in ("bfs", "gbfs", "astar"):
             raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
-        task = load_task(spec, problem)
-        res = plan(task, search=search, engine=engine,  # type: ignore[arg-type]
-                   limits=Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory),
-                   allow_inconsistent=allow_inconsistent)
+        start = time.monotonic()
+        try:
+            task = load_task(spec, problem, library, deadline=start + timeout, strict=strict)
+        except (LoadTimeout, InitTimeout) as exc:
+            res = SearchResult(status="limit", plan=None, expanded=0, generated=0,
+                               seconds=time.monotonic() - start, search=search, reason=str(exc))
+            if as_json:
+                typer.echo(json.dumps({**res.to_json(), "task": str(problem or spec)}))
+            else:
+                typer.echo(f"NO PLAN (timeout): {exc} — {res.seconds:.3f} s")
+            raise typer.Exit(3) from None
+        limits = Limits(timeout=max(0.0, timeout - (time.monotonic() - start)), max_expanded=max_nodes,
+                        max_memory_mb=max_memory)
+        space = _space(task, engine, allow_inconsistent)
+        res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
         out = res.to_json()
         out["task"] = task.name
         if as_json:
@@ -60,6 +95,8 @@ def register(app: typer.Typer) -> None:
     @app.command("check")
     def check_command(
         files: list[Path] = typer.Argument(..., help="SPEC [PROBLEM] PLAN_FILE"),
+        library: list[Path] = typer.Option([], "--library", "-l", help="EPDDL action-type library (repeatable)"),
+        strict: bool = typer.Option(False, "--strict", help="refuse mA* duplicate declarations"),
         prop: list[str] = typer.Option([], "--property", "-p",
                                        help='"always φ", "eventually φ" or "at end φ" (repeatable)'),
         props_file: Path | None = typer.Option(None, "--properties", help="file with one property a line"),
@@ -75,8 +112,13 @@ def register(app: typer.Typer) -> None:
         if len(files) not in (2, 3):
             raise ParseError(f"expected SPEC PLAN_FILE or DOMAIN PROBLEM PLAN_FILE, got {len(files)} file(s)",
                              source="delkit check")
-        task = load_task(files[0], files[1] if len(files) == 3 else None)
+        task = load_task(files[0], files[1] if len(files) == 3 else None, library, strict=strict)
         steps = read_plan(files[-1])
+        from planners.lang.epddl_run import check_event_plan, has_event_actions
+
+        if has_event_actions(task) and (prop or props_file is not None):
+            raise ParseError("--property/--properties are not supported for EPDDL (2026) tasks yet",
+                             source="delkit check")
         texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop]   # (text, source, line)
         if props_file is not None:
             try:
@@ -86,7 +128,11 @@ def register(app: typer.Typer) -> None:
             texts += [(ln.strip(), str(props_file), i) for i, ln in enumerate(lines, 1)
                       if ln.strip() and not ln.lstrip().startswith("#")]
         properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
-        res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent, plan_source=str(files[-1]))
+        if has_event_actions(task):
+            res = check_event_plan(task, steps, plan_source=str(files[-1]))
+        else:
+            res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent,
+                             plan_source=str(files[-1]))
         if as_json:
             typer.echo(json.dumps(res.to_json()))
         elif res.valid:

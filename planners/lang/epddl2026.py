@@ -35,7 +35,7 @@ from __future__ import annotations
 import itertools
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -44,7 +44,7 @@ from delkit.errors import ParseError, PlanningError
 from delkit.formula import BOT, TOP, And, C, Formula, Implies, K, Kw, Not, Or, Prop
 from planners.lang.sexpr import Node, Sym, read
 
-__all__ = ["load_epddl2026", "parse_epddl2026", "Spec", "LoadTimeout", "find_libraries", "BASIC"]
+__all__ = ["load_epddl2026", "parse_epddl2026", "LoadTimeout", "find_libraries", "BASIC"]
 
 BASIC = "basic"
 _ENTITY, _OBJECT, _AGENT = "entity", "object", "agent"
@@ -102,18 +102,6 @@ def atom_name(pred: str, args: tuple[str, ...]) -> str:
 
 
 # ----------------------------------------------------------------------------- specification
-@dataclass
-class Spec:
-    """The parsed (not yet grounded) files of one run."""
-
-    domain: list
-    problem: list
-    libraries: dict[str, list]  # name -> forms of (action-type-library name)
-    sources: dict[int, str]  # id(form) of each top form -> file
-    domain_name: str = ""
-    declared_libraries: list[str] = field(default_factory=list)
-
-
 def _sections(define: Node, source: str) -> tuple[str, str, list[Node]]:
     """(kind, name, sections) of a ``(define (kind name) ...)`` form."""
     if not isinstance(define, Node) or define.head() != "define" or len(define) < 2 \
@@ -154,7 +142,7 @@ def find_libraries(domain: Path, names: list[str], given: list[Path]) -> list[Pa
             pass
     out = []
     for n in names:
-        if n == BASIC or n in have:
+        if n in have:
             continue
         for d in [domain.parent, *domain.parents]:
             for cand in (d / f"{n}.epddl", d / "libraries" / f"{n}.epddl"):
@@ -918,10 +906,19 @@ def _obs_spec(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tup
     return {a: sorted(spec[a].items()) for a in agents}
 
 
+def _relation(n: int, pairs: list[tuple[int, int]]):
+    """A relation on n events; an equivalence is kept as a partition (products with S5 states stay cheap)."""
+    from delkit.relation import Relation
+
+    r = Relation.from_pairs(n, pairs)
+    if r.is_reflexive() and r.is_symmetric() and r.is_transitive():
+        return r.as_partition()
+    return r
+
+
 def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_node, env, agents, line,
                    EventAction):
     from delkit.events import EventModel
-    from delkit.relation import Relation
 
     evs = [_ground_event(g, r, events, env) for r in ev_refs]
     rels = _type_relations(g, at)
@@ -944,7 +941,7 @@ def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_nod
     post = tuple(e[2] for e in evs)
     des = tuple(at.events.index(d) for d in at.designated)
     n = len(slots)
-    type_rel = {t: Relation.from_pairs(n, rels.get(t, [])) for t in at.obs_types}
+    type_rel = {t: _relation(n, rels.get(t, [])) for t in at.obs_types}
 
     def build(bits: tuple[bool, ...]) -> EventModel:
         relations = {}
