@@ -55,15 +55,14 @@ def register(app: typer.Typer) -> None:
         from delkit.errors import PlanningError
         from planners.epistemic import Limits, SearchResult, best_first, bfs
         from planners.lang import load_task
-        from planners.lang.epddl2026 import LoadTimeout
-        from planners.lang.initial import InitTimeout
+        from planners.lang.initial import LoadTimeout
 
         if search not in ("bfs", "gbfs", "astar"):
             raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
         start = time.monotonic()
         try:
             task = load_task(spec, problem, library, deadline=start + timeout, strict=strict)
-        except (LoadTimeout, InitTimeout) as exc:
+        except LoadTimeout as exc:
             res = SearchResult(status="limit", plan=None, expanded=0, generated=0,
                                seconds=time.monotonic() - start, search=search, reason=str(exc))
             if as_json:

@@ -40,18 +40,15 @@ from pathlib import Path
 
 import numpy as np
 
-from delkit.errors import ParseError, PlanningError
+from delkit.errors import ParseError
 from delkit.formula import BOT, TOP, And, C, Formula, Implies, K, Kw, Not, Or, Prop
+from planners.lang.initial import LoadTimeout
 from planners.lang.sexpr import Node, Sym, read
 
 __all__ = ["load_epddl2026", "parse_epddl2026", "LoadTimeout", "find_libraries", "BASIC"]
 
 BASIC = "basic"
 _ENTITY, _OBJECT, _AGENT = "entity", "object", "agent"
-
-
-class LoadTimeout(PlanningError):
-    """The time limit ran out while reading, grounding or building the initial state."""
 
 
 # ----------------------------------------------------------------------------- formula smart constructors
@@ -174,9 +171,9 @@ class _Ground:
     def err(self, msg: str, node) -> ParseError:
         return ParseError(msg, source=self.where, line=getattr(node, "line", None))
 
-    def tick(self) -> None:
+    def tick(self, every: int = 1023) -> None:
         self.counter += 1
-        if self.deadline is not None and (self.counter & 1023) == 0 and time.monotonic() > self.deadline:
+        if self.deadline is not None and (self.counter & every) == 0 and time.monotonic() > self.deadline:
             raise LoadTimeout("time limit reached while grounding the EPDDL task")
 
     # types ---------------------------------------------------------------
@@ -460,6 +457,7 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
     libraries = [Path(p) for p in libraries]
     g = _Ground({}, deadline)
     g.where = str(domain)
+    g.tick(0)
     dkind, dname, dsecs = _read_define(domain)
     if dkind != "domain":
         raise ParseError(f"expected (define (domain NAME) ...), found ({dkind} {dname})", source=str(domain))
@@ -650,6 +648,7 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
         params = kv.get(":parameters") or []
         typed, _ = g.typed_list(params)
         for env in g.bindings(params, {}):
+            g.tick(0)
             name = "_".join([aname, *(env[v] for v, _ in typed)])
             ground.append(_ground_action(g, name, at, ev_refs, events, kv.get(":observability-conditions"),
                                          env, agents, line, EventAction))

@@ -50,19 +50,22 @@ from delkit.formula import (
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
-__all__ = ["finitary_s5", "finitary_s5_epddl", "knows_whether", "models"]
+__all__ = ["finitary_s5", "finitary_s5_epddl", "knows_whether", "models", "LoadTimeout"]
 
 _MAX_WORLDS = 1 << 22   # refuse initial models larger than this (4 M worlds)
 _NUMPY_VARS = 16        # components over at most this many fluents are enumerated with numpy
 
 
-class InitTimeout(PlanningError):
-    """The time limit ran out while building the initial state."""
+class LoadTimeout(PlanningError):
+    """The time limit ran out while reading, grounding or building the initial state of a task."""
+
+
+InitTimeout = LoadTimeout
 
 
 def _check_deadline(deadline: float | None) -> None:
     if deadline is not None and time.monotonic() > deadline:
-        raise InitTimeout("time limit reached while building the initial state")
+        raise LoadTimeout("time limit reached while building the initial state")
 
 
 def _components(parts: list[Formula]) -> list[tuple[list[str], list[Formula]]]:
@@ -188,6 +191,12 @@ def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: fl
 
         sub = {p: (TOP if v else BOT) for p, v in fixed.items()}
         parts = [substitute(f, sub) for f in parts]
+    ground = [f for f in parts if not props_of(f)]
+    if ground:  # constant (e.g. after substitution): decide it once
+        one = KripkeModel((), (), np.zeros((1, 0), dtype=bool), {}, ())
+        if not all(bool(one.check(f)[0]) for f in ground):
+            return np.zeros((0, len(props)), dtype=bool)
+        parts = [f for f in parts if props_of(f)]
     blocks: list[tuple[list[int], np.ndarray]] = []
     for vars_, fs in _components(parts):
         _check_deadline(deadline)
@@ -319,6 +328,7 @@ def finitary_s5(props: Sequence[str], agents: Sequence[str], pointed: dict[str, 
     flat = KripkeModel(props, (), val, {}, ())
     pidx = {p: i for i, p in enumerate(props)}
     rels = _kw_relations(flat, agents, kw, deadline)
+    _check_deadline(deadline)
     match = np.ones(val.shape[0], dtype=bool)
     for p, v in pointed.items():
         match &= val[:, pidx[p]] == v
@@ -334,11 +344,13 @@ def finitary_s5(props: Sequence[str], agents: Sequence[str], pointed: dict[str, 
     model = KripkeModel(props, agents, val, rels, (int(hits[0]),))
     everyone = tuple(sorted(agents))
     for phi, where in common:
+        _check_deadline(deadline)
         if not model.holds(C(everyone, phi)) or not model.holds(phi):
             raise ParseError(f"initial statement C({show(phi)}) is not made true by the finitary-S5 "
                              f"construction (supported: fluent formulas and B(i,ψ) | B(i,-ψ) under C)",
                              source=where)
     for phi, where in others:
+        _check_deadline(deadline)
         if not model.holds(phi):
             raise ParseError(f"initial statement {show(phi)} does not hold in the initial state",
                              source=where)
