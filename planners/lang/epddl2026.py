@@ -75,7 +75,10 @@ def mk_and(parts) -> Formula:
             out.append(p)
     if not out:
         return TOP
-    return out[0] if len(out) == 1 else And(tuple(dict.fromkeys(out)))
+    uniq = tuple(dict.fromkeys(out))
+    if any(Not(x) in uniq for x in uniq):  # x ∧ ¬x
+        return BOT
+    return uniq[0] if len(uniq) == 1 else And(uniq)
 
 
 def mk_or(parts) -> Formula:
@@ -91,7 +94,10 @@ def mk_or(parts) -> Formula:
             out.append(p)
     if not out:
         return BOT
-    return out[0] if len(out) == 1 else Or(tuple(dict.fromkeys(out)))
+    uniq = tuple(dict.fromkeys(out))
+    if any(Not(x) in uniq for x in uniq):  # x ∨ ¬x
+        return TOP
+    return uniq[0] if len(uniq) == 1 else Or(uniq)
 
 
 def atom_name(pred: str, args: tuple[str, ...]) -> str:

@@ -13,10 +13,10 @@ import pytest
 
 from delkit.cli import main
 from delkit.errors import ParseError
-from planners.epistemic import Limits, bfs
+from planners.epistemic import Limits, bfs, make_space
 from planners.lang import load_task, shared_benchmarks
 from planners.lang.epddl2026 import LoadTimeout, load_epddl2026
-from planners.lang.epddl_run import EventDelSpace, check_event_plan
+from planners.lang.epddl_run import check_event_plan
 from planners.task import EventAction
 
 BENCH = shared_benchmarks()
@@ -50,7 +50,7 @@ def _plan_and_check(row: dict, timeout: float = 60.0):
     dom, prob, libs = _files(row)
     t0 = time.monotonic()
     task = load_epddl2026(dom, prob, libs, deadline=t0 + timeout)
-    res = bfs(EventDelSpace(task), Limits(timeout=max(0.0, timeout - (time.monotonic() - t0))))
+    res = bfs(make_space(task, allow_inconsistent=True), Limits(timeout=max(0.0, timeout - (time.monotonic() - t0))))
     assert res.status in ("solved", "unsolvable"), res.reason
     if res.solved:
         chk = check_event_plan(task, list(res.plan))
