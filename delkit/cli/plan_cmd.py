@@ -140,3 +140,43 @@ def register(app: typer.Typer) -> None:
         else:
             typer.echo(f"INVALID at step {res.step} ({res.action or 'initial state'}): {res.reason}")
         raise typer.Exit(0 if res.valid else 1)
+
+    @app.command("convert")
+    def convert_command(
+        files: list[Path] = typer.Argument(..., help="mA* file, or E-PDDL DOMAIN PROBLEM"),
+        to: str = typer.Option("epddl", "--to", help="epddl (EPDDL 2026: domain, problem, library) or mastar"),
+        out: Path = typer.Option(Path("."), "--out", "-o", help="output directory"),
+        name: str | None = typer.Option(None, "--name", help="base name of the written files"),
+        as_json: bool = typer.Option(False, "--json", help="print the written paths as JSON"),
+    ) -> None:
+        """Write an mA* or E-PDDL (2021) task as EPDDL (2026), or as mA* where it fits."""
+        from delkit.errors import ParseError
+        from planners.lang import load_task
+        from planners.lang.writer import to_epddl, to_mastar
+
+        if to not in ("epddl", "mastar"):
+            raise ParseError(f"--to {to!r}: use epddl or mastar", source="delkit convert")
+        if len(files) not in (1, 2):
+            raise ParseError(f"expected SPEC or DOMAIN PROBLEM, got {len(files)} file(s)", source="delkit convert")
+        task = load_task(files[0], files[1] if len(files) == 2 else None)
+        base = name or (files[-1].stem if len(files) == 2 else files[0].stem)
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise ParseError(f"cannot create the output directory: {exc.strerror}", source=str(out)) from None
+        written: dict[str, str] = {}
+        if to == "epddl":
+            dom, prob, lib = to_epddl(task, base)
+            for kind, text in (("domain", dom), ("problem", prob), ("library", lib)):
+                path = out / (f"{base}_{kind}.epddl" if kind != "library" else "mastar.epddl")
+                path.write_text(text)
+                written[kind] = str(path)
+        else:
+            path = out / f"{base}.txt"
+            path.write_text(to_mastar(task))
+            written["mastar"] = str(path)
+        if as_json:
+            typer.echo(json.dumps(written))
+        else:
+            for kind, path in written.items():
+                typer.echo(f"{kind}: {path}")
