@@ -24,9 +24,10 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from planners.epistemic import Limits, bfs, make_space  # noqa: E402
+from planners.epistemic import Limits, bfs  # noqa: E402
 from planners.lang import shared_benchmarks  # noqa: E402
 from planners.lang.epddl2026 import load_epddl2026  # noqa: E402
+from planners.lang.epddl_run import space_for  # noqa: E402
 
 
 def _num(x: str) -> float | None:
@@ -71,9 +72,10 @@ def run(repeat: int, timeout: float, only: str | None) -> list[dict]:
             task = load_epddl2026(*files, libs)
             g = (time.perf_counter() - t0, time.process_time() - c0)
             g_best = g if g_best is None or g[0] < g_best[0] else g_best
-        engine = "del" if task.initial.n_worlds > 4096 else "fast"   # as `delkit plan --engine auto`
+        space = space_for(task)   # as `delkit plan` (--engine auto)
+        engine = type(space).__name__
         t0, c0 = time.perf_counter(), time.process_time()
-        res = bfs(make_space(task, engine=engine, allow_inconsistent=True), Limits(timeout=timeout))
+        res = bfs(space, Limits(timeout=timeout))
         s = (time.perf_counter() - t0, time.process_time() - c0)
         args = [str(f) for f in files] + [x for lib in libs for x in ("--library", str(lib))]
         w_best = None

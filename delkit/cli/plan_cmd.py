@@ -16,20 +16,6 @@ from pathlib import Path
 import typer
 
 
-def _space(task, engine: str, allow_inconsistent: bool):
-    """The planner's state space; EPDDL (2026) tasks never prune states where an agent believes ⊥ (K and KD45
-    states are legitimate there, and plank does not prune them). An EPDDL task whose initial state has more
-    than 4096 worlds runs on the numpy backend unless ``--engine`` says otherwise: the compact backend's
-    bit sets cost O(worlds²) per relation there (Tiger: 20,480 worlds, 42 s vs 1.5 s)."""
-    from planners.epistemic import make_space
-    from planners.lang.epddl_run import has_event_actions
-
-    event = has_event_actions(task)
-    if engine == "auto":
-        engine = "del" if event and task.initial.n_worlds > 4096 else "fast"
-    return make_space(task, engine=engine, allow_inconsistent=allow_inconsistent or event)  # type: ignore[arg-type]
-
-
 def register(app: typer.Typer) -> None:
     """Attach ``plan`` and ``check`` to the top-level app."""
 
@@ -71,7 +57,9 @@ def register(app: typer.Typer) -> None:
             raise typer.Exit(3) from None
         limits = Limits(timeout=max(0.0, timeout - (time.monotonic() - start)), max_expanded=max_nodes,
                         max_memory_mb=max_memory)
-        space = _space(task, engine, allow_inconsistent)
+        from planners.lang.epddl_run import space_for
+
+        space = space_for(task, engine, allow_inconsistent)
         res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
         out = res.to_json()
         out["task"] = task.name

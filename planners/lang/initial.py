@@ -14,10 +14,11 @@ Other modal statements (e.g. ``C(¬B(i,ψ) ∧ ¬B(i,¬ψ))``, which says i is i
 structure; after construction *every* initial statement is checked on the model, and a statement the
 construction does not make true is reported as an error instead of being silently ignored.
 
-The worlds are found without enumerating all valuations (:func:`models`): the constraints are split into
-independent components (conjuncts sharing no fluent); a component over few fluents is enumerated with
-numpy, a larger one with a BDD (``dd.cudd``, imported only then: it costs 0.3 s of start-up), and the
-worlds are the product of the components' models with the unconstrained fluents. A ``deadline`` is
+The worlds are found without enumerating all valuations (:func:`models`): unit propagation, then the
+constraints are split into independent components (conjuncts sharing no fluent); a component over few
+fluents is enumerated with numpy, a larger one is split on a top-level disjunction (DPLL-style, each branch
+propagated) and what is left goes to a BDD (``dd.cudd``, imported only then: it costs 0.3 s of start-up);
+the worlds are the product of the components' models with the unconstrained fluents. A ``deadline`` is
 honoured throughout (:class:`planners.lang.epddl2026.LoadTimeout`).
 """
 
@@ -167,47 +168,114 @@ def _bdd_models(vars_: list[str], fs: list[Formula], deadline: float | None) -> 
     return rows
 
 
+def _simplify(f: Formula) -> Formula:  # noqa: C901 - one clause per connective
+    """Constant folding (after substituting fixed fluents by ⊤/⊥)."""
+    if isinstance(f, (Prop, Top, Bot)):
+        return f
+    if isinstance(f, Not):
+        a = _simplify(f.arg)
+        return BOT if a == TOP else TOP if a == BOT else a.arg if isinstance(a, Not) else Not(a)
+    if isinstance(f, And):
+        out = []
+        for g in f.args:
+            g = _simplify(g)
+            if g == BOT:
+                return BOT
+            if g != TOP:
+                out.extend(g.args if isinstance(g, And) else (g,))
+        return TOP if not out else out[0] if len(out) == 1 else And(tuple(out))
+    if isinstance(f, Or):
+        out = []
+        for g in f.args:
+            g = _simplify(g)
+            if g == TOP:
+                return TOP
+            if g != BOT:
+                out.extend(g.args if isinstance(g, Or) else (g,))
+        return BOT if not out else out[0] if len(out) == 1 else Or(tuple(out))
+    if isinstance(f, Implies):
+        return _simplify(Or((Not(f.left), f.right)))
+    if isinstance(f, Iff):
+        a, b = _simplify(f.left), _simplify(f.right)
+        if a in (TOP, BOT):
+            return b if a == TOP else _simplify(Not(b))
+        if b in (TOP, BOT):
+            return a if b == TOP else _simplify(Not(a))
+        return Iff(a, b)
+    raise ParseError(f"not a propositional formula: {show(f)}")
+
+
+def _propagate(parts: list[Formula], fixed: dict[str, bool]) -> list[Formula] | None:
+    """Unit propagation: fix the literal conjuncts, substitute and fold until nothing changes (None if ⊥)."""
+    from delkit.formula import substitute
+
+    while True:
+        rest: list[Formula] = []
+        new: dict[str, bool] = {}
+        for f in parts:
+            for part in _conjuncts(f):
+                u = _unit(part)
+                if u is not None:
+                    if fixed.get(u[0], u[1]) != u[1] or new.get(u[0], u[1]) != u[1]:
+                        return None
+                    if u[0] not in fixed:
+                        new[u[0]] = u[1]
+                elif part == BOT:
+                    return None
+                elif part != TOP:
+                    rest.append(part)
+        if not new:
+            return rest
+        fixed.update(new)
+        sub = {p: (TOP if v else BOT) for p, v in new.items()}
+        parts = [_simplify(substitute(f, sub)) for f in rest]
+
+
 def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: float | None = None,
-           fixed: dict[str, bool] | None = None) -> np.ndarray:
+           fixed: dict[str, bool] | None = None, _depth: int = 0) -> np.ndarray:
     """Every valuation of ``props`` (a worlds × props boolean array) satisfying all ``constraints``
-    (propositional) and the ``fixed`` fluent values, without enumerating the unconstrained product."""
+    (propositional) and the ``fixed`` fluent values, without enumerating the unconstrained product.
+
+    Unit propagation first; then each component over few fluents is enumerated with numpy, a larger one is
+    split on its smallest top-level disjunction (each disjunct propagated in turn, at most 3 levels deep)
+    and only what remains goes to a BDD."""
     props = tuple(props)
     pidx = {p: i for i, p in enumerate(props)}
+    empty = np.zeros((0, len(props)), dtype=bool)
     fixed = dict(fixed or {})
-    parts: list[Formula] = []
-    for f in constraints:
-        for part in _conjuncts(f):
-            u = _unit(part)
-            if u is not None and u[0] in pidx:
-                if fixed.get(u[0], u[1]) != u[1]:
-                    return np.zeros((0, len(props)), dtype=bool)
-                fixed[u[0]] = u[1]
-            elif part == BOT:
-                return np.zeros((0, len(props)), dtype=bool)
-            elif part != TOP:
-                parts.append(part)
-    if fixed:  # substitute the fixed fluents away
+    if fixed:
         from delkit.formula import substitute
 
         sub = {p: (TOP if v else BOT) for p, v in fixed.items()}
-        parts = [substitute(f, sub) for f in parts]
-    ground = [f for f in parts if not props_of(f)]
-    if ground:  # constant (e.g. after substitution): decide it once
-        one = KripkeModel((), (), np.zeros((1, 0), dtype=bool), {}, ())
-        if not all(bool(one.check(f)[0]) for f in ground):
-            return np.zeros((0, len(props)), dtype=bool)
-        parts = [f for f in parts if props_of(f)]
+        constraints = [_simplify(substitute(f, sub)) for f in constraints]
+    parts = _propagate([_simplify(f) for f in constraints], fixed)
+    if parts is None:
+        return empty
+    unknown = [p for p in fixed if p not in pidx]
+    if unknown:
+        raise ParseError(f"the initial state mentions unknown fluent(s) {unknown}")
     blocks: list[tuple[list[int], np.ndarray]] = []
     for vars_, fs in _components(parts):
         _check_deadline(deadline)
         unknown = [p for p in vars_ if p not in pidx]
         if unknown:
             raise ParseError(f"the initial state mentions unknown fluent(s) {unknown}")
-        free = [p for p in vars_ if p not in fixed]
-        rows = (_numpy_models if len(free) <= _NUMPY_VARS else _bdd_models)(free, fs, deadline)
+        if len(vars_) <= _NUMPY_VARS:
+            rows = _numpy_models(vars_, fs, deadline)
+        else:
+            ors = [f for f in fs if isinstance(f, Or)]
+            if ors and _depth < 3:
+                # the disjunction whose every branch fixes the most fluents (then the fewest branches)
+                split = min(ors, key=lambda f: (-min(sum(1 for c in _conjuncts(d) if _unit(c)) for d in f.args),
+                                                len(f.args)))
+                others = [f for f in fs if f is not split]
+                got = [models(vars_, [d, *others], deadline=deadline, _depth=_depth + 1) for d in split.args]
+                rows = np.unique(np.concatenate(got, axis=0), axis=0) if got else np.zeros((0, len(vars_)), bool)
+            else:
+                rows = _bdd_models(vars_, fs, deadline)
         if rows.shape[0] == 0:
-            return np.zeros((0, len(props)), dtype=bool)
-        blocks.append(([pidx[p] for p in free], rows))
+            return empty
+        blocks.append(([pidx[p] for p in vars_], rows))
     covered = {i for cols, _ in blocks for i in cols} | {pidx[p] for p in fixed}
     for i in range(len(props)):
         if i not in covered:
