@@ -62,6 +62,11 @@ def mk_not(f: Formula) -> Formula:
     return Not(f)
 
 
+def _contradicts(parts: tuple[Formula, ...]) -> bool:
+    negs = {x.arg for x in parts if isinstance(x, Not)}
+    return bool(negs) and any(x in negs for x in parts)
+
+
 def mk_and(parts) -> Formula:
     out: list[Formula] = []
     for p in parts:
@@ -76,7 +81,7 @@ def mk_and(parts) -> Formula:
     if not out:
         return TOP
     uniq = tuple(dict.fromkeys(out))
-    if any(Not(x) in uniq for x in uniq):  # x ∧ ¬x
+    if _contradicts(uniq):  # x ∧ ¬x
         return BOT
     return uniq[0] if len(uniq) == 1 else And(uniq)
 
@@ -95,7 +100,7 @@ def mk_or(parts) -> Formula:
     if not out:
         return BOT
     uniq = tuple(dict.fromkeys(out))
-    if any(Not(x) in uniq for x in uniq):  # x ∨ ¬x
+    if _contradicts(uniq):  # x ∨ ¬x
         return TOP
     return uniq[0] if len(uniq) == 1 else Or(uniq)
 
@@ -173,6 +178,8 @@ class _Ground:
         self._by_type: dict[str, list[str]] = {}
         self.where = "<epddl>"
         self.counter = 0
+        self._order: dict[Node, list] = {}
+        self._is_static: dict[Node, bool] = {}
 
     def err(self, msg: str, node) -> ParseError:
         return ParseError(msg, source=self.where, line=getattr(node, "line", None))
@@ -342,9 +349,9 @@ class _Ground:
                 raise self.err("expected ([modality] formula) or (<modality> formula)", f)
             return self.modal(h, self.formula(f[1], env), env)
         if h == "and":
-            return mk_and(self.formula(x, env) for x in f[1:])
+            return mk_and(self.formula(x, env) for x in self._static_first(f))
         if h == "or":
-            return mk_or(self.formula(x, env) for x in f[1:])
+            return mk_or(self.formula(x, env) for x in self._static_first(f))
         if h == "not":
             self._arity(f, 1)
             return mk_not(self.formula(f[1], env))
@@ -369,6 +376,34 @@ class _Ground:
         if str(h).startswith(":"):
             raise self.err(f"{h} is a list construct; formulas use and/or/forall/exists (without ':')", f)
         return self.atom(f, env)
+
+    def _static_first(self, f: Node) -> list:
+        """The arguments of an and/or, those depending only on facts and equality first (they often decide
+        the whole formula, and the others are then never grounded)."""
+        got = self._order.get(f)
+        if got is None:
+            args = list(f[1:])
+            got = self._order[f] = [x for x in args if self._static(x)] + [x for x in args if not self._static(x)]
+        return got
+
+    def _static(self, x) -> bool:
+        if not isinstance(x, Node):
+            return isinstance(x, Sym) and x in ("true", "false")
+        got = self._is_static.get(x)
+        if got is None:
+            h = x.head()
+            if h in ("=", "/="):
+                got = True
+            elif h in ("and", "or", "not", "imply"):
+                got = all(self._static(y) for y in x[1:])
+            elif h in ("forall", "exists") and len(x) == 3:
+                got = self._static(x[2])
+            elif h is not None and h in self.preds:
+                got = self.preds[h][1]
+            else:
+                got = False
+            self._is_static[x] = got
+        return got
 
     def _arity(self, f: Node, n: int) -> None:
         if len(f) != n + 1:
@@ -757,6 +792,8 @@ def _effects(g: _Ground, node, env) -> dict[str, Formula]:
             if len(node) != 3:
                 raise g.err("(when condition effects)", node)
             c = mk_and([cond, g.formula(node[1], env)])
+            if c == BOT:
+                return
             g.items(node[2], env, lambda n, e: leaf(n, e, c))
             return
         if isinstance(node, Node) and node.head() == "iff":
@@ -911,6 +948,9 @@ def _obs_spec(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tup
     return {a: sorted(spec[a].items()) for a in agents}
 
 
+_TYPE_REL: dict[int, tuple] = {}  # id(action type) -> (type, obs type -> Relation); the type is kept alive
+
+
 def _relation(n: int, pairs: list[tuple[int, int]]):
     """A relation on n events; an equivalence is kept as a partition (products with S5 states stay cheap)."""
     from delkit.relation import Relation
@@ -946,7 +986,10 @@ def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_nod
     post = tuple(e[2] for e in evs)
     des = tuple(at.events.index(d) for d in at.designated)
     n = len(slots)
-    type_rel = {t: _relation(n, rels.get(t, [])) for t in at.obs_types}
+    type_rel = _TYPE_REL.get(id(at))
+    if type_rel is None or type_rel[0] is not at:
+        type_rel = _TYPE_REL[id(at)] = (at, {t: _relation(n, rels.get(t, [])) for t in at.obs_types})
+    type_rel = type_rel[1]
 
     def build(bits: tuple[bool, ...]) -> EventModel:
         relations = {}
