@@ -179,6 +179,7 @@ class _Ground:
         self.where = "<epddl>"
         self.counter = 0
         self._order: dict[Node, list] = {}
+        self.groups: dict[str, tuple[str, ...]] = {}
         self._is_static: dict[Node, bool] = {}
 
     def err(self, msg: str, node) -> ParseError:
@@ -262,6 +263,8 @@ class _Ground:
             return tuple(self.agent(y, env) for y in x)
         if x == "All":
             return tuple(self.agents)
+        if x in self.groups:
+            return self.groups[x]
         return (self.agent(x, env),)
 
     def agent(self, x, env) -> str:
@@ -575,6 +578,7 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
     g.where = str(problem)
     init = goal = None
     facts_init = None
+    group_secs: list[Node] = []
     for sec in psecs:
         key = sec[0]
         if key in (":requirements", ":domain"):
@@ -594,10 +598,14 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
             init = sec
         elif key == ":goal":
             goal = sec
+        elif key == ":agent-groups":
+            group_secs.append(sec)
         else:
             raise g.err(f"unsupported problem section {key} (supported: :domain, :requirements, :agents, "
-                        f":objects, :facts-init, :init, :goal)", sec)
+                        f":agent-groups, :objects, :facts-init, :init, :goal)", sec)
     g.agents = [e for e, t in g.entities.items() if g.is_sub(t, _AGENT)]
+    for sec in group_secs:
+        _agent_groups(g, sec)
     if not g.agents:
         raise g.err("no agents: declare them with (:agents ...) or as constants of type agent", problem)
     if init is None or goal is None:
@@ -695,6 +703,30 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
                                          env, agents, line, EventAction))
     return Task(name=pname, props=tuple(props), agents=agents, initial=model, actions=tuple(ground),
                 goal=goal_f, source=str(problem))
+
+
+def _group_members(g: _Ground, node) -> list[str]:
+    members: list[str] = []
+
+    def member(n, env) -> None:
+        if isinstance(n, Node) and n.kind == "(" and n.head() not in (":and", ":forall"):
+            for y in n:
+                g.items(y, env, member)
+            return
+        members.append(g.agent(n, env))
+    g.items(node, {}, member)
+    return members
+
+
+def _agent_groups(g: _Ground, sec: Node) -> None:
+    """``(:agent-groups (Name [- type] (a1 a2 ...)) ...)``: named groups usable in modalities."""
+    for item in sec[1:]:
+        if not isinstance(item, Node) or len(item) not in (2, 4) or not isinstance(item[0], Sym):
+            raise g.err("expected (GroupName [- type] (agent ...))", item)
+        members = _group_members(g, item[-1])
+        if not members:
+            raise g.err(f"agent group {item[0]} is empty", item)
+        g.groups[str(item[0])] = tuple(dict.fromkeys(members))
 
 
 def _prop(g: _Ground, node, env) -> Formula:

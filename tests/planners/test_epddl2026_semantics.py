@@ -143,3 +143,16 @@ def test_formulas_agree_with_plank_definitions(tmp_path_factory, f, pairs, label
                  [f"w{d}" for d in sorted(des)], text)
     lab = dict(enumerate(labels))
     assert task.initial.holds(task.goal) == all(_ref(tree, d, succ, lab) for d in des), text
+
+
+def test_agent_groups_in_modalities(tmp_path) -> None:
+    """``(:agent-groups (G (a b)))``: [G] is the conjunction of [a] and [b], <G> of the diamonds."""
+    d, p = tmp_path / "d.epddl", tmp_path / "p.epddl"
+    d.write_text(DOMAIN)
+    rels = " ".join(f"{a} (:and {' '.join(f'({x} {y})' for x, y in pairs)})" for a, pairs in R.items())
+    p.write_text(f"(define (problem t) (:domain sem) (:agents a b) (:agent-groups (G (a b)) (H (:and a)))\n"
+                 f" (:init :worlds (w1 w2 w3) :relations ({rels})\n"
+                 f" :labels (w1 (:and) w2 (:and (p)) w3 (:and (q))) :designated (w1))\n"
+                 f" (:goal (and (not (<G> (p))) (<H> (p)) ([C. H] (or (p) (q))))))")
+    task = load_epddl2026(d, p)
+    assert task.initial.holds(task.goal)
