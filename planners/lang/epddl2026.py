@@ -48,6 +48,20 @@ from planners.lang.sexpr import Node, Sym, read
 __all__ = ["load_epddl2026", "parse_epddl2026", "LoadTimeout", "find_libraries", "BASIC"]
 
 BASIC = "basic"
+REQUIREMENTS = frozenset((
+    ":agent-groups :common-knowledge :conditional-effects :del :disjunctive-formulas :disjunctive-goals "
+    ":disjunctive-list-formulas :disjunctive-obs-conditions :disjunctive-postconditions :disjunctive-preconditions "
+    ":equality :events-conditions :existential-formulas :existential-goals :existential-list-formulas "
+    ":existential-obs-conditions :existential-postconditions :existential-preconditions :finitary-S5-theories "
+    ":facts :general-formulas :general-frames :general-goals :general-list-formulas :general-obs-conditions "
+    ":general-postconditions :general-preconditions :group-modalities :KD45-frames :knowing-whether :lists "
+    ":list-comprehensions :modal-formulas :modal-goals :modal-obs-conditions :modal-postconditions "
+    ":modal-preconditions :multi-pointed-models :negative-formulas :negative-goals :negative-list-formulas "
+    ":negative-obs-conditions :negative-postconditions :negative-preconditions :ontic-actions :pal "
+    ":partial-observability :quantified-formulas :quantified-goals :quantified-list-formulas "
+    ":quantified-obs-conditions :quantified-postconditions :quantified-preconditions :static-common-knowledge "
+    ":typing :universal-formulas :universal-goals :universal-list-formulas :universal-obs-conditions "
+    ":universal-postconditions :universal-preconditions").split())   # the guideline's (plank's lexer's) list
 _ENTITY, _OBJECT, _AGENT = "entity", "object", "agent"
 
 
@@ -516,6 +530,7 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
     for sec in dsecs:
         key = sec[0]
         if key == ":requirements":
+            _requirements(g, sec)
             continue
         if key == ":action-type-libraries":
             declared_libs += [str(x) for x in sec[1:]]
@@ -559,6 +574,7 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
         lib_names.append(lname)
         for sec in lsecs:
             if sec[0] == ":requirements":
+                _requirements(g, sec)
                 continue
             if sec[0] != ":action-type":
                 raise g.err(f"unsupported library section {sec[0]}", sec)
@@ -582,6 +598,8 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
     for sec in psecs:
         key = sec[0]
         if key in (":requirements", ":domain"):
+            if key == ":requirements":
+                _requirements(g, sec)
             if key == ":domain" and str(sec[1]) != dname:
                 raise g.err(f"the problem is for domain {sec[1]!r}, the domain file defines {dname!r}", sec)
             continue
@@ -716,6 +734,14 @@ def _group_members(g: _Ground, node) -> list[str]:
         members.append(g.agent(n, env))
     g.items(node, {}, member)
     return members
+
+
+def _requirements(g: _Ground, sec: Node) -> None:
+    """Requirement names are checked (an unknown one is a typo or a construct plank does not know); what
+    they imply is not enforced — plank only warns when a construct's requirement is missing."""
+    for r in sec[1:]:
+        if not isinstance(r, Sym) or r not in REQUIREMENTS:
+            raise g.err(f"unknown requirement {r!r} (EPDDL requirements: {', '.join(sorted(REQUIREMENTS))})", r)
 
 
 def _agent_groups(g: _Ground, sec: Node) -> None:

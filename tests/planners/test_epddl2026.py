@@ -203,3 +203,12 @@ def test_errors_name_file_line_and_construct(tmp_path) -> None:
 def test_deadline_is_honoured_while_grounding() -> None:
     with pytest.raises(LoadTimeout):
         load_epddl2026(*_files(_row("Blocks-World")), deadline=time.monotonic() - 1.0)
+
+
+def test_unknown_requirement_is_refused_with_its_line(tmp_path) -> None:
+    dom, prob = tmp_path / "d.epddl", tmp_path / "p.epddl"
+    dom.write_text("(define (domain d)\n (:requirements :typing\n   :negative-precondition)\n (:predicates (q))\n"
+                   " (:event e) (:action act :action-type (basic (e))))")
+    prob.write_text("(define (problem p) (:domain d) (:agents a) (:init (:and (q))) (:goal (q)))")
+    with pytest.raises(ParseError, match=r"d\.epddl:3: unknown requirement ':negative-precondition'"):
+        load_epddl2026(dom, prob)
