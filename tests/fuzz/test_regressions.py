@@ -1,0 +1,148 @@
+"""One regression test per kind of failure the fuzz harness (and issue 15) found.
+
+Each bad input must give exit 2 and exactly one ``delkit: error:`` line that says what and where; each
+"silent wrong answer" must now be refused. Inputs are built from the real spec files in ``specs/``.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).parent))
+from fuzzkit import Case, classify_error_text, run_case  # noqa: E402
+
+from delkit.cli import main  # noqa: E402
+
+REPO = Path(__file__).resolve().parents[2]
+COIN = REPO / "specs" / "coin_in_the_box"
+
+
+def one_line_error(capsys, argv: list[str], *pattern: str) -> str:
+    """Run the CLI; it must exit 2 with one ``delkit: error:`` line matching every pattern."""
+    rc = main(argv)
+    err = capsys.readouterr().err
+    assert rc == 2, err
+    assert classify_error_text(err) is None, err
+    line = next(ln for ln in err.splitlines() if ln.startswith("delkit: error:"))
+    for p in pattern:
+        assert re.search(p, line), line
+    return line
+
+
+def _model(tmp_path: Path, props=("p",), true=("p",), name="m.json") -> Path:
+    f = tmp_path / name
+    f.write_text(json.dumps({"delkit": "kripke-model", "props": list(props), "agents": ["a"],
+                             "worlds": [{"name": "w0", "true": list(true)}, {"name": "w1"}],
+                             "relations": {"a": {"blocks": [["w0", "w1"]]}}, "designated": ["w0"]}))
+    return f
+
+
+# ----------------------------------------------------------------------------- formulas and models
+
+def test_quoted_event_name_with_a_bad_escape_is_a_parse_error(tmp_path, capsys):
+    m = _model(tmp_path)
+    one_line_error(capsys, ["model", "check", str(m), '[E,"e\\q"] p'], r"bad escape", r"<formula>:1:\d+")
+    from delkit.errors import ParseError
+    from delkit.formula import parse
+
+    with pytest.raises(ParseError, match="Invalid"):
+        parse('[E,"\\u12"] p')
+
+
+@pytest.mark.parametrize("attr,value", [("delkit_agents", "5"), ("delkit_partitions", "true"),
+                                        ("delkit_props", '{\\"p\\": 1}'), ("delkit_true", "3")])
+def test_dot_attribute_of_the_wrong_json_type(tmp_path, capsys, attr, value):
+    from delkit.io import load, to_dot
+
+    dot = to_dot(load(_model(tmp_path)))
+    dot2 = re.sub(rf'{attr}="(?:[^"\\]|\\.)*"', f'{attr}="{value}"', dot, count=1)
+    assert dot2 != dot
+    f = tmp_path / "m.dot"
+    f.write_text(dot2)
+    one_line_error(capsys, ["model", "show", str(f)], attr)
+
+
+@pytest.mark.parametrize("name", ["T", "F", "true", "false", "K_a"])
+def test_proposition_named_like_a_constant_is_refused(tmp_path, capsys, name):
+    """``T`` as a proposition would be read as the constant true by every formula (a silent wrong answer)."""
+    m = _model(tmp_path, props=(name,), true=())  # name is false at w0: 'T' would wrongly "hold"
+    one_line_error(capsys, ["model", "check", str(m), name], repr(name), "rename")
+
+
+def test_unknown_model_entries_are_errors(tmp_path, capsys):
+    f = _model(tmp_path)
+    data = json.loads(f.read_text())
+    data["designted"] = ["w1"]  # misspelt: would silently keep the old designated world
+    f.write_text(json.dumps(data))
+    one_line_error(capsys, ["model", "show", str(f)], "unknown entry 'designted'")
+
+
+# ----------------------------------------------------------------------------- E-PDDL strictness
+
+def _coin(tmp_path: Path, domain_edit=None, problem_edit=None) -> list[str]:
+    d, p = (COIN / "domain.epddl").read_text(), (COIN / "problem.epddl").read_text()
+    if domain_edit:
+        d2 = domain_edit(d)
+        assert d2 != d
+        d = d2
+    if problem_edit:
+        p2 = problem_edit(p)
+        assert p2 != p
+        p = p2
+    (tmp_path / "d.epddl").write_text(d)
+    (tmp_path / "p.epddl").write_text(p)
+    return [str(tmp_path / "d.epddl"), str(tmp_path / "p.epddl")]
+
+
+def test_epddl_file_that_is_only_define(tmp_path, capsys):
+    f = tmp_path / "x.epddl"
+    f.write_text("(define)")
+    one_line_error(capsys, ["plan", str(f)], "x.epddl")
+    one_line_error(capsys, ["plan", str(f), str(COIN / "problem.epddl")], r"x\.epddl:1:1", "define")
+
+
+def test_contradictory_init_is_refused_with_both_statements(tmp_path, capsys):
+    files = _coin(tmp_path, problem_edit=lambda t: t.replace("(:init (tail)", "(:init (tail) (not (tail))"))
+    one_line_error(capsys, ["plan", *files], r"p\.epddl:\d+:\d+", "both tail and not tail", "line")
+
+
+def test_misspelt_action_keyword_is_refused(tmp_path, capsys):
+    files = _coin(tmp_path, domain_edit=lambda t: t.replace(":precondition", ":precond", 1))
+    one_line_error(capsys, ["plan", *files], r"d\.epddl:\d+:\d+", "unknown keyword ':precond'", ":precondition")
+
+
+def test_act_type_written_as_a_list_is_refused(tmp_path, capsys):
+    files = _coin(tmp_path, domain_edit=lambda t: t.replace(":act_type sensing", ":act_type (sensing)"))
+    one_line_error(capsys, ["plan", *files], r"d\.epddl:\d+:\d+", "without parentheses")
+
+
+def test_unknown_and_repeated_sections_are_refused(tmp_path, capsys):
+    files = _coin(tmp_path, problem_edit=lambda t: t.replace("(:goal", "(:goals"))
+    one_line_error(capsys, ["plan", *files], "unknown problem section ':goals'")
+    files = _coin(tmp_path, problem_edit=lambda t: t.replace("(:goal", "(:agents a) (:goal"))
+    one_line_error(capsys, ["plan", *files], "second :agents section")
+
+
+def test_the_unchanged_spec_still_plans_and_checks(tmp_path, capsys):
+    assert main(["plan", str(COIN / "domain.epddl"), str(COIN / "problem.epddl"), "--json"]) == 0
+    plan = json.loads(capsys.readouterr().out)["plan"]
+    (tmp_path / "p.plan").write_text("\n".join(plan))
+    assert main(["check", str(COIN / "domain.epddl"), str(COIN / "problem.epddl"), str(tmp_path / "p.plan")]) == 0
+
+
+def test_harness_classifies_a_crash(monkeypatch):
+    """The harness itself: an exception escaping main is a crash, a one-line exit 2 is a clean error."""
+    assert run_case(Case("x", ("model", "show", "/nonexistent.json"))).kind == "error"
+    import delkit.cli
+
+    def boom(argv):
+        raise ZeroDivisionError("x")
+
+    monkeypatch.setattr(delkit.cli, "main", boom)
+    out = run_case(Case("x", ("version",)))
+    assert out.kind == "crash" and "ZeroDivisionError" in out.detail
