@@ -23,9 +23,11 @@ from typing import Any, Literal
 
 import numpy as np
 
+from delkit.bisim import contract
 from delkit.errors import DelkitError, ParseError, io_reason
 from delkit.formula import And, C, E, Formula, K, Kw, Not, Or, Prop, show
 from delkit.kripke import KripkeModel
+from delkit.resources import product_update_bytes, require
 from delkit.update import product_update
 from planners.task import Task
 
@@ -251,6 +253,9 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
                                f"step {i} ({name}) is not executable: precondition {show(act.executable)} fails — "
                                f"{why}", ag, wd, {"precondition": show(act.executable)})
         em = task.event_model(act, model)
+        # estimate before allocating; the states are contracted below, so this only trips on huge actions
+        require(product_update_bytes(model, em), f"replaying step {i} ({name})",
+                "check a shorter plan or a smaller task")
         new = product_update(model, em)
         if not new.designated:
             sensed = ", ".join(show(f) for f in act.active_sensed(model))
@@ -265,7 +270,9 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
                                    f"step {i} ({name}) leaves agent {ag} with no accessible world at the actual "
                                    f"world: {ag} believes ⊥ (everything), so no belief goal may count as reached",
                                    ag, _world_text(new, w))
-        model = new
+        # bisimulation contraction keeps every formula's truth at the actual world (properties, goal,
+        # preconditions) and keeps the replay small: without it a 15-step plan doubled to 2^15 worlds
+        model = contract(new)
         bad = props_at(i, model, name)
         if bad:
             return bad
@@ -293,8 +300,11 @@ def final_state(task: Task, plan: list[str]) -> KripkeModel:
         act = task.action(name)
         if not model.holds(act.executable):
             raise PlanningError(f"step {i} ({name}) is not executable")
-        model = product_update(model, task.event_model(act, model))
+        em = task.event_model(act, model)
+        require(product_update_bytes(model, em), f"replaying step {i} ({name})", "use a shorter plan")
+        model = product_update(model, em)
         if not model.designated:
             raise PlanningError(f"step {i} ({name}) has no event at the actual world")
+        model = contract(model)
     return model
 

@@ -63,6 +63,9 @@ def register(app: typer.Typer) -> None:
 
         if limit < 5:
             raise ModelError(f"puzzle sum-product: --limit must be at least 5, got {limit}")
+        from delkit.resources import require, sum_product_bytes
+
+        require(sum_product_bytes(limit), f"puzzle sum-product --limit {limit}", "use a smaller --limit")
         _emit(solve_sum_product(limit).as_dict(), as_json, "Sum and Product")
 
     @sub.command("cheryl")

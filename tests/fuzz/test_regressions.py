@@ -146,3 +146,110 @@ def test_harness_classifies_a_crash(monkeypatch):
     monkeypatch.setattr(delkit.cli, "main", boom)
     out = run_case(Case("x", ("version",)))
     assert out.kind == "crash" and "ZeroDivisionError" in out.detail
+
+
+# ----------------------------------------------------------------------------- resources and limits
+
+def test_check_of_a_plan_that_doubles_the_model_every_step(tmp_path, capsys):
+    """open_a with an oblivious agent doubles the uncontracted model: 16 steps were 2^16 worlds and a
+    ``ValueError: negative dimensions`` from scipy; the replay now contracts after every step."""
+    plan = tmp_path / "long.plan"
+    plan.write_text("\n".join(["distract_a_a"] + ["open_a"] * 15))
+    rc = main(["check", str(COIN / "domain.epddl"), str(COIN / "problem.epddl"), str(plan), "--json"])
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 1 and out["kind"] == "goal" and out["step"] == 16  # executable throughout; b never learns
+
+
+def test_product_update_estimate_is_exact_for_partitions_and_refuses_beyond_the_budget(tmp_path, capsys,
+                                                                                      monkeypatch):
+    from delkit.resources import product_update_bytes
+    from planners.lang import load_task
+
+    task = load_task(COIN / "domain.epddl", COIN / "problem.epddl")
+    act = task.action("distract_a_a")
+    em = task.event_model(act, task.initial)
+    assert product_update_bytes(task.initial, em) > 0
+    monkeypatch.setenv("DELKIT_MEMORY_BUDGET", "0.0001")  # 100 bytes
+    plan = tmp_path / "p.plan"
+    plan.write_text("distract_a_a\n")
+    one_line_error(capsys, ["check", str(COIN / "domain.epddl"), str(COIN / "problem.epddl"), str(plan)],
+                   r"replaying step 1 \(distract_a_a\) would need about .* budget", "DELKIT_MEMORY_BUDGET")
+
+
+@pytest.mark.parametrize("argv, change", [
+    (["puzzle", "sum-product", "--limit", "100000"], "--limit"),
+    (["puzzle", "sum-product", "--limit", "4294967296"], "--limit"),
+    (["consistency", "run", "--width", "100000", "--height", "100000", "--epochs", "1"], "--width"),
+    (["consistency", "table", "--epochs", "9223372036854775807"], "--epochs"),
+])
+def test_big_structures_are_estimated_and_refused_before_allocation(capsys, argv, change):
+    line = one_line_error(capsys, argv, r"would need about [\d.]+ [KMGTP]iB", "budget of", change)
+    assert "half of this machine" in line or "DELKIT_MEMORY_BUDGET" in line
+
+
+def test_budget_follows_the_address_space_limit(monkeypatch):
+    import resource
+
+    from delkit.resources import memory_budget
+
+    monkeypatch.delenv("DELKIT_MEMORY_BUDGET", raising=False)
+    monkeypatch.setattr(resource, "getrlimit", lambda what: (1 << 30, resource.RLIM_INFINITY))
+    budget, why = memory_budget()
+    assert budget == int(0.8 * (1 << 30)) and "address-space" in why
+
+
+SEEDED = [["consistency", "run", "--epochs", "2"], ["consistency", "table", "--epochs", "2"],
+          ["explore", "run", "--t-max", "5"], ["explore", "gap", "--instances", "1"],
+          ["arms", "bench-ik", "--targets", "1"]]
+
+
+@pytest.mark.parametrize("argv", SEEDED, ids=lambda a: " ".join(a[:2]))
+@pytest.mark.parametrize("seed", ["-1", "-9223372036854775809", "9223372036854775808"])
+def test_out_of_range_seed_is_a_usage_error(capsys, argv, seed):
+    one_line_error(capsys, [*argv, "--seed", seed], "--seed")
+
+
+@pytest.mark.parametrize("content, fragment", [
+    (b"\x89PNG\r\n\x1a\n\x00\x00\xff\xfe", "not ASCII"),
+    (b"type octile\nheight -3\nwidth 4\nmap\n", "1..100000"),
+    (b"type octile\nheight 2\nwidth 2\n..\n..\n", "no 'map' line"),
+    (b"type octile\nheight 2\nwidth 2\nmap\n.x\n..\n", "unknown terrain 'x'"),
+    (b"type octile\nheight 3\nwidth 2\nmap\n..\n", "expected 3 rows"),
+])
+def test_bad_movingai_map(tmp_path, capsys, content, fragment):
+    f = tmp_path / "g.map"
+    f.write_bytes(content)
+    one_line_error(capsys, ["explore", "run", "--map", str(f), "--t-max", "5"], "g.map", fragment)
+
+
+def test_explore_sweep_with_no_method(tmp_path, capsys):
+    one_line_error(capsys, ["explore", "sweep", "--methods", ",", "--maps", "1", "--out", str(tmp_path)],
+                   "--methods", "names no method")
+
+
+# ----------------------------------------------------------------------------- arms plans against the world
+
+def _arms(tmp_path: Path, edit) -> str:
+    plan = json.loads((REPO / "arms" / "demo_plan.json").read_text())
+    edit(plan)
+    f = tmp_path / "plan.json"
+    f.write_text(json.dumps(plan))
+    return str(f)
+
+
+@pytest.mark.parametrize("edit, fragment", [
+    (lambda p: p["actions"][0].update(stack=99), "not stack 99"),
+    (lambda p: p["actions"][5].update(to=["robot9"]), "'robot9', which is not a robot"),
+    (lambda p: p["actions"][5].update(args=["purple"]), "'purple' is not a block"),
+    (lambda p: p["actions"][1].update(args=["black", "red", float("inf"), 1]), "'level' must be an integer"),
+    (lambda p: p["actions"][1].update(args=["black", "red", 1.5, 1]), "'level' must be an integer"),
+    (lambda p: p["actions"][1].update(args=["black", "red", 40, 1]), "level 40 is impossible"),
+    (lambda p: p["actions"][2].update(stak=0), "unknown field 'stak'"),
+    (lambda p: p["world"].update(layout={"block_size": 0}), "block_size"),
+    (lambda p: p["world"].update(layout={"base_y": float("nan")}), "finite"),
+    (lambda p: p.update(actoins=[]), "unknown entry 'actoins'"),
+])
+def test_arms_plan_is_checked_against_the_world_before_anything_moves(tmp_path, capsys, edit, fragment):
+    f = _arms(tmp_path, edit)
+    one_line_error(capsys, ["arms", "scene", str(tmp_path / "s.xml"), "--plan", f], re.escape(fragment))
+    one_line_error(capsys, ["arms", "run", f, "--no-video"], re.escape(fragment))
