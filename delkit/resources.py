@@ -14,13 +14,15 @@ from __future__ import annotations
 
 import os
 import resource
+from collections.abc import Iterator
+from contextlib import contextmanager
 
 import numpy as np
 
 from delkit.errors import DelkitError
 
 __all__ = ["ResourceError", "memory_budget", "require", "fmt_bytes", "product_update_bytes",
-           "sum_product_bytes", "sar_bytes"]
+           "sum_product_bytes", "sar_bytes", "deadline"]
 
 ENV = "DELKIT_MEMORY_BUDGET"
 
@@ -120,3 +122,39 @@ def sar_bytes(width: int, height: int, robots: int, epochs: int) -> float:
     cells = float(width) * float(height)
     log = float(robots) * float(epochs)
     return cells * (64.0 + 16.0 * robots) + log * (40.0 + robots) + 8.0 * (epochs + 1) * robots
+
+
+@contextmanager
+def deadline(seconds: float | None, what: str, option: str = "--timeout") -> Iterator[None]:
+    """Raise :class:`ResourceError` in the main thread if the body runs longer than ``seconds`` of wall time.
+
+    ``None``/0 means no limit. An outer, shorter ``ITIMER_REAL`` timer (e.g. a test harness's) stays in
+    charge and is restored afterwards; off the main thread the limit is not enforced (signals need it)."""
+    import signal
+    import threading
+    import time
+
+    if not seconds or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    if not seconds > 0 or seconds != seconds:
+        raise ResourceError(f"{option} must be a positive number of seconds, got {seconds}")
+    outer = signal.getitimer(signal.ITIMER_REAL)[0]
+    if outer and outer <= seconds:
+        yield
+        return
+    previous = signal.getsignal(signal.SIGALRM)
+
+    def expired(signum, frame):  # noqa: ARG001 - signal handler signature
+        raise ResourceError(f"{what}: no answer within {option} {seconds:g} s; give it more time with {option}")
+
+    t0 = time.monotonic()
+    signal.signal(signal.SIGALRM, expired)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+        if outer:
+            signal.setitimer(signal.ITIMER_REAL, max(outer - (time.monotonic() - t0), 1e-3))

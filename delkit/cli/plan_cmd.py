@@ -30,18 +30,39 @@ def register(app: typer.Typer) -> None:
         as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
         """Find a plan (BFS: of minimal length) for an mA* or E-PDDL problem."""
+        import time
+
         from delkit.errors import PlanningError
-        from planners.epistemic import Limits, plan
+        from delkit.resources import ResourceError, deadline
+        from planners.epistemic import Limits, SearchResult, plan
         from planners.lang import load_task
 
         if search not in ("bfs", "gbfs", "astar"):
             raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
-        task = load_task(spec, problem)
-        res = plan(task, search=search, engine=engine,  # type: ignore[arg-type]
-                   limits=Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory),
-                   allow_inconsistent=allow_inconsistent)
+        limits = Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory)  # checks them first
+        t0 = time.monotonic()
+        name = str(spec)
+        try:
+            # --timeout covers every phase: reading, grounding and the initial state too, not only the search
+            with deadline(timeout, "reading, grounding and building the initial state"):
+                task = load_task(spec, problem)
+            name = task.name
+            left = timeout - (time.monotonic() - t0)
+            if left <= 0:
+                raise ResourceError("the time limit ran out while building the initial state")
+            # the search checks its own limit; the deadline (a little later) is the backstop for every other phase
+            with deadline(left + 2.0, "building the search space or searching"):
+                res = plan(task, search=search, engine=engine,  # type: ignore[arg-type]
+                           limits=Limits(timeout=left, max_expanded=max_nodes, max_memory_mb=max_memory),
+                           allow_inconsistent=allow_inconsistent)
+        except ResourceError as exc:
+            if "--timeout" not in str(exc) and "time limit" not in str(exc):
+                raise
+            res = SearchResult("limit", None, 0, 0, time.monotonic() - t0, search,
+                               reason=f"--timeout {timeout:g} s reached: {exc}")
+        del limits
         out = res.to_json()
-        out["task"] = task.name
+        out["task"] = name
         if as_json:
             typer.echo(json.dumps(out))
         else:
@@ -65,34 +86,43 @@ def register(app: typer.Typer) -> None:
         props_file: Path | None = typer.Option(None, "--properties", help="file with one property a line"),
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="do not fail when an agent comes to believe ⊥"),
+        timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="wall-clock limit in seconds (0: none)"),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
         """Replay a plan on a spec and check its executability, goal and properties."""
-        from delkit.errors import ParseError, io_reason
-        from planners.lang import load_task
-        from planners.validate import check_plan, parse_property, read_plan
+        from delkit.resources import deadline
 
-        if len(files) not in (2, 3):
-            raise ParseError(f"expected SPEC PLAN_FILE or DOMAIN PROBLEM PLAN_FILE, got {len(files)} file(s)",
-                             source="delkit check")
-        task = load_task(files[0], files[1] if len(files) == 3 else None)
-        steps = read_plan(files[-1])
-        texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop]   # (text, source, line)
-        if props_file is not None:
-            try:
-                lines = props_file.read_text().splitlines()
-            except (OSError, UnicodeDecodeError) as exc:
-                raise ParseError(f"cannot read: {io_reason(exc)}", source=str(props_file)) from None
-            texts += [(ln.strip(), str(props_file), i) for i, ln in enumerate(lines, 1)
-                      if ln.strip() and not ln.lstrip().startswith("#")]
-        properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
-        res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent, plan_source=str(files[-1]))
-        if as_json:
-            typer.echo(json.dumps(res.to_json()))
-        elif res.valid:
-            typer.echo(f"valid: {len(steps)} step(s), goal reached"
-                       + (f", {len(properties)} propert{'y' if len(properties) == 1 else 'ies'} hold"
-                          if properties else ""))
-        else:
-            typer.echo(f"INVALID at step {res.step} ({res.action or 'initial state'}): {res.reason}")
-        raise typer.Exit(0 if res.valid else 1)
+        with deadline(timeout, "delkit check"):
+            _check(files, prop, props_file, allow_inconsistent, as_json)
+
+
+def _check(files: list[Path], prop: list[str], props_file: Path | None, allow_inconsistent: bool,
+           as_json: bool) -> None:
+    from delkit.errors import ParseError, io_reason
+    from planners.lang import load_task
+    from planners.validate import check_plan, parse_property, read_plan
+
+    if len(files) not in (2, 3):
+        raise ParseError(f"expected SPEC PLAN_FILE or DOMAIN PROBLEM PLAN_FILE, got {len(files)} file(s)",
+                         source="delkit check")
+    task = load_task(files[0], files[1] if len(files) == 3 else None)
+    steps = read_plan(files[-1])
+    texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop]   # (text, source, line)
+    if props_file is not None:
+        try:
+            lines = props_file.read_text().splitlines()
+        except (OSError, UnicodeDecodeError) as exc:
+            raise ParseError(f"cannot read: {io_reason(exc)}", source=str(props_file)) from None
+        texts += [(ln.strip(), str(props_file), i) for i, ln in enumerate(lines, 1)
+                  if ln.strip() and not ln.lstrip().startswith("#")]
+    properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
+    res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent, plan_source=str(files[-1]))
+    if as_json:
+        typer.echo(json.dumps(res.to_json()))
+    elif res.valid:
+        typer.echo(f"valid: {len(steps)} step(s), goal reached"
+                   + (f", {len(properties)} propert{'y' if len(properties) == 1 else 'ies'} hold"
+                      if properties else ""))
+    else:
+        typer.echo(f"INVALID at step {res.step} ({res.action or 'initial state'}): {res.reason}")
+    raise typer.Exit(0 if res.valid else 1)

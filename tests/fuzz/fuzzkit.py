@@ -198,7 +198,7 @@ def _oracle_model_check(case: Case, argv: list[str], rc: int, out: str, d: str) 
     from delkit.formula import parse
 
     m = _load_input_model(argv)
-    formula = argv[2]
+    formula = argv[3]
     if any(a.startswith("--event") or a == "-e" for a in argv):
         return ""  # formulas with event models: the events are checked by their own reader
     holds = contract(m).holds(parse(formula))

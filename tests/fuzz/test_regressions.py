@@ -253,3 +253,74 @@ def test_arms_plan_is_checked_against_the_world_before_anything_moves(tmp_path, 
     f = _arms(tmp_path, edit)
     one_line_error(capsys, ["arms", "scene", str(tmp_path / "s.xml"), "--plan", f], re.escape(fragment))
     one_line_error(capsys, ["arms", "run", f, "--no-video"], re.escape(fragment))
+
+
+# ----------------------------------------------------------------------------- time limits in every phase
+
+def _many_free_fluents(tmp_path: Path, n: int = 22) -> list[str]:
+    """No common knowledge about f1..f{n-1}: the initial state has 2^(n-1) worlds (built before searching)."""
+    preds = " ".join(f"(f{i})" for i in range(n))
+    (tmp_path / "d.epddl").write_text(f"(define (domain many) (:predicates {preds})\n"
+                                      "  (:action flip :parameters () :precondition (f0) :effect (f1) "
+                                      ":observers ()))")
+    (tmp_path / "p.epddl").write_text("(define (problem many1) (:domain many) (:agents a b)\n"
+                                      "  (:init (f0)) (:goal ([a](f1))))")
+    return [str(tmp_path / "d.epddl"), str(tmp_path / "p.epddl")]
+
+
+def test_plan_timeout_covers_initial_state_construction(tmp_path, capsys):
+    """The limit overrun of issue 15: --timeout 1 ran 8 s building the initial state before the search."""
+    import time
+
+    files = _many_free_fluents(tmp_path)
+    t0 = time.monotonic()
+    rc = main(["plan", *files, "--timeout", "1", "--json"])
+    took = time.monotonic() - t0
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 3 and out["status"] == "limit" and "initial state" in out["reason"]
+    assert took < 1 + 2.0  # the stated margin: the alarm fires between two Python bytecodes
+
+
+def test_plan_timeout_still_finds_plans_and_bad_limits_are_errors(capsys):
+    assert main(["plan", str(COIN / "domain.epddl"), str(COIN / "problem.epddl"), "--timeout", "30"]) == 0
+    capsys.readouterr()
+    one_line_error(capsys, ["plan", str(COIN / "domain.epddl"), str(COIN / "problem.epddl"), "--timeout", "nan"],
+                   "timeout")
+
+
+def test_check_timeout_covers_the_replay(tmp_path, capsys):
+    files = _many_free_fluents(tmp_path)
+    plan = tmp_path / "x.plan"
+    plan.write_text("flip\n")
+    one_line_error(capsys, ["check", *files, str(plan), "--timeout", "0.5"], "no answer within --timeout 0.5 s")
+
+
+@pytest.mark.parametrize("argv", [["puzzle", "muddy", "-n", "2000", "-m", "7", "--symbolic"],
+                                  ["puzzle", "sum-product", "--limit", "3000"]])
+def test_puzzle_timeout(capsys, argv):
+    one_line_error(capsys, [*argv, "--timeout", "1"], "no answer within --timeout 1 s")
+
+
+def test_deadline_leaves_an_outer_timer_in_charge_and_restores_it():
+    import signal
+
+    from delkit.resources import deadline
+
+    fired = []
+    old = signal.signal(signal.SIGALRM, lambda *a: fired.append(1))
+    try:
+        signal.setitimer(signal.ITIMER_REAL, 50.0)
+        with deadline(5.0, "x"):
+            assert signal.getitimer(signal.ITIMER_REAL)[0] <= 5.0
+        assert 40.0 < signal.getitimer(signal.ITIMER_REAL)[0] <= 50.0  # the outer timer is back
+        with deadline(100.0, "x"):  # longer than the outer one: the outer stays in charge
+            assert signal.getitimer(signal.ITIMER_REAL)[0] <= 50.0
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+    assert not fired
+
+
+def test_demo_only_with_an_empty_word_is_refused(capsys):
+    """'' is a substring of every section title: it ran the whole demo (minutes) instead of a section."""
+    one_line_error(capsys, ["demo", "--only", "", "--out", "/tmp/delkit-demo-unused"], "--only")
