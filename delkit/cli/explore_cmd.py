@@ -65,6 +65,15 @@ def register(app: typer.Typer) -> None:
         cfg = MissionConfig(case=case, n_robots=robots, method=method, seed=seed,
                             map_path=str(map_file) if map_file else None, t_max=t_max,
                             status_model=status_model, record=png is not None)
+        if map_file is not None:  # tasks are placed at least 2 m from the border: a tiny map has no room
+            from delkit.errors import SimulationError
+            from sim.grid import read_movingai
+
+            w, h = read_movingai(map_file, cfg.resolution).size
+            if w <= 6 or h <= 6:
+                raise SimulationError(f"{map_file}: the map is {w:g} m × {h:g} m at {cfg.resolution:g} m per cell; a "
+                                      f"mission needs more than 6 m × 6 m (home is at (3, 3) m, tasks keep 2 m "
+                                      f"from the border)")
         mission = Mission(cfg)
         with _progress() as bar:
             task = bar.add_task(f"{method} mission (simulated s)", total=t_max)

@@ -391,6 +391,9 @@ def parse_epddl(domain_text: str, problem_text: str | None = None, *, domain_sou
         if not isinstance(p, SList) or not p.items or not isinstance(p.items[0], Atom):
             raise ctx.err("expected (predicate ?x - type ...)", p)
         params = _typed_list(p.items[1:], ctx)
+        if p.items[0].text in ("true", "false", "top"):  # formulas (and --property) read them as constants
+            raise ctx.err(f"predicate name {p.items[0].text!r} clashes with a constant of the formula syntax; "
+                          f"rename it", p.items[0])
         ctx.predicates[p.items[0].text] = [t for _, t, _ in params]
         for combo in itertools.product(*[ctx.of_type(t, node) for _, t, node in params]):
             props.append("_".join([p.items[0].text, *combo]))

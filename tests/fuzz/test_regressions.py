@@ -324,3 +324,15 @@ def test_deadline_leaves_an_outer_timer_in_charge_and_restores_it():
 def test_demo_only_with_an_empty_word_is_refused(capsys):
     """'' is a substring of every section title: it ran the whole demo (minutes) instead of a section."""
     one_line_error(capsys, ["demo", "--only", "", "--out", "/tmp/delkit-demo-unused"], "--only")
+
+
+def test_epddl_predicate_named_like_a_constant_is_refused(tmp_path, capsys):
+    files = _coin(tmp_path, domain_edit=lambda t: t.replace("(:predicates (opened)", "(:predicates (true) (opened)"))
+    one_line_error(capsys, ["plan", *files], r"d\.epddl:\d+:\d+", "'true' clashes with a constant")
+
+
+@pytest.mark.parametrize("size", [3, 8, 12])
+def test_explore_map_too_small_for_a_mission(tmp_path, capsys, size):
+    f = tmp_path / "g.map"
+    f.write_text(f"type octile\nheight {size}\nwidth {size}\nmap\n" + ("." * size + "\n") * size)
+    one_line_error(capsys, ["explore", "run", "--map", str(f), "--t-max", "5"], "g.map", "more than 6 m")
