@@ -183,8 +183,9 @@ def plan_cases(draw) -> Case:
     if kind == "mastar" and mastar_files():
         f = draw(st.sampled_from(mastar_files()))
         text = f.read_text()
-        return Case("plan", ("plan", "{d}/spec.txt", *PLAN_OPTS), (("spec.txt", draw(token_mutation(text))),),
-                    oracle="plan", note=f"mutated {f.name}")
+        extra = draw(st.sampled_from([[], ["--search", "astar"], ["--engine", "del"]]))
+        return Case("plan", ("plan", "{d}/spec.txt", *PLAN_OPTS, *extra),
+                    (("spec.txt", draw(token_mutation(text))),), oracle="plan", note=f"mutated {f.name}")
     dom, prob, _ = draw(st.sampled_from(epddl_pairs()))
     if kind == "options":
         opt = draw(st.sampled_from(["--timeout", "--max-nodes", "--max-memory", "--search", "--engine"]))
@@ -204,8 +205,10 @@ def plan_cases(draw) -> Case:
         ptext = _mutate_epddl(draw, ptext)
     files = [("domain.epddl", dtext if isinstance(dtext, bytes) else dtext.encode()),
              ("problem.epddl", ptext if isinstance(ptext, bytes) else ptext.encode())]
-    return Case("plan", ("plan", "{d}/domain.epddl", "{d}/problem.epddl", *PLAN_OPTS), tuple(files),
-                oracle="plan", note=f"mutated {which} of {dom.parent.name}/{prob.name}")
+    extra = draw(st.sampled_from([[], [], ["--search", "gbfs"], ["--search", "astar"], ["--engine", "del"],
+                                  ["--allow-inconsistent"]]))
+    return Case("plan", ("plan", "{d}/domain.epddl", "{d}/problem.epddl", *PLAN_OPTS, *extra), tuple(files),
+                oracle="plan", note=f"mutated {which} of {dom.parent.name}/{prob.name} {' '.join(extra)}")
 
 
 def _mutate_epddl(draw, text: str):
@@ -287,22 +290,36 @@ def property_text(draw, props: list[str], agents: list[str]) -> str:
 # ----------------------------------------------------------------------------- formulas
 
 @st.composite
-def formula_text(draw, props: list[str], agents: list[str], depth: int = 3) -> str:
-    """Grammar-directed formula text with some broken pieces (escapes in quoted names, odd tokens, nesting)."""
+def formula_text(draw, props: list[str], agents: list[str], depth: int = 3, junk: bool = True) -> str:
+    """Grammar-directed formula text; with ``junk`` a third of them are broken (escapes in quoted names, odd
+    tokens, deep nesting, a character spliced in)."""
     props = props or ["p"]
     agents = agents or ["a"]
-    choice = draw(st.integers(0, 12 if depth > 0 else 3))
-    if choice == 0:
-        return draw(st.sampled_from(props))
+    if junk and draw(st.integers(0, 2)) == 0:
+        kind = draw(st.integers(1, 4))
+        if kind < 4:
+            return _junk_formula(draw, props, kind)
+        text = draw(formula_text(props, agents, depth, junk=False))
+        i = draw(st.integers(0, len(text)))
+        return text[:i] + draw(st.sampled_from(list("()[]{}~&|!,_\\\"'#") + ["->", "<-", "K_", "C{"])) + text[i:]
+    choice = draw(st.integers(3, 12)) if depth > 0 else draw(st.integers(0, 3))
+    if choice < 4:
+        return draw(st.sampled_from([*props, "T"] if choice == 3 else props))
+    return _compound(draw, props, agents, depth, choice)
+
+
+def _junk_formula(draw, props: list[str], choice: int) -> str:
     if choice == 1:
         return draw(st.sampled_from(["T", "F", "true", "false", "zz", "K_zz p", "", "(", "~", "K{a"]))
     if choice == 2:
         return draw(st.sampled_from(["~" * 3000 + "p", "(" * 2000 + "p" + ")" * 2000, "K_a " * 1500 + "p",
                                      " & ".join(["p"] * 3000)])).replace("p", props[0])
-    if choice == 3:
-        return "[" + draw(st.sampled_from(["E", "Ann", "zz"])) + "," + draw(st.sampled_from(
+    return "[" + draw(st.sampled_from(["E", "Ann", "zz"])) + "," + draw(st.sampled_from(
             ['"e\\q"', '"\\u12"', '"a\\"b"', '"\\', 'e0', '"e0"', '""', "1"])) + "] " + props[0]
-    sub = formula_text(props, agents, depth - 1)
+
+
+def _compound(draw, props: list[str], agents: list[str], depth: int, choice: int) -> str:
+    sub = formula_text(props, agents, depth - 1, junk=False)
     if choice in (4, 5):
         return f"~{draw(sub)}" if choice == 4 else f"({draw(sub)})"
     if choice in (6, 7, 8):
@@ -393,7 +410,7 @@ def model_cases(draw) -> Case:
     sub = draw(st.sampled_from(["show", "dot", "contract", "check", "check", "prove", "macro", "dot-in"]))
     event = draw(st.integers(0, 3)) == 0 and sub in ("show", "dot")
     obj = _event_dict(draw) if event else _model_dict(draw)
-    mode = draw(st.sampled_from(["valid", "mutated", "mutated", "renamed", "bytes"]))
+    mode = draw(st.sampled_from(["valid", "valid", "mutated", "mutated", "renamed", "bytes"]))
     if mode == "mutated":
         obj = draw(json_mutation(obj))
     elif mode == "renamed" and not event:  # propositions named like the constants / odd names
@@ -405,6 +422,16 @@ def model_cases(draw) -> Case:
         opt = draw(st.sampled_from([[], ["--worlds", draw(st.sampled_from(INTS))],
                                     ["--logic", draw(st.sampled_from(["S5", "KD45", "K", "s5", "", "T"]))]]))
         return Case("prove", ("prove", f, "--json", "--worlds", "2", *opt), oracle="prove", budget=30.0)
+    if sub == "check" and draw(st.booleans()):  # [E,e]φ with a (maybe mutated) event model
+        ev = _event_dict(draw)
+        names = [e["name"] for e in ev["events"]]
+        if draw(st.integers(0, 2)) == 0:
+            ev = draw(json_mutation(ev))
+        inner = draw(formula_text(list(PROPS), list(AGENTS), 2))
+        ev_name = draw(st.sampled_from([*names, "zz", '"e0"']))
+        f = f"[E,{ev_name}] ({inner})"
+        return Case("model check", ("model", "check", "{d}/m.json", f, "--json", "--event", "E={d}/e.json"),
+                    (("m.json", data), ("e.json", _dump(ev))), oracle="model-check-event", note=mode)
     if sub == "check":
         f = draw(formula_text(list(PROPS), list(AGENTS)))
         return Case("model check", ("model", "check", "{d}/m.json", f, "--json"), (("m.json", data),),
@@ -518,11 +545,14 @@ def explore_cases(draw) -> Case:
                 "--case", draw(st.sampled_from(["1", "3", "", "0", "-1", "1,2,x"]))]
         return Case("explore sweep", tuple(argv), oracle="json", budget=60.0)
     argv = ["explore", "run", "--json", "--t-max", "20", "--robots", "2", "--case", "1"]
-    opt = draw(st.sampled_from(["--seed", "--robots", "--case", "--t-max", "--method", "--map"]))
+    opt = draw(st.sampled_from(["--seed", "--robots", "--case", "--t-max", "--method", "--map", "--map",
+                                "--status-model"]))
     files: list[tuple[str, bytes]] = []
     if opt == "--map":
         files.append(("g.map", draw(map_file())))
         argv += ["--map", "{d}/g.map"]
+    elif opt == "--status-model":
+        argv += ["--status-model", "--robots", draw(st.sampled_from(["2", "3", "4", "5"]))]
     elif opt == "--method":
         argv += ["--method", draw(st.sampled_from(WORDS + ["flock", "ideal"]))]
     else:

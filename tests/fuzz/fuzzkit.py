@@ -207,6 +207,30 @@ def _oracle_model_check(case: Case, argv: list[str], rc: int, out: str, d: str) 
     return ""
 
 
+def _oracle_model_check_event(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
+    """[E,e]φ: the truth value must equal that of φ on the product update (contracted), computed directly."""
+    from delkit.bisim import contract
+    from delkit.formula import Update, parse
+    from delkit.io import load_event_model
+    from delkit.update import product_update
+
+    m = _load_input_model(argv)
+    em = load_event_model(str(Path(d) / "e.json"))
+    f = parse(argv[3], events={"E": em})
+    if not isinstance(f, Update):
+        return ""
+    new, pairs = product_update(m, em, return_pairs=True)
+    # [E,e]φ holds at the designated worlds iff φ holds at (w, e) for every designated w where pre(e) holds
+    holds = True
+    for w in m.designated:
+        hit = [i for i, (v, e) in enumerate(pairs.tolist()) if v == w and e == f.event]
+        if hit:
+            holds = holds and contract(new.with_designated(hit)).holds(f.arg)
+    if holds != (rc == 0):
+        return f"model check says {'holds' if rc == 0 else 'fails'}, the product update says {holds}"
+    return ""
+
+
 def _oracle_prove(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
     """A counter-model printed by ``prove --json`` must falsify the formula at its world 0."""
     if rc != 1 or "--json" not in argv:
@@ -250,6 +274,7 @@ ORACLES = {
     "plan": _oracle_plan,
     "model-roundtrip": _oracle_model_roundtrip,
     "model-check": _oracle_model_check,
+    "model-check-event": _oracle_model_check_event,
     "prove": _oracle_prove,
     "json": _oracle_json,
     "arms": _oracle_arms,
