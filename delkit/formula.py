@@ -563,7 +563,12 @@ class _Build:
             if ch[1].type == "QUOTED":
                 import json
 
-                ev = json.loads(ev)
+                try:
+                    ev = json.loads(ev)
+                except json.JSONDecodeError as exc:  # "e\q": an escape JSON does not know
+                    raise ParseError(f"bad escape in the quoted event name {ev} ({exc.msg}); inside quotes "
+                                     f"write \\\\ for a backslash and \\\" for a quote", source=self.source,
+                                     line=ch[1].line, column=ch[1].column + exc.pos) from None
             if name not in self.events:
                 known = ", ".join(sorted(self.events)) or "none given"
                 raise ParseError(f"unknown event model {name!r} (known: {known})", source=self.source,

@@ -110,7 +110,7 @@ def register(app: typer.Typer) -> None:
     @sub.command("bench-ik")
     def bench_ik(targets: int = typer.Option(1000, "--targets", min=1, help="number of random poses"),
                  budget_ms: float = typer.Option(5.0, "--budget-ms", help="time budget per target"),
-                 seed: int = typer.Option(0, "--seed", help="seed of the random target poses"),
+                 seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1, help="seed of the random target poses"),
                  clock: str = typer.Option("wall", "--clock", help="wall (default) or cpu: what the "
                                                                    "budget and the times measure"),
                  as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:

@@ -22,7 +22,13 @@ def _config(**kw):
 
     if kw["epochs"] < 1:  # an episode without a planning step has no Not-AC rate and no mean J
         raise SimulationError(f"--epochs must be at least 1 (the paper uses 200), got {kw['epochs']}")
-    return SARConfig(**kw)
+    cfg = SARConfig(**kw)  # checks the ranges first
+    from delkit.resources import require, sar_bytes
+
+    require(sar_bytes(cfg.width, cfg.height, cfg.robots, cfg.epochs),
+            f"a {cfg.width}×{cfg.height} grid with {cfg.robots} robots over {cfg.epochs} epochs",
+            "use a smaller --width/--height or fewer --epochs")
+    return cfg
 
 
 def _progress():
@@ -56,7 +62,8 @@ def register(app: typer.Typer) -> None:
     @sub.command("table")
     def table(
         epochs: int = typer.Option(200, "--epochs", help="Planning steps per episode (E)."),
-        seed: int = typer.Option(0, "--seed", help="Seed of the world, the sensor noise and the comm failures."),
+        seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1,
+                                    help="Seed of the world, the sensor noise and the comm failures."),
         width: int = typer.Option(10, "--width", help="Grid width (cells)."),
         height: int = typer.Option(10, "--height", help="Grid height (cells)."),
         policy: str = typer.Option("all", "--policy", help="What a triggered robot sends: all|greedy|oldest."),
@@ -103,7 +110,7 @@ def register(app: typer.Typer) -> None:
         init: str = typer.Option("max-entropy", "--init", help="Prior: max-entropy|entropy."),
         comm_restr: int = typer.Option(0, "--comm-restr", help="Random steps on which the channel is down."),
         epochs: int = typer.Option(200, "--epochs", help="Planning steps (E)."),
-        seed: int = typer.Option(0, "--seed", help="Seed."),
+        seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1, help="Seed."),
         width: int = typer.Option(10, "--width", help="Grid width (cells)."),
         height: int = typer.Option(10, "--height", help="Grid height (cells)."),
         policy: str = typer.Option("all", "--policy", help="What a triggered robot sends: all|greedy|oldest."),

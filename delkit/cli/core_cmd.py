@@ -94,6 +94,8 @@ def run_demo(out: Path, only: list[str] | None = None) -> list[dict[str, Any]]:
 
     from delkit.errors import DelkitError
 
+    if any(not o.strip() for o in only or ()):  # '' is in every title: it would run everything
+        raise DelkitError("--only needs a word of a section title, e.g. --only puzzles; it was empty")
     unmatched = [o for o in only or () if not any(o.lower() in title.lower() for title, _ in SECTIONS)]
     if unmatched:  # a typo would otherwise run nothing and report success
         raise DelkitError(f"--only {unmatched[0]!r} matches no demo section; sections: "

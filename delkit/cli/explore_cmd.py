@@ -49,7 +49,8 @@ def register(app: typer.Typer) -> None:
         case: int = typer.Option(2, "--case", help="1: one task, unknown N_τ; 2: unknown number of tasks."),
         robots: int = typer.Option(3, "--robots", help="Team size N_a."),
         method: str = typer.Option("epistemic", "--method", help="epistemic | flock | ideal."),
-        seed: int = typer.Option(0, "--seed", help="Map, tasks and motion noise all come from this seed."),
+        seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1,
+                                    help="Map, tasks and motion noise all come from this seed."),
         map_file: Path | None = typer.Option(None, "--map", help="A MovingAI .map grid instead of a random map."),
         t_max: float = typer.Option(1500.0, "--t-max", min=1.0, help="Give up after this many simulated seconds."),
         png: Path | None = typer.Option(None, "--png", help="Write snapshots of the mission (as Figures 5/7)."),
@@ -64,6 +65,15 @@ def register(app: typer.Typer) -> None:
         cfg = MissionConfig(case=case, n_robots=robots, method=method, seed=seed,
                             map_path=str(map_file) if map_file else None, t_max=t_max,
                             status_model=status_model, record=png is not None)
+        if map_file is not None:  # tasks are placed at least 2 m from the border: a tiny map has no room
+            from delkit.errors import SimulationError
+            from sim.grid import read_movingai
+
+            w, h = read_movingai(map_file, cfg.resolution).size
+            if w <= 6 or h <= 6:
+                raise SimulationError(f"{map_file}: the map is {w:g} m × {h:g} m at {cfg.resolution:g} m per cell; a "
+                                      f"mission needs more than 6 m × 6 m (home is at (3, 3) m, tasks keep 2 m "
+                                      f"from the border)")
         mission = Mission(cfg)
         with _progress() as bar:
             task = bar.add_task(f"{method} mission (simulated s)", total=t_max)
@@ -115,11 +125,16 @@ def register(app: typer.Typer) -> None:
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Run a sweep; write runs.csv, summary.json, box plots and snapshots into --out."""
+        from delkit.errors import SimulationError
         from sim.experiments import SweepSpec, paper_comparison, run_sweep, summarise, write_csv
         from sim.plots import box_plot
 
+        names = tuple(m.strip() for m in methods.split(",") if m.strip())
+        if not names:
+            raise SimulationError(f"--methods {methods!r} names no method; give a comma-separated list such as "
+                                  f"epistemic,flock,ideal")
         spec = SweepSpec(cases=_int_list(case, "--case"), robots=_int_list(robots, "--robots"), maps=maps,
-                         methods=tuple(m.strip() for m in methods.split(",") if m.strip()))
+                         methods=names)
         spec.validate()
         total = len(spec.cases) * maps * len(spec.robots) * len(spec.methods)
         with _progress() as bar:
@@ -172,7 +187,7 @@ def register(app: typer.Typer) -> None:
     @sub.command("gap")
     def gap(
         instances: int = typer.Option(20, "--instances", min=1, help="Number of random instances."),
-        seed: int = typer.Option(0, "--seed"),
+        seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Optimality gap of SSI bundling + makespan minimisation against the exact MILP (HiGHS), on eq. 20's

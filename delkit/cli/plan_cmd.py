@@ -45,10 +45,17 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
     if search not in ("bfs", "gbfs", "astar"):
         raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
     Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
+    from delkit.resources import ResourceError, deadline
+
     start = time.monotonic()
     try:
-        task = load_task(spec, problem, list(library or ()), deadline=start + timeout, strict=strict)
-    except LoadTimeout as exc:
+        # --timeout covers every phase: the readers check the deadline while grounding and building the initial
+        # state; the alarm (a little later) is the backstop for any phase that does not check it
+        with deadline(timeout + 2.0, "reading, grounding and building the initial state"):
+            task = load_task(spec, problem, list(library or ()), deadline=start + timeout, strict=strict)
+    except (LoadTimeout, ResourceError) as exc:
+        if isinstance(exc, ResourceError) and "--timeout" not in str(exc) and "time limit" not in str(exc):
+            raise
         res = SearchResult(status="limit", plan=None, expanded=0, generated=0,
                            seconds=time.monotonic() - start, search=search, reason=str(exc))
         if as_json:
@@ -60,8 +67,16 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
                     max_memory_mb=max_memory)
     from planners.lang.epddl_run import space_for
 
-    space = space_for(task, engine, allow_inconsistent)
-    res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
+    try:
+        # the search checks its own limit; the alarm (a little later) is the backstop for every other phase
+        with deadline(limits.timeout + 2.0, "building the search space or searching"):
+            space = space_for(task, engine, allow_inconsistent)
+            res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
+    except ResourceError as exc:
+        if "--timeout" not in str(exc) and "time limit" not in str(exc):
+            raise
+        res = SearchResult("limit", None, 0, 0, time.monotonic() - start, search,
+                           reason=f"--timeout {timeout:g} s reached: {exc}")
     out = res.to_json()
     out["task"] = task.name
     if as_json:
@@ -82,8 +97,20 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
 
 def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path | None = None,
               allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
-              strict: bool = False) -> int:
-    """The body of ``delkit check``; returns the exit status."""
+              strict: bool = False, timeout: float = 0.0) -> int:
+    """The body of ``delkit check``; returns the exit status (``timeout`` 0: no limit)."""
+    from delkit.resources import deadline
+
+    if timeout < 0 or timeout != timeout:
+        from delkit.errors import ParseError
+
+        raise ParseError(f"--timeout {timeout!r}: use a number of seconds ≥ 0 (0: no limit)", source="delkit check")
+    with deadline(timeout, "delkit check"):
+        return _run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict)
+
+
+def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | None, allow_inconsistent: bool,
+               as_json: bool, library: list[Path] | None, strict: bool) -> int:
     from delkit.errors import ParseError, io_reason
     from planners.lang import load_task
     from planners.validate import check_plan, parse_property, read_plan
@@ -157,6 +184,7 @@ def register(app: typer.Typer) -> None:
         props_file: Path | None = typer.Option(None, "--properties", help="file with one property a line"),
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="do not fail when an agent comes to believe ⊥"),
+        timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="wall-clock limit in seconds (0: none)"),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
         """Replay a plan on a spec and check its executability, goal and properties."""
@@ -213,6 +241,7 @@ _PLAN_OPTS = {"--search": ("search", "str"), "--timeout": ("timeout", "float"), 
               "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),
               "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag")}
 _CHECK_OPTS = {"--property": ("prop", "list"), "-p": ("prop", "list"), "--properties": ("props_file", "path"),
+               "--timeout": ("timeout", "float"),
                "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),
                "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag")}
 
