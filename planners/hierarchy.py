@@ -261,8 +261,8 @@ def _anchor(task: Task, fs, s, c_state: CState, i: int, name: str) -> None:
 def _epistemic_primitive(name: str, act: ActionSpec, c_state: CState, task: Task) -> dict[str, Any]:
     robot = next((r for r in task.agents if name.split("_").count(r)), ROBOTS[0])
     color = name.rsplit("_", 1)[-1]
-    if name.startswith("sense_color_"):
-        return {"robot": robot, "action": "sense", "color": color, "task": name}
+    if name.startswith("sense_table_"):
+        return {"robot": robot, "action": "sense", "task": name}
     if name.startswith("announce_block_on_barrier_"):
         block = next((b for b in c_state.barrier if c_state.colors[b] == color), None)
         if block is None:
