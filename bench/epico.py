@@ -28,13 +28,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--colors", default="1,2,3,4")
     ap.add_argument("--timeout", type=float, default=110.0)
+    ap.add_argument("--symmetric", action="store_true", help="model both robots' colours (4^n worlds)")
     ap.add_argument("--json", action="store_true")
     args = ap.parse_args(argv)
     solve(generate("alpha", 1))  # warm-up
     cells = []
     for g in GOALS:
         for n in (int(c) for c in args.colors.split(",")):
-            cells.append(table_cell(g, n, repeat=args.repeat, timeout=args.timeout))
+            cells.append(table_cell(g, n, repeat=args.repeat, timeout=args.timeout,
+                                    symmetric=args.symmetric))
             print(f"# {g} {n}: done", file=sys.stderr, flush=True)
     if args.json:
         print(json.dumps({"machine": platform.processor() or platform.machine(), "cells": cells}))

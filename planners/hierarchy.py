@@ -298,17 +298,18 @@ PEER_TABLE1: dict[str, dict[int, tuple[float | None, float | None]]] = {
 }
 
 
-def table_cell(goal: str, colors: int, *, repeat: int = 1, timeout: float = 110.0) -> dict[str, Any]:
+def table_cell(goal: str, colors: int, *, repeat: int = 1, timeout: float = 110.0,
+               symmetric: bool = False) -> dict[str, Any]:
     """One cell of Tables 1–2: macros off and on, ``repeat`` runs each; wall and CPU seconds (mean) of
     initial state + epistemic search + hierarchy, classical seconds and calls. ``status`` per side is
     ``ok`` / ``TO`` / ``ND``."""
     from planners.epico import defined, generate
 
-    out: dict[str, Any] = {"goal": goal, "colors": colors}
+    out: dict[str, Any] = {"goal": goal, "colors": colors, "symmetric": symmetric}
     if not defined(goal, colors):
         out["status"] = "ND"
         return out
-    inst = generate(goal, colors)
+    inst = generate(goal, colors, symmetric=symmetric)
     for side, macros in (("off", False), ("on", True)):
         walls, cpus, sol = [], [], None
         for _ in range(repeat):

@@ -19,12 +19,14 @@ def register(app: typer.Typer) -> None:
     def generate_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
                      colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
                      seed: int | None = typer.Option(None, "--seed", help="random layout (default: the seed's)"),
+                     symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
+                                                    "(either may learn the other's; 4^n worlds instead of 2^n)"),
                      out: Path = typer.Option(Path("epico"), "--out", help="output directory"),
                      as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Write domain.epddl, problem.epddl (epistemic level), classical.json and world.json (same layout)."""
         from planners.epico import generate
 
-        inst = generate(goal, colors, seed)
+        inst = generate(goal, colors, seed, symmetric=symmetric)
         out.mkdir(parents=True, exist_ok=True)
         (out / "domain.epddl").write_text(inst.domain_text)
         (out / "problem.epddl").write_text(inst.problem_text)
@@ -40,6 +42,8 @@ def register(app: typer.Typer) -> None:
     def solve_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
                   colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
                   seed: int | None = typer.Option(None, "--seed", help="random layout (default: the seed's)"),
+                  symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
+                                                 "(either may learn the other's; 4^n worlds instead of 2^n)"),
                   macros: bool = typer.Option(True, "--macros/--no-macros", help="offer the macros to the planner"),
                   timeout: float = typer.Option(110.0, "--timeout", help="epistemic search limit, seconds"),
                   classical: str = typer.Option("bfs", "--classical", help="classical engine: bfs or clingo"),
@@ -51,7 +55,7 @@ def register(app: typer.Typer) -> None:
 
         if classical not in ("bfs", "clingo"):
             raise EpicoError(f"--classical {classical!r}: use bfs or clingo")
-        sol = solve(generate(goal, colors, seed), macros=macros,
+        sol = solve(generate(goal, colors, seed, symmetric=symmetric), macros=macros,
                     limits=EpicoLimits(timeout=timeout, classical=classical))
         if out is not None:
             sol.write(out)
@@ -77,6 +81,8 @@ def register(app: typer.Typer) -> None:
     def table_cmd(repeat: int = typer.Option(1, "--repeat", min=1, help="runs per cell (mean)"),
                   colors: str = typer.Option("1,2,3,4", "--colors", help="comma-separated colour counts"),
                   timeout: float = typer.Option(110.0, "--timeout", help="limit per run, seconds"),
+                  symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
+                                                 "(either may learn the other's; 4^n worlds instead of 2^n)"),
                   as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Tables 1 and 2: every (goal, colours) cell, macros off and on, beside the seed's numbers."""
         from planners.epico import GOALS, EpicoError
@@ -97,7 +103,7 @@ def register(app: typer.Typer) -> None:
             job = prog.add_task("e-PICO table", total=len(GOALS) * len(cols))
             for g in GOALS:
                 for n in cols:
-                    cells.append(table_cell(g, n, repeat=repeat, timeout=timeout))
+                    cells.append(table_cell(g, n, repeat=repeat, timeout=timeout, symmetric=symmetric))
                     prog.advance(job)
         if as_json:
             typer.echo(json.dumps({"cells": cells, "repeat": repeat}))
