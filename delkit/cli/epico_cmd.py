@@ -118,26 +118,29 @@ def format_tables(cells: list[dict]) -> str:
     def f(x):
         return "TO" if x is None else f"{x:.3f}"
 
-    lines = ["Table 1: seconds to a plan (wall; initial state + epistemic search + breakdown), macro no / yes",
-             f"{'goal':6} {'col':>3} | {'delkit no':>9} {'delkit yes':>10} {'no/yes':>6} | {'seed no':>8} "
+    lines = ["Table 1: seconds to a plan (initial state + epistemic search + breakdown; wall, CPU in brackets), "
+             "macro no / yes",
+             f"{'goal':6} {'col':>3} | {'delkit no':>15} {'delkit yes':>15} {'no/yes':>6} | {'seed no':>8} "
              f"{'seed yes':>8} | {'peer no':>7} {'peer yes':>8} | {'init s':>7}"]
     for c in cells:
         g, n = c["goal"], c["colors"]
         if c["status"] == "ND":
-            lines.append(f"{g:6} {n:>3} | {'ND':>9} {'ND':>10} {'':>6} | {'ND':>8} {'ND':>8} |")
+            lines.append(f"{g:6} {n:>3} | {'ND':>15} {'ND':>15} {'':>6} | {'ND':>8} {'ND':>8} |")
             continue
         off, on = c.get("off", {}), c.get("on", {})
         sn, sy = SEED_TABLE1.get(g, {}).get(n, ("-", "-"))
         pn, py = PEER_TABLE1.get(g, {}).get(n, ("-", "-"))
-        dn = f(off.get("wall")) if off.get("status") == "ok" else "TO"
-        dy = f(on.get("wall")) if on.get("status") == "ok" else "TO"
-        ratio = f"{c['ratio']:.1f}" if c.get("ratio") else "-"
+        dn = f"{f(off['wall'])} ({f(off['cpu'])})" if off.get("status") == "ok" else "TO"
+        dy = f"{f(on['wall'])} ({f(on['cpu'])})" if on.get("status") == "ok" else "TO"
+        ratio = f"{c['ratio']:.2f}" if c.get("ratio") else "-"
         init = f"{on['initial']:.4f}" if on.get("status") == "ok" else "-"
-        lines.append(f"{g:6} {n:>3} | {dn:>9} {dy:>10} {ratio:>6} | "
+        lines.append(f"{g:6} {n:>3} | {dn:>15} {dy:>15} {ratio:>6} | "
                      f"{sn if isinstance(sn, str) else f(sn):>8} {sy if isinstance(sy, str) else f(sy):>8} | "
                      f"{pn if isinstance(pn, str) else f(pn):>7} {py if isinstance(py, str) else f(py):>8} | {init:>7}")
-    lines += ["", "Table 2: classical breakdown (macros on): cumulative seconds, calls, slowest call; seed beside",
-              f"{'goal':6} {'col':>3} | {'seconds':>8} {'calls':>5} {'max ms':>7} | {'seed s':>7} {'seed calls':>10}"]
+    lines += ["", "Table 2: classical breakdown (macros on): cumulative wall seconds, calls, slowest call (wall and "
+              "CPU ms); seed beside",
+              f"{'goal':6} {'col':>3} | {'seconds':>8} {'calls':>5} {'max ms':>7} {'cpu ms':>7} | {'seed s':>7} "
+              f"{'seed calls':>10}"]
     for c in cells:
         g, n = c["goal"], c["colors"]
         on = c.get("on", {})
@@ -145,9 +148,10 @@ def format_tables(cells: list[dict]) -> str:
         ss = seed if isinstance(seed, str) else ("TO", "TO") if seed is None else (f"{seed[0]:.3f}", seed[1])
         if on.get("status") != "ok":
             first = ss[0] if isinstance(ss, tuple) else ss
-            lines.append(f"{g:6} {n:>3} | {c['status']:>8} {'':>5} {'':>7} | {first:>7}")
+            lines.append(f"{g:6} {n:>3} | {c['status']:>8} {'':>5} {'':>7} {'':>7} | {first:>7}")
             continue
-        lines.append(f"{g:6} {n:>3} | {on['classical']:8.4f} {on['calls']:>5} {on['max_call'] * 1000:7.2f} | "
+        lines.append(f"{g:6} {n:>3} | {on['classical']:8.4f} {on['calls']:>5} {on['max_call'] * 1000:7.2f} "
+                     f"{on.get('max_call_cpu', 0.0) * 1000:7.2f} | "
                      f"{ss[0] if isinstance(ss, tuple) else ss:>7} {ss[1] if isinstance(ss, tuple) else '':>10}")
     lines += ["", "seed initial states: " + ", ".join(f"{k} colours {v} s" for k, v in SEED_INITIAL.items())]
     return "\n".join(lines)
