@@ -29,7 +29,8 @@ from typing import Any
 
 from delkit.errors import PlanningError
 
-__all__ = ["CState", "CAction", "CGoal", "ClassicalResult", "solve_classical", "goal_for", "apply", "ASP"]
+__all__ = ["CState", "CAction", "CGoal", "ClassicalResult", "solve_classical", "solve_bfs", "goal_for", "apply",
+           "ASP", "to_pddl"]
 
 
 @dataclass(frozen=True)
@@ -335,3 +336,36 @@ def apply(state: CState, act: CAction) -> CState:
         owners[b] = act.robot if b not in owners else owners[b]
         hand.pop(act.robot)
     return state.with_robot(act.robot, tuple(tuple(s) for s in own), tuple(barrier), owners, hand)
+
+
+def to_pddl(state: CState, goal: CGoal) -> str:
+    """The PDDL problem (for ``specs/epico/classical.pddl``) of ``goal`` from ``state``; a ``put`` goal asks
+    for one chosen block of the colour (the first of the robot's blocks of that colour: with one block per
+    colour, the only one)."""
+    own = state.of(goal.robot)
+    blocks = [b for st in own for b in st] + list(state.barrier)
+    nlev = len(blocks) + 1
+
+    def nm(x: str) -> str:
+        return "b_" + x.replace("-", "_")
+
+    init = ["(handempty)"] + [f"(succ l{i} l{i + 1})" for i in range(nlev)]
+    for s, st in enumerate(own):
+        init.append(f"(above base{s} l0)")
+        below = f"base{s}"
+        for lvl, b in enumerate(st):
+            init += [f"(on {nm(b)} {below})", f"(at {nm(b)} s{s} l{lvl})", f"(above {nm(b)} l{lvl + 1})",
+                     f"(in-stacks {nm(b)})"]
+            below = nm(b)
+        init.append(f"(top s{s} {below})")
+    init += [f"(on-barrier {nm(b)})" for b in state.barrier] or ["(barrier-free)"]
+    if goal.kind == "put":
+        target = next(b for st in own for b in st if state.colors[b] == goal.color)
+        g = f"(and (on-barrier {nm(target)}) (handempty))"
+    else:
+        g = f"(and (handempty) (barrier-free) (in-stacks {nm(goal.block)}))"
+    return (f"(define (problem epico-arm-{goal.kind})\n  (:domain epico-arm)\n"
+            f"  (:objects {' '.join(nm(b) for b in blocks)} - block {' '.join(f'base{s}' for s in range(len(own)))} "
+            f"- base {' '.join(f's{s}' for s in range(len(own)))} - stack "
+            f"{' '.join(f'l{i}' for i in range(nlev + 1))} - level)\n"
+            f"  (:init {' '.join(init)})\n  (:goal {g}))\n")

@@ -57,3 +57,36 @@ def test_errors():
         goal_for("take_from_shared_robot1_robot2_blue", s)
     with pytest.raises(PlanningError, match="no plan"):
         solve_bfs(s, goal_for("put_on_shared_robot1_black", s))
+
+
+@settings(max_examples=8, deadline=None)
+@given(layouts, st.sampled_from(COLS))
+def test_pddl_reference_same_optimum(stacks, color):
+    """specs/epico/classical.pddl solved by pyperplan's breadth-first search: same optimal length, put and
+    take goals (the PDDL file and the planner's encoding describe the same arm)."""
+    import logging
+    from pathlib import Path
+
+    pytest.importorskip("pyperplan")
+    from pyperplan import grounding
+    from pyperplan.pddl.parser import Parser
+    from pyperplan.search.breadth_first_search import breadth_first_search
+
+    from planners.classical import to_pddl
+
+    logging.disable(logging.CRITICAL)
+    dom = Path(__file__).resolve().parents[2] / "specs" / "epico" / "classical.pddl"
+    s = _state(stacks)
+    put = goal_for(f"put_on_shared_robot1_{color}", s)
+    r = solve_bfs(s, put)
+    take = goal_for(f"take_from_shared_robot1_robot1_{color}", r.state)
+    for state, goal, ours in ((s, put, r), (r.state, take, solve_bfs(r.state, take))):
+        import tempfile
+
+        with tempfile.TemporaryDirectory() as d:
+            pf = Path(d) / "p.pddl"
+            pf.write_text(to_pddl(state, goal))
+            parser = Parser(str(dom), str(pf))
+            plan = breadth_first_search(grounding.ground(parser.parse_problem(parser.parse_domain())))
+        assert plan is not None and len(plan) == len(ours.actions)
+        assert [o.name.split()[0].strip("(") for o in plan] == [a.name for a in ours.actions]
