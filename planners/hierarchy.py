@@ -146,15 +146,22 @@ def _search(task: Task, ptask: Task, macros: list[MacroSpec], limits: EpicoLimit
     from planners.epistemic import Limits, best_first, bfs, make_space
 
     lim = Limits(timeout=limits.timeout)
-    try:
-        space = make_space(ptask)
-    except Exception:  # noqa: BLE001 - the planner does not take MacroSpecs yet: step-by-step interim space
-        if not macros:
-            raise
+    if macros and not _planner_takes_macros():
         space = _MacroSpace(task, macros)
+    else:
+        space = make_space(ptask)
     if limits.search == "bfs":
         return bfs(space, lim)
     return best_first(space, lim, kind=limits.search)  # type: ignore[arg-type]
+
+
+def _planner_takes_macros() -> bool:
+    """Does the planner's fast engine apply MacroSpecs itself (the core change announced on main)?"""
+    import inspect
+
+    import planners.fastdel as fd
+
+    return "MacroSpec" in inspect.getsource(fd)
 
 
 def solve(instance: Instance, *, macros: bool = True, known: Mapping[str, Iterable[Any]] | None = None,
