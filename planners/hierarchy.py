@@ -390,7 +390,7 @@ def run_demo(out) -> dict[str, Any]:
     valid = check_plan(task, list(sol.flat_plan)).valid
     s1 = seq(task, [task.action("sense_table_robot1")], task.initial)
     proof = prove_macro(task, ms[0], s1[1][-1] if s1 else None)
-    lst4 = Path(__file__).resolve().parent.parent / "specs" / "epico" / "listing4.epddl"
+    lst4 = Path(__file__).resolve().parent.parent / "specs" / "epico" / "listing4.txt"
     htask, hand = ground_handwritten(inst.domain_text, inst.problem_text, lst4.read_text())
     hw = check_handwritten(htask, hand, ground_macros(htask, parse_macros(inst.domain_text), inst.problem_text))
     out = Path(out) / "epico"

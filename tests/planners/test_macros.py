@@ -19,7 +19,7 @@ from planners.macros import (
     sequence_states,
 )
 
-LISTING4 = Path(__file__).resolve().parents[2] / "specs" / "epico" / "listing4.epddl"
+LISTING4 = Path(__file__).resolve().parents[2] / "specs" / "epico" / "listing4.txt"
 
 
 @pytest.fixture(scope="module")
