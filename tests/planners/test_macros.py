@@ -92,3 +92,14 @@ def test_bad_declarations():
     bad = parse_macros(dom.replace("(put_on_shared ?ag ?c)", "(put_on_sharde ?ag ?c)"))
     with pytest.raises(ParseError, match="not an action"):
         ground_macros(task, bad, inst.problem_text)
+
+
+def test_cli_macros(capsys):
+    from delkit.cli import main
+
+    assert main(["epico", "macros", "--colors", "2", "--json"]) == 0
+    import json
+
+    rep = json.loads(capsys.readouterr().out)
+    assert rep["all_equal"] and len(rep["proofs"]) == 2
+    assert not rep["handwritten_check"]["consistent"]
