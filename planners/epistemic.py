@@ -5,13 +5,8 @@ transition function Φ) for every action A executable at the pointed world. Stat
 their bisimulation quotient and deduplicated by a canonical key (equal iff the pointed models are
 bisimilar), so that bisimilar states are expanded once.
 
-Two state spaces implement the same transition function:
-
-* :class:`DelSpace` — the generic one: ``delkit.update.product_update`` + ``delkit.bisim.contract`` +
-  ``delkit.bisim.canonical_form`` on :class:`~delkit.kripke.KripkeModel` objects;
-* :class:`planners.fastdel.FastSpace` — a specialised representation (states as canonical tuples,
-  event models compiled once per observer configuration) that the search uses by default; its
-  equivalence with :class:`DelSpace` is tested differentially on every benchmark plan.
+The state spaces live in :mod:`planners.spaces`: the planner picks a delkit backend — the compact bit-set
+one (:mod:`delkit.compact`, default) or the numpy one (``--engine del``) — and never implements DEL itself.
 
 No vacuous success: a state where some agent has no accessible world at the pointed world (it believes
 ⊥) is a dead end and is not expanded (``allow_inconsistent=True`` keeps it).
@@ -28,17 +23,15 @@ import resource
 import time
 from collections import deque
 from collections.abc import Callable, Hashable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Literal, Protocol
 
-from delkit.bisim import canonical_form, contract
 from delkit.errors import PlanningError
-from delkit.formula import And, Formula
-from delkit.kripke import KripkeModel
-from delkit.update import product_update
-from planners.task import Task
+from planners.spaces import CompactSpace, DelSpace, make_space
+from planners.task import Task, goal_conjuncts
 
-__all__ = ["SearchResult", "Limits", "DelSpace", "plan", "bfs", "best_first", "StateSpace", "goal_conjuncts"]
+__all__ = ["SearchResult", "Limits", "DelSpace", "CompactSpace", "make_space", "plan", "bfs", "best_first",
+           "StateSpace", "goal_conjuncts"]
 
 Status = Literal["solved", "unsolvable", "limit"]
 
@@ -104,61 +97,6 @@ class StateSpace(Protocol):
     def goal_count(self, state: Any) -> int: ...
 
     dead_ends: int
-
-
-def goal_conjuncts(goal: Formula) -> tuple[Formula, ...]:
-    """Top-level conjuncts of the goal."""
-    if isinstance(goal, And):
-        out: list[Formula] = []
-        for g in goal.args:
-            out.extend(goal_conjuncts(g))
-        return tuple(out)
-    return (goal,)
-
-
-@dataclass
-class DelSpace:
-    """The generic state space on :class:`KripkeModel` via ``delkit`` (reference semantics)."""
-
-    task: Task
-    allow_inconsistent: bool = False
-    dead_ends: int = 0
-    _conj: tuple[Formula, ...] = field(default=(), init=False)
-
-    def __post_init__(self) -> None:
-        self._conj = goal_conjuncts(self.task.goal)
-
-    def initial(self) -> tuple[KripkeModel, Hashable]:
-        m = contract(self.task.initial)
-        return m, canonical_form(m, generated=False)
-
-    def step(self, model: KripkeModel, name: str) -> KripkeModel | None:
-        """M ⊗ E_A for the action ``name`` if executable and the result has a pointed world, else None."""
-        act = self.task.action(name)
-        if not self.task.executable(act, model):
-            return None
-        new = product_update(model, self.task.event_model(act, model))
-        return new if new.designated else None
-
-    def successors(self, model: KripkeModel) -> Iterator[tuple[str, KripkeModel, Hashable]]:
-        for act in self.task.actions:
-            new = self.step(model, act.name)
-            if new is None:
-                continue
-            if not self.allow_inconsistent and new.inconsistent_agents():
-                self.dead_ends += 1
-                continue
-            c = contract(new)
-            yield act.name, c, canonical_form(c, generated=False)
-
-    def is_goal(self, model: KripkeModel) -> bool:
-        return model.holds(self.task.goal)
-
-    def holds(self, model: KripkeModel, f: Formula) -> bool:
-        return model.holds(f)
-
-    def goal_count(self, model: KripkeModel) -> int:
-        return sum(0 if model.holds(g) else 1 for g in self._conj)
 
 
 class _Budget:
@@ -282,60 +220,8 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
                         "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
 
 
-def _group_d_formulas(task: Task) -> list[Formula]:
-    """D_G subformulas with |G| ≥ 2 anywhere in the task (goal, executability, effects, observability)."""
-    import dataclasses
-
-    from delkit.formula import D, subformulas
-
-    found: list[Formula] = []
-
-    def walk(x: Any) -> None:
-        if isinstance(x, Formula):
-            found.extend(g for g in subformulas(x) if isinstance(g, D) and len(g.group) > 1)
-        elif isinstance(x, (tuple, list, frozenset, set)):
-            for y in x:
-                walk(y)
-        elif isinstance(x, dict):
-            for y in x.values():
-                walk(y)
-        elif dataclasses.is_dataclass(x) and not isinstance(x, type):
-            for fld in dataclasses.fields(x):
-                walk(getattr(x, fld.name))
-
-    walk(task.goal)
-    for act in task.actions:
-        walk(act)
-    return found
-
-
-def make_space(task: Task, *, engine: Literal["fast", "del"] = "fast", allow_inconsistent: bool = False) -> Any:
-    """The state space for ``task``: the specialised one (default) or the generic delkit one.
-
-    Both deduplicate states by bisimulation contraction, which preserves every formula of the language
-    except distributed knowledge of groups of two or more agents (D_G is not bisimulation-invariant). A
-    task that mentions such a D_G is refused with a clear error rather than planned unsoundly.
-    """
-    bad = _group_d_formulas(task)
-    if bad:
-        from delkit.formula import show
-
-        raise PlanningError(f"{task.source}: the task uses distributed knowledge of a group ({show(bad[0])}); "
-                            "D of two or more agents is not preserved by the bisimulation contraction the "
-                            "planner uses to merge states, so it cannot plan for it soundly. Rewrite the goal "
-                            "without D of a group, or check a given plan with `delkit check` (which replays "
-                            "without contraction).")
-    if engine == "del":
-        return DelSpace(task, allow_inconsistent=allow_inconsistent)
-    if engine == "fast":
-        from planners.fastdel import FastSpace
-
-        return FastSpace(task, allow_inconsistent=allow_inconsistent)
-    raise PlanningError(f"unknown engine {engine!r}; use 'fast' or 'del'")
-
-
 def plan(task: Task, *, search: Literal["bfs", "gbfs", "astar"] = "bfs", limits: Limits = Limits(),
-         engine: Literal["fast", "del"] = "fast", allow_inconsistent: bool = False) -> SearchResult:
+         engine: Literal["fast", "compact", "del"] = "fast", allow_inconsistent: bool = False) -> SearchResult:
     """Plan for ``task`` with the chosen search; never raises on a failed search (see ``status``)."""
     space = make_space(task, engine=engine, allow_inconsistent=allow_inconsistent)
     if search == "bfs":

@@ -30,7 +30,7 @@ from collections.abc import Callable
 from typing import Any
 
 from delkit.formula import C, D, E, Formula, K, Kw, Prop
-from planners.task import Task
+from planners.task import ActionSpec, MacroSpec, Task, goal_conjuncts
 
 __all__ = ["h_gc", "h_01", "h_cover", "cover_sets", "make_heuristic"]
 
@@ -75,8 +75,13 @@ def cover_sets(task: Task, conjuncts: tuple[Formula, ...]) -> list[int]:
     deps = [_deps(g) for g in conjuncts]
     out = []
     for act in task.actions:
-        observers = {a for a, _ in act.full} | {a for a, _ in act.partial}
-        sets = {p for p, _, _ in act.effects} if act.kind == "ontic" else set()
+        steps = act.steps if isinstance(act, MacroSpec) else (act,)
+        if not all(isinstance(st, ActionSpec) for st in steps):  # a general event model may change anything
+            out.append((1 << len(conjuncts)) - 1)
+            continue
+        # a macro is one action: it may change what any of its steps may change
+        observers = {a for st in steps for a, _ in st.full} | {a for st in steps for a, _ in st.partial}
+        sets = {p for st in steps if st.kind == "ontic" for p, _, _ in st.effects}
         m = 0
         for i, (ags, fls, unbounded) in enumerate(deps):
             if unbounded or (ags & observers) or (fls & sets):
@@ -113,8 +118,6 @@ def _min_cover_table(k: int, covers: list[int]) -> list[float]:
 
 def h_cover(space: Any) -> Callable[[Any], float]:
     """Observer-cover heuristic (admissible, consistent; see the module docstring)."""
-    from planners.epistemic import goal_conjuncts
-
     conj = goal_conjuncts(space.task.goal)
     covers = cover_sets(space.task, conj)
     k = len(conj)

@@ -132,15 +132,21 @@ class Task:
             raise PlanningError(f"{self.source}: no action named {name!r}"
                                 + (f"; similar: {', '.join(close)}" if close else "")) from None
 
-    def executable(self, act: ActionSpec, model: KripkeModel) -> bool:
+    def executable(self, act: ActionSpec | EventAction, model: KripkeModel) -> bool:
         """M, s ⊨ exe(A) at the pointed world(s)."""
         return model.holds(act.executable)
 
-    def event_model(self, act: ActionSpec, model: KripkeModel) -> EventModel:
+    def event_model(self, act: ActionSpec | EventAction, model: KripkeModel) -> EventModel:
         """The event model of ``act`` in the state ``model`` (observers decided at the pointed world).
 
-        Event models are cached per (action, full observers, partial observers, active sensed formulas).
+        Event models are cached per (action, full observers, partial observers, active sensed formulas);
+        an :class:`EventAction`'s per truth values of its conditions in ``model``.
         """
+        if isinstance(act, EventAction):
+            return self.event_model_for_bits(act, tuple(model.holds(c) for c in act.conditions))
+        if isinstance(act, MacroSpec):
+            raise PlanningError(f"{act.where}: the macro {act.name!r} has no single event model in a state; "
+                                f"apply it with planners.task.apply_action (its steps in sequence)")
         full, partial = act.observers(model, self.agents)
         sensed = act.active_sensed(model) if act.kind != "ontic" else ()
         key = (act.name, full, partial, sensed)
@@ -149,6 +155,52 @@ class Task:
             em = build_event_model(act, self.agents, full, partial, sensed)
             self._cache[key] = em
         return em
+
+
+    def event_model_for_bits(self, act: EventAction, bits: tuple[bool, ...]) -> EventModel:
+        """``act.build(bits)``, cached per (action, bits)."""
+        key = ("__event", act.name, bits)
+        em = self._cache.get(key)
+        if em is None:
+            em = act.build(bits)
+            if not isinstance(em, EventModel):
+                raise PlanningError(f"{act.where}: action {act.name!r} built {type(em).__name__}, not an EventModel")
+            if set(em.agents) != set(self.agents):
+                raise PlanningError(f"{act.where}: the event model of {act.name!r} has agents {list(em.agents)}, "
+                                    f"the task {list(self.agents)}")
+            self._cache[key] = em
+        return em
+
+
+def applicable(em: EventModel, model: KripkeModel) -> bool:
+    """Every designated world of ``model`` satisfies the precondition of some designated event of ``em``."""
+    import numpy as np
+
+    ok = np.zeros(model.n_worlds, dtype=bool)
+    for e in em.designated:
+        ok |= model.check(em.pre[e])
+    return bool(ok[list(model.designated)].all())
+
+
+def apply_action(task: Task, act: ActionSpec | MacroSpec | EventAction, model: KripkeModel) -> KripkeModel | None:
+    """The reference transition Φ(A, M) with delkit's product update (no contraction), or None when A is not
+    applicable: its executability fails, or some designated world has no designated event; a macro
+    applies its steps in sequence (Definition 4.1: Φ(j, Φ(i, s)))."""
+    from delkit.update import product_update
+
+    if isinstance(act, MacroSpec):
+        for step in act.steps:
+            model = apply_action(task, step, model)
+            if model is None:
+                return None
+        return model
+    if not model.holds(act.executable):
+        return None
+    em = task.event_model(act, model)
+    if not applicable(em, model):
+        return None
+    new = product_update(model, em)
+    return new if new.designated else None
 
 
 def build_event_model(act: ActionSpec, agents: tuple[str, ...], full: frozenset[str], partial: frozenset[str],

@@ -27,7 +27,7 @@ from delkit.errors import DelkitError, ParseError, io_reason
 from delkit.formula import And, C, E, Formula, K, Kw, Not, Or, Prop, show
 from delkit.kripke import KripkeModel
 from delkit.update import product_update
-from planners.task import Task
+from planners.task import ActionSpec, EventAction, MacroSpec, Task, applicable, apply_action
 
 __all__ = ["Property", "CheckResult", "check_plan", "parse_property", "read_plan", "parse_plan_text", "explain"]
 
@@ -207,6 +207,43 @@ def explain(m: KripkeModel, f: Formula, w: int, depth: int = 0) -> tuple[str, st
 
 # ----------------------------------------------------------------------------- replay
 
+def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, model: KripkeModel,
+                allow_inconsistent: bool) -> CheckResult | KripkeModel:
+    """One (non-macro) action at step ``i``: the new model, or the CheckResult saying why it fails."""
+    point = model.designated[0]
+    if not model.holds(act.executable):
+        bad_w = next((int(w) for w in model.designated if not model.check(act.executable)[int(w)]), point)
+        why, ag, wd = explain(model, act.executable, bad_w)
+        return CheckResult(False, n, i, name, "precondition",
+                           f"step {i} ({label}) is not executable: precondition {show(act.executable)} fails — "
+                           f"{why}", ag, wd, {"precondition": show(act.executable)})
+    em = task.event_model(act, model)
+    if isinstance(act, EventAction) and not applicable(em, model):
+        ok = np.zeros(model.n_worlds, dtype=bool)
+        for e in em.designated:
+            ok |= model.check(em.pre[e])
+        w = next(int(x) for x in model.designated if not ok[int(x)])
+        return CheckResult(False, n, i, name, "not-applicable",
+                           f"step {i} ({label}): no designated event of the action has its precondition true at "
+                           f"the designated world {_world_text(model, w)}", None, _world_text(model, w))
+    new = product_update(model, em)
+    if not new.designated:
+        sensed = ", ".join(show(f) for f in act.active_sensed(model)) if isinstance(act, ActionSpec) else ""
+        return CheckResult(False, n, i, name, "not-applicable",
+                           f"step {i} ({label}): no event of the action can happen at the actual world"
+                           + (f" (announced {sensed} is false there)" if sensed else ""), None,
+                           _world_text(model, point))
+    if not allow_inconsistent:
+        inc = new.inconsistent_agents()
+        if inc:
+            ag, w = inc[0]
+            return CheckResult(False, n, i, name, "inconsistent-belief",
+                               f"step {i} ({label}) leaves agent {ag} with no accessible world at the actual "
+                               f"world: {ag} believes ⊥ (everything), so no belief goal may count as reached",
+                               ag, _world_text(new, w))
+    return new
+
+
 def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[Property] | tuple = (), *,
                allow_inconsistent: bool = False, require_goal: bool = True,
                plan_source: str = "plan") -> CheckResult:
@@ -244,27 +281,15 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
         return bad
     for i, name in enumerate(plan, 1):
         act = task.action(name)
-        point = model.designated[0]
-        if not model.holds(act.executable):
-            why, ag, wd = explain(model, act.executable, point)
-            return CheckResult(False, n, i, name, "precondition",
-                               f"step {i} ({name}) is not executable: precondition {show(act.executable)} fails — "
-                               f"{why}", ag, wd, {"precondition": show(act.executable)})
-        em = task.event_model(act, model)
-        new = product_update(model, em)
-        if not new.designated:
-            sensed = ", ".join(show(f) for f in act.active_sensed(model))
-            return CheckResult(False, n, i, name, "not-applicable",
-                               f"step {i} ({name}): no event of the action can happen at the actual world "
-                               f"(announced {sensed} is false there)", None, _world_text(model, point))
-        if not allow_inconsistent:
-            inc = new.inconsistent_agents()
-            if inc:
-                ag, w = inc[0]
-                return CheckResult(False, n, i, name, "inconsistent-belief",
-                                   f"step {i} ({name}) leaves agent {ag} with no accessible world at the actual "
-                                   f"world: {ag} believes ⊥ (everything), so no belief goal may count as reached",
-                                   ag, _world_text(new, w))
+        # a macro is replayed as its steps (Definition 4.1: Φ(j, Φ(i, s))); a failure names the step
+        parts = [(f"{name} [macro part {j}/{len(act.steps)}: {st.name}]", st) for j, st in
+                 enumerate(act.steps, 1)] if isinstance(act, MacroSpec) else [(name, act)]
+        new = model
+        for label, part in parts:
+            bad = _replay_one(task, i, n, name, label, part, new, allow_inconsistent)
+            if isinstance(bad, CheckResult):
+                return bad
+            new = bad
         model = new
         bad = props_at(i, model, name)
         if bad:
@@ -290,11 +315,9 @@ def final_state(task: Task, plan: list[str]) -> KripkeModel:
 
     model = task.initial
     for i, name in enumerate(plan, 1):
-        act = task.action(name)
-        if not model.holds(act.executable):
-            raise PlanningError(f"step {i} ({name}) is not executable")
-        model = product_update(model, task.event_model(act, model))
-        if not model.designated:
-            raise PlanningError(f"step {i} ({name}) has no event at the actual world")
+        new = apply_action(task, task.action(name), model)
+        if new is None:
+            raise PlanningError(f"step {i} ({name}) is not applicable (executability fails or no event can "
+                                f"happen at the actual world)")
+        model = new
     return model
-

@@ -11,9 +11,9 @@ import pytest
 from delkit.bisim import bisimilar, contract
 from delkit.update import product_update
 from planners.epistemic import Limits, plan
-from planners.fastdel import FastSpace, to_kripke
 from planners.lang import shared_benchmarks
 from planners.lang.mastar import load_mastar
+from planners.spaces import CompactSpace
 from planners.validate import check_plan, parse_plan_text
 
 BENCH = shared_benchmarks()
@@ -46,10 +46,10 @@ def test_bfs_length_and_both_plans_check(row: dict) -> None:
 
 @pytest.mark.parametrize("row", ROWS, ids=[r["file"].rsplit("/", 1)[-1] for r in ROWS])
 def test_fast_states_match_delkit_along_efp_plan(row: dict) -> None:
-    """Differential: FastSpace step == contract(product_update) (bisimilar) at every step of the plan,
+    """Differential: CompactSpace step == contract(product_update) (bisimilar) at every step of the plan,
     and every formula of the task (goal, executability) has the same truth value in both."""
     task = load_mastar(MASTAR / row["file"])
-    space = FastSpace(task)
+    space = CompactSpace(task)
     s, _ = space.initial()
     m = task.initial
     for name in parse_plan_text(row["efp_plan"]):
@@ -58,7 +58,7 @@ def test_fast_states_match_delkit_along_efp_plan(row: dict) -> None:
         s = space.step(s, name)
         m = contract(product_update(m, task.event_model(act, m)))
         assert s is not None
-        assert bisimilar(to_kripke(s, task), m)
+        assert bisimilar(space.to_kripke(s), m)
         assert space.holds(s, task.goal) == m.holds(task.goal)
     assert space.is_goal(s)
 
@@ -87,7 +87,7 @@ def test_correctness_examples_load_and_update() -> None:
     assert files
     for f in files:
         task = load_mastar(f)
-        space = FastSpace(task)
+        space = CompactSpace(task)
         s0, _ = space.initial()
         applied = 0
         for act in task.actions:
@@ -97,7 +97,7 @@ def test_correctness_examples_load_and_update() -> None:
             s = space.step(s0, act.name)
             assert (s is None) == (not m.designated)
             if s is not None:
-                assert bisimilar(to_kripke(s, task), contract(m))
+                assert bisimilar(space.to_kripke(s), contract(m))
                 assert space.holds(s, task.goal) == m.holds(task.goal)
                 applied += 1
         assert applied > 0, f
@@ -112,7 +112,7 @@ def test_generic_delkit_search_equals_fast_search(row: dict) -> None:
 
     task = load_mastar(MASTAR / row["file"])
     a = bfs(DelSpace(task), Limits(timeout=120))
-    b = bfs(FastSpace(task), Limits(timeout=120))
+    b = bfs(CompactSpace(task), Limits(timeout=120))
     assert a.solved and b.solved
     assert (a.plan, a.expanded, a.generated, a.distinct_states) == (b.plan, b.expanded, b.generated,
                                                                     b.distinct_states)

@@ -8,6 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from delkit.bisim import bisimilar, contract
+from delkit.compact import from_kripke
 from delkit.errors import PlanningError
 from delkit.formula import D as Dist
 from delkit.formula import subformulas
@@ -15,8 +16,8 @@ from delkit.testing import formulas, kripke_models
 from delkit.update import product_update
 from planners.demo import specs_dir
 from planners.epistemic import DelSpace, Limits, bfs, plan
-from planners.fastdel import FastSpace, from_kripke, to_kripke
 from planners.lang import load_task, shared_benchmarks
+from planners.spaces import CompactSpace
 from planners.validate import check_plan
 
 BENCH = shared_benchmarks()
@@ -42,7 +43,7 @@ def test_searches(dom, prob, n) -> None:
 def test_generic_and_fast_spaces_search_identically(dom, prob, n) -> None:
     task = load_task(dom, prob)
     a = bfs(DelSpace(task))
-    b = bfs(FastSpace(task))
+    b = bfs(CompactSpace(task))
     assert (a.plan, a.expanded, a.generated, a.distinct_states) == (b.plan, b.expanded, b.generated,
                                                                     b.distinct_states)
 
@@ -105,10 +106,10 @@ def _task(path: str):
 @settings(max_examples=25, deadline=None)
 @given(idx=st.integers(0, 5), walk=st.lists(st.integers(0, 10**6), min_size=1, max_size=6))
 def test_random_walks_fast_equals_delkit(idx: int, walk: list[int]) -> None:
-    """Along a random walk of executable actions: FastSpace state ≅ contract(M ⊗ E) (bisimilar), same
+    """Along a random walk of executable actions: CompactSpace state ≅ contract(M ⊗ E) (bisimilar), same
     executability of every action, and the canonical key is equal iff the models are bisimilar."""
     task = _task(list(TASKS)[idx])
-    space = FastSpace(task)
+    space = CompactSpace(task)
     s, _ = space.initial()
     m = contract(task.initial)
     for r in walk:
@@ -124,32 +125,10 @@ def test_random_walks_fast_equals_delkit(idx: int, walk: list[int]) -> None:
             assert s2 is None
             break
         m2 = contract(new)
-        assert bisimilar(to_kripke(s2, task), m2)
+        assert bisimilar(space.to_kripke(s2), m2)
         assert from_kripke(m2).key == s2.key
         assert (s2.key == s.key) == bisimilar(m2, m)
         s, m = s2, m2
-
-
-@settings(max_examples=40, deadline=None)
-@given(ai=st.integers(0, 10**6), fm=st.integers(0, 7), pm=st.integers(0, 7))
-def test_compiled_frames_equal_delkit_action_frames(ai: int, fm: int, pm: int) -> None:
-    """FastSpace builds the observer frames from masks; they must equal delkit.events.action's relations,
-    preconditions, postconditions and designated events for every observer configuration."""
-    from planners.task import build_event_model
-
-    task = load_task(D / "coin_in_the_box" / "domain.epddl", D / "coin_in_the_box" / "common.epddl")
-    space = FastSpace(task)
-    act = task.actions[ai % len(task.actions)]
-    pm &= ~fm
-    if act.kind == "ontic":
-        pm = 0
-    ags = task.agents
-    full = frozenset(a for i, a in enumerate(ags) if (fm >> i) & 1)
-    part = frozenset(a for i, a in enumerate(ags) if (pm >> i) & 1)
-    sensed = tuple(f for f, _ in act.sensed)
-    ref = space._compile(build_event_model(act, ags, full, part, sensed), None)
-    base = build_event_model(act, ags, frozenset(ags), frozenset(), sensed)
-    assert space._frame(base, fm, pm) == ref
 
 
 # ----------------------------------------------------------------------------- property tests on random models
@@ -162,7 +141,7 @@ def _tiny_space():
     from planners.lang.mastar import parse_mastar
 
     task = parse_mastar("fluent p, q; action x; agent a, b; initially p, q; goal p;", "tiny.txt")
-    return FastSpace(task), task
+    return CompactSpace(task), task
 
 
 @settings(max_examples=60, deadline=None)

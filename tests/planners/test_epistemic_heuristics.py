@@ -8,10 +8,10 @@ import math
 import pytest
 
 from planners.epistemic import Limits, plan
-from planners.fastdel import FastSpace
 from planners.heuristics import cover_sets, h_cover, h_gc
 from planners.lang import load_task, shared_benchmarks
 from planners.lang.mastar import parse_mastar
+from planners.spaces import CompactSpace
 from planners.validate import parse_plan_text
 
 PRIVATE = """
@@ -28,7 +28,7 @@ goal B(a, p), B(b, q), B(c, p);
 
 def test_cover_is_informative_and_exact_here() -> None:
     task = parse_mastar(PRIVATE, "private.txt")
-    space = FastSpace(task)
+    space = CompactSpace(task)
     s0, _ = space.initial()
     from planners.epistemic import goal_conjuncts
 
@@ -42,7 +42,7 @@ def test_cover_is_informative_and_exact_here() -> None:
 
 def test_untouchable_fluent_conjunct_is_a_dead_end() -> None:
     task = parse_mastar(PRIVATE.replace("goal B(a, p), B(b, q), B(c, p);", "goal B(a, p), r;"), "dead.txt")
-    space = FastSpace(task)
+    space = CompactSpace(task)
     s0, _ = space.initial()
     assert h_cover(space)(s0) == math.inf
     r = plan(task, search="astar", limits=Limits(timeout=10))
@@ -61,7 +61,7 @@ def test_cover_admissible_and_consistent_along_optimal_plans(name: str) -> None:
 
     rows = {r["file"]: r for r in csv.DictReader((BENCH / "mastar" / "expected.csv").open())}
     task = load_task(BENCH / "mastar" / name)
-    space = FastSpace(task)
+    space = CompactSpace(task)
     h = h_cover(space)
     steps = parse_plan_text(rows[name]["efp_plan"])
     s, _ = space.initial()

@@ -12,8 +12,8 @@ import pytest
 
 from delkit.formula import parse
 from delkit.update import product_update
-from planners.fastdel import FastSpace
 from planners.lang.mastar import parse_mastar
+from planners.spaces import CompactSpace
 from planners.validate import check_plan
 
 COIN = """
@@ -44,8 +44,8 @@ def _task(b_looks: bool):
 
 
 def _states(task, steps):
-    """Replay with delkit's product update and with FastSpace; yield (delkit model, fast state) pairs."""
-    space = FastSpace(task)
+    """Replay with delkit's product update and with CompactSpace; yield (delkit model, fast state) pairs."""
+    space = CompactSpace(task)
     s, _ = space.initial()
     m = task.initial
     for name in steps:

@@ -1,0 +1,325 @@
+"""State spaces of a :class:`~planners.task.Task`: the transition function Φ on a chosen backend.
+
+The planner does not implement DEL: it picks a delkit backend and asks it to apply event models.
+
+* :class:`CompactSpace` — the compact bit-set backend (:mod:`delkit.compact`), the default;
+* :class:`DelSpace` — the numpy backend: ``delkit.update.product_update`` + ``delkit.bisim.contract`` +
+  ``delkit.bisim.canonical_form`` on :class:`~delkit.kripke.KripkeModel` (reference semantics,
+  ``--engine del``).
+
+Both accept the three kinds of grounded actions of :mod:`planners.task`:
+
+* :class:`ActionSpec` (mA*): executability and observers decided at the pointed world(s), the mA* event
+  model built by ``delkit.events`` constructors;
+* :class:`EventAction`: any event model, chosen by the truth of finitely many conditions in the state;
+* :class:`MacroSpec` (seed 004, Definition 4.1): :class:`DelSpace` applies the steps in sequence,
+  Φ(j, Φ(i, s)) — the definition; :class:`CompactSpace` applies the *composed* event model E₁;…;Eₙ
+  (``delkit.compose``) once, the steps' event models chosen by their conditions in the intermediate
+  states. The composition theorem (M ⊗ E₁) ⊗ E₂ ≅ M ⊗ (E₁;E₂) makes both equal; the differential tests
+  check it along plans.
+
+States are contracted and deduplicated by their canonical key. No vacuous success: a state where some
+agent has no accessible world at a designated world (it believes ⊥) is a dead end unless
+``allow_inconsistent``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Hashable, Iterator
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+from delkit.compact import CompactEngine, CompactState
+from delkit.errors import PlanningError
+from delkit.events import EventModel
+from delkit.formula import Formula, is_propositional
+from delkit.kripke import KripkeModel
+from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, build_event_model, goal_conjuncts
+
+__all__ = ["CompactSpace", "DelSpace", "make_space"]
+
+
+@dataclass
+class DelSpace:
+    """The generic state space on :class:`KripkeModel` via ``delkit`` (reference semantics)."""
+
+    task: Task
+    allow_inconsistent: bool = False
+    dead_ends: int = 0
+    _conj: tuple[Formula, ...] = field(default=(), init=False)
+
+    def __post_init__(self) -> None:
+        self._conj = goal_conjuncts(self.task.goal)
+
+    def initial(self) -> tuple[KripkeModel, Hashable]:
+        from delkit.bisim import canonical_form, contract
+
+        m = contract(self.task.initial)
+        return m, canonical_form(m, generated=False)
+
+    def step(self, model: KripkeModel, name: str) -> KripkeModel | None:
+        """Φ(A, M) for the action ``name`` (None if A is not applicable)."""
+        return apply_action(self.task, self.task.action(name), model)
+
+    def successors(self, model: KripkeModel) -> Iterator[tuple[str, KripkeModel, Hashable]]:
+        from delkit.bisim import canonical_form, contract
+
+        for act in self.task.actions:
+            new = self.step(model, act.name)
+            if new is None:
+                continue
+            if not self.allow_inconsistent and new.inconsistent_agents():
+                self.dead_ends += 1
+                continue
+            c = contract(new)
+            yield act.name, c, canonical_form(c, generated=False)
+
+    def is_goal(self, model: KripkeModel) -> bool:
+        return model.holds(self.task.goal)
+
+    def holds(self, model: KripkeModel, f: Formula) -> bool:
+        return model.holds(f)
+
+    def goal_count(self, model: KripkeModel) -> int:
+        return sum(0 if model.holds(g) else 1 for g in self._conj)
+
+
+class CompactSpace:
+    """State space of a :class:`Task` on the compact backend (same transitions as :class:`DelSpace`)."""
+
+    def __init__(self, task: Task, *, allow_inconsistent: bool = False) -> None:
+        self.task = task
+        self.allow_inconsistent = allow_inconsistent
+        self.dead_ends = 0
+        self.engine = CompactEngine(task.props, task.agents)
+        self.aidx = self.engine.aidx
+        self._conj = goal_conjuncts(task.goal)
+        self._goal = self.engine.cid(task.goal)
+        self._conj_ids = [self.engine.cid(g) for g in self._conj]
+        self._acts: list[tuple] = [self._entry(act) for act in task.actions]
+        self._index = {act.name: i for i, act in enumerate(task.actions)}
+        self._ems: dict[tuple, EventModel] = {}
+
+    def _entry(self, act: ActionSpec | EventAction | MacroSpec) -> tuple:
+        """Per action its conditions as node ids: ("spec", act, exe, full, partial, sensed) / ("event", act,
+        exe, conds) / ("macro", act, [entries of the steps])."""
+        cid = self.engine.cid
+        if isinstance(act, MacroSpec):
+            return ("macro", act, [self._entry(s) for s in act.steps])
+        if isinstance(act, EventAction):
+            return ("event", act, cid(act.executable), [cid(c) for c in act.conditions])
+        return ("spec", act, cid(act.executable),
+                [(self.aidx[a], cid(c)) for a, c in act.full],
+                [(self.aidx[a], cid(c)) for a, c in act.partial],
+                [cid(c) for _, c in act.sensed] if act.kind != "ontic" else [])
+
+    # ------------------------------------------------------------------ states
+    def initial(self) -> tuple[CompactState, Hashable]:
+        s = self.engine.from_kripke(self.task.initial)
+        return s, s.key
+
+    def holds(self, s: CompactState, f: Formula) -> bool:
+        return self.engine.holds(s, f)
+
+    def bits(self, s: CompactState, f: Formula) -> int:
+        return self.engine.bits(s, f)
+
+    def is_goal(self, s: CompactState) -> bool:
+        return self.engine.holds_id(s, self._goal)
+
+    def goal_count(self, s: CompactState) -> int:
+        return sum(0 if self.engine.holds_id(s, g) else 1 for g in self._conj_ids)
+
+    def to_kripke(self, s: CompactState) -> KripkeModel:
+        return self.engine.to_kripke(s)
+
+    def inconsistent(self, s: CompactState) -> list[str]:
+        """Agents with no accessible world at a designated world (they believe ⊥)."""
+        return self.engine.inconsistent(s)
+
+    # ------------------------------------------------------------------ transitions
+    def event_model(self, s: CompactState, entry: tuple) -> EventModel | None:
+        """The event model of a (non-macro) action in ``s``; None if its executability fails in ``s``."""
+        kind, act, exe = entry[0], entry[1], entry[2]
+        at = self.engine.holds_id
+        if not at(s, exe):
+            return None
+        if kind == "event":
+            bits = tuple(at(s, c) for c in entry[3])
+            return self.task.event_model_for_bits(act, bits)
+        _, _, _, full, partial, sensed = entry
+        fm = 0
+        for a, c in full:
+            if at(s, c):
+                fm |= 1 << a
+        pm = 0
+        for a, c in partial:
+            if at(s, c):
+                pm |= 1 << a
+        pm &= ~fm
+        sm = 0
+        for j, c in enumerate(sensed):
+            if at(s, c):
+                sm |= 1 << j
+        key = (act.name, fm, pm, sm)
+        em = self._ems.get(key)
+        if em is None:
+            ags = self.task.agents
+            em = build_event_model(act, ags, frozenset(ag for i, ag in enumerate(ags) if (fm >> i) & 1),
+                                   frozenset(ag for i, ag in enumerate(ags) if (pm >> i) & 1),
+                                   tuple(f for j, (f, _) in enumerate(act.sensed) if (sm >> j) & 1))
+            self._ems[key] = em
+        return em
+
+    def _macro_model(self, s: CompactState, entry: tuple) -> EventModel | None:
+        """The composed event model E₁;…;Eₙ of a macro in ``s`` (None if a step is not applicable).
+
+        Step i's event model depends on its conditions in the state after steps 1..i-1. When all of step
+        i's conditions are propositional and one designated event of the composition so far is possible at
+        the (single) pointed world, they are decided by substituting that event's postconditions (no
+        intermediate state is built); otherwise on the intermediate state itself.
+        """
+        from delkit.compose import compose
+
+        steps = entry[2]
+        models: list[EventModel] = []
+        cur: CompactState | None = s
+        comp: EventModel | None = None
+        for i, st in enumerate(steps):
+            if i > 0 and cur is None:
+                cur = self.engine.apply(s, comp)  # type: ignore[arg-type]
+                if cur is None:
+                    return None
+            em = self.event_model(cur, st) if cur is not None else None
+            if em is None:
+                return None
+            models.append(em)
+            key = ("macro", entry[1].name, tuple(id(m) for m in models))
+            nxt = self._ems.get(key)
+            if nxt is None:
+                nxt = em if comp is None else compose(comp, em, name=f"{comp.name};{em.name}")
+                self._ems[key] = nxt  # the parts stay alive in the event-model caches: their ids are stable
+            comp = nxt
+            if i + 1 < len(steps):
+                cur = self._after(s, comp, steps[i + 1])
+        return comp
+
+    def _after(self, s: CompactState, comp: EventModel, nxt_entry: tuple) -> CompactState | None:
+        """The state to decide the next step's conditions in: ``s`` itself stands for it when they are
+        propositional and can be decided by substitution (returns a substituted view), else None (the caller
+        builds the intermediate state)."""
+        if nxt_entry[0] == "macro" or len(s.points) != 1:
+            return None
+        conds = self._conditions(nxt_entry)
+        if not all(is_propositional(c) for c in conds):
+            return None
+        p = s.point
+        ev, cid = self.engine.ev, self.engine.cid
+        live = [e for e in comp.designated if (ev(s, cid(comp.pre[e])) >> p) & 1]
+        if len(live) != 1:
+            return None
+        post = comp.post[live[0]]
+        # the pointed world after the composition so far has the valuation post(e) evaluated at p (in s): a
+        # one-world view of it decides propositional conditions
+        v = 0
+        for j, prop in enumerate(self.task.props):
+            f = post.get(prop)
+            truth = (s.val[p] >> j) & 1 if f is None else (ev(s, cid(f)) >> p) & 1
+            if truth:
+                v |= 1 << j
+        return _valuation_view(v, len(self.task.agents))
+
+    @staticmethod
+    def _conditions(entry: tuple) -> list[Formula]:
+        act = entry[1]
+        out = [act.executable]
+        if entry[0] == "event":
+            out += list(act.conditions)
+        else:
+            out += [c for _, c in act.full] + [c for _, c in act.partial] + [c for _, c in act.sensed]
+        return out
+
+    def apply_entry(self, s: CompactState, entry: tuple) -> CompactState | None:
+        em = self._macro_model(s, entry) if entry[0] == "macro" else self.event_model(s, entry)
+        if em is None:
+            return None
+        return self.engine.apply(s, em)
+
+    def step(self, s: CompactState, name: str) -> CompactState | None:
+        """The successor of ``s`` by the action ``name`` (None if not applicable)."""
+        return self.apply_entry(s, self._acts[self._index[name]])
+
+    def successors(self, s: CompactState) -> Iterator[tuple[str, CompactState, Hashable]]:
+        for entry in self._acts:
+            new = self.apply_entry(s, entry)
+            if new is None:
+                continue
+            if not self.allow_inconsistent and self._believes_bottom(new):
+                self.dead_ends += 1
+                continue
+            yield entry[1].name, new, new.key
+
+    @staticmethod
+    def _believes_bottom(s: CompactState) -> bool:
+        for per in s.succ:
+            for p in s.points:
+                if not per[p]:
+                    return True
+        return False
+
+
+def _valuation_view(v: int, n_agents: int) -> CompactState:
+    """A one-world state with valuation ``v`` (for deciding propositional conditions only)."""
+    return CompactState((v,), tuple(((0,),) for _ in range(n_agents)), tuple((1,) for _ in range(n_agents)), (0,),
+                        None, tuple((0,) for _ in range(n_agents)), tuple((((0,),)) for _ in range(n_agents)))
+
+
+def _group_d_formulas(task: Task) -> list[Formula]:
+    """D_G subformulas with |G| ≥ 2 anywhere in the task (goal, executability, effects, observability)."""
+    import dataclasses
+
+    from delkit.formula import D, subformulas
+
+    found: list[Formula] = []
+
+    def walk(x: Any) -> None:
+        if isinstance(x, Formula):
+            found.extend(g for g in subformulas(x) if isinstance(g, D) and len(g.group) > 1)
+        elif isinstance(x, (tuple, list, frozenset, set)):
+            for y in x:
+                walk(y)
+        elif isinstance(x, dict):
+            for y in x.values():
+                walk(y)
+        elif dataclasses.is_dataclass(x) and not isinstance(x, type):
+            for fld in dataclasses.fields(x):
+                walk(getattr(x, fld.name))
+
+    walk(task.goal)
+    for act in task.actions:
+        walk(act)
+    return found
+
+
+def make_space(task: Task, *, engine: Literal["fast", "compact", "del"] = "fast",
+               allow_inconsistent: bool = False) -> Any:
+    """The state space for ``task`` on the compact backend (``fast``/``compact``, default) or the numpy one.
+
+    Both deduplicate states by bisimulation contraction, which preserves every formula of the language
+    except distributed knowledge of groups of two or more agents (D_G is not bisimulation-invariant). A
+    task that mentions such a D_G is refused with a clear error rather than planned unsoundly.
+    """
+    bad = _group_d_formulas(task)
+    if bad:
+        from delkit.formula import show
+
+        raise PlanningError(f"{task.source}: the task uses distributed knowledge of a group ({show(bad[0])}); "
+                            "D of two or more agents is not preserved by the bisimulation contraction the "
+                            "planner uses to merge states, so it cannot plan for it soundly. Rewrite the goal "
+                            "without D of a group, or check a given plan with `delkit check` (which replays "
+                            "without contraction).")
+    if engine == "del":
+        return DelSpace(task, allow_inconsistent=allow_inconsistent)
+    if engine in ("fast", "compact"):
+        return CompactSpace(task, allow_inconsistent=allow_inconsistent)
+    raise PlanningError(f"unknown engine {engine!r}; use 'fast' (the compact backend) or 'del'")
