@@ -104,64 +104,16 @@ def epistemic_task(instance: Instance, *, macros: bool = True) -> tuple[Task, Ta
     return task, with_macros(task, ms), ms
 
 
-class _MacroSpace:
-    """Interim: the planner's fast state space plus macros applied step by step (Φ(A_n, … Φ(A_1, s))), until
-    the planner applies MacroSpecs itself. Intermediate states are not tested for consistency, as the
-    composed update would not see them; the flattened plan is checked step by step afterwards."""
-
-    def __init__(self, task: Task, macros: list[MacroSpec]) -> None:
-        from planners.fastdel import FastSpace
-
-        self.fs = FastSpace(task)
-        self.macros = macros
-        self.dead_ends = 0
-
-    def initial(self):
-        return self.fs.initial()
-
-    def is_goal(self, s) -> bool:
-        return self.fs.is_goal(s)
-
-    def goal_count(self, s) -> int:
-        return self.fs.goal_count(s)
-
-    def successors(self, s):
-        yield from self.fs.successors(s)
-        self.dead_ends = self.fs.dead_ends
-        for m in self.macros:
-            cur = s
-            for st in m.steps:
-                cur = self.fs.step(cur, st.name)
-                if cur is None:
-                    break
-            if cur is None:
-                continue
-            if any(not cur.succ[a][cur.point] for a in range(len(cur.succ))):
-                self.dead_ends += 1
-                continue
-            yield m.name, cur, cur.key
-
-
-def _search(task: Task, ptask: Task, macros: list[MacroSpec], limits: EpicoLimits):
+def _search(ptask: Task, limits: EpicoLimits):
+    """The epistemic search on the planner's default backend (it applies a MacroSpec as the composed event
+    model of its steps, Definition 4.1)."""
     from planners.epistemic import Limits, best_first, bfs, make_space
 
+    space = make_space(ptask)
     lim = Limits(timeout=limits.timeout)
-    if macros and not _planner_takes_macros():
-        space = _MacroSpace(task, macros)
-    else:
-        space = make_space(ptask)
     if limits.search == "bfs":
         return bfs(space, lim)
     return best_first(space, lim, kind=limits.search)  # type: ignore[arg-type]
-
-
-def _planner_takes_macros() -> bool:
-    """Does the planner's fast engine apply MacroSpecs itself (the core change announced on main)?"""
-    import inspect
-
-    import planners.fastdel as fd
-
-    return "MacroSpec" in inspect.getsource(fd)
 
 
 def solve(instance: Instance, *, macros: bool = True, known: Mapping[str, Iterable[Any]] | None = None,
@@ -178,7 +130,7 @@ def solve(instance: Instance, *, macros: bool = True, known: Mapping[str, Iterab
     t0 = time.perf_counter()
     task, ptask, ms = epistemic_task(instance, macros=macros)
     t_init = time.perf_counter() - t0
-    res = _search(task, ptask, ms, limits)
+    res = _search(ptask, limits)
     if not res.solved:
         raise EpicoError(f"epistemic planner: no plan for {instance.goal} with {instance.colors} colour(s) "
                          f"({'with' if macros else 'without'} macros): {res.reason}")
@@ -231,13 +183,13 @@ def process_e_plan(task: Task, e_plan: Iterable[str], c_init: CState, limits: Ep
 
 class _Runner:
     """``process_simple_task`` of Listing 1 with its state: the classical state (carried from task to task)
-    and the epistemic state (replayed with the fast engine for the anchoring and consistency checks)."""
+    and the epistemic state (replayed on the compact backend for the anchoring and consistency checks)."""
 
     def __init__(self, task: Task, c_init: CState, limits: EpicoLimits) -> None:
-        from planners.fastdel import FastSpace
+        from planners.spaces import CompactSpace
 
         self.task, self.limits, self.c_state = task, limits, c_init
-        self.fs = FastSpace(task)
+        self.fs = CompactSpace(task)
         self.s, _ = self.fs.initial()
         self.records: list[TaskRecord] = []
         self.calls: list[tuple[float, float]] = []
@@ -250,7 +202,7 @@ class _Runner:
         new = self.fs.step(self.s, name)
         if new is None:
             raise EpicoError(f"task {i} ({name}) is not applicable in the epistemic state it is reached in")
-        bad = [ag for a, ag in enumerate(task.agents) if not new.succ[a][new.point]]
+        bad = self.fs.inconsistent(new)
         if bad:
             raise EpicoError(f"task {i} ({name}) leaves {', '.join(bad)} believing ⊥ (no accessible world): "
                              "vacuous success is refused")
@@ -281,11 +233,12 @@ def _prim(a: CAction) -> dict[str, Any]:
 def _anchor(task: Task, fs, s, c_state: CState, i: int, name: str) -> None:
     """The classical state must agree with the epistemic actual world on every ``occup_by`` fluent."""
     val = s.val[s.point]
+    pidx = fs.engine.pidx
     for j, p in enumerate(task.props):
         if not p.startswith("occup_by_"):
             continue
         robot, color = p[len("occup_by_"):].split("_", 1)
-        epi = bool((val >> fs.pidx[p]) & 1)
+        epi = bool((val >> pidx[p]) & 1)
         cla = any(c_state.colors[b] == color and c_state.owner(b) == robot for b in c_state.barrier)
         if epi != cla:
             raise EpicoError(f"task {i} ({name}): anchoring failed: {p} is {epi} in the epistemic state but the "

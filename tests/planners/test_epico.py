@@ -12,9 +12,10 @@ from planners.validate import check_plan
 
 def _accepts(sol) -> None:
     """delkit check accepts the flat plan, arms.plan accepts the primitive plan, the trace ends in the goal."""
-    task, _, _ = epistemic_task(sol.instance, macros=False)
+    task, ptask, _ = epistemic_task(sol.instance, macros=sol.macros)
     res = check_plan(task, list(sol.flat_plan))
     assert res.valid, res.reason
+    assert check_plan(ptask, list(sol.epistemic_plan)).valid  # the checker replays the macros themselves
     states = symbolic_trace(parse_plan(sol.primitive_plan))
     final = states[-1]
     on_table = [b for b, p in final.places.items() if p.kind == "barrier"]
