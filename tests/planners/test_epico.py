@@ -100,3 +100,26 @@ def test_table1_every_cell(goal, colors):
     assert len(on.flat_plan) == len(off.flat_plan)  # BFS: both optimal in primitive epistemic steps
     assert len(on.epistemic_plan) <= len(off.epistemic_plan)
     assert on.classical_calls == off.classical_calls == {"alpha": 1, "beta": 2, "gamma": 3, "delta": 4}[goal]
+
+
+def test_oblivious_variant_only_succeeds_vacuously():
+    """With the other robot oblivious of put_on_shared (the reading that makes Listing 3's announcement
+    contradict its beliefs), no consistent plan exists; allowing inconsistent states 'finds' one in which
+    robot2 believes ⊥ — the vacuous success the checker rejects."""
+    from planners.epistemic import Limits, plan
+    from planners.hierarchy import process_e_plan
+    from planners.lang.epddl import parse_epddl
+
+    inst = generate("alpha", 2)
+    dom = inst.domain_text.replace("""    :effect (when (hold ?ag ?c) (occup_by ?ag ?c))
+    :observers (forall (?ag2 - agent) (?ag2)))""", """    :effect (occup_by ?ag ?c)
+    :observers (?ag))""")
+    assert dom != inst.domain_text
+    task = parse_epddl(dom, inst.problem_text)
+    assert plan(task, limits=Limits(timeout=30)).status == "unsolvable"
+    vac = plan(task, limits=Limits(timeout=30), allow_inconsistent=True)
+    assert vac.solved
+    res = check_plan(task, list(vac.plan))
+    assert not res.valid and res.kind == "inconsistent-belief" and res.agent == "robot2"
+    with pytest.raises(EpicoError, match="believing ⊥"):
+        process_e_plan(task, vac.plan, inst.classical_init)
