@@ -123,3 +123,20 @@ def test_oblivious_variant_only_succeeds_vacuously():
     assert not res.valid and res.kind == "inconsistent-belief" and res.agent == "robot2"
     with pytest.raises(EpicoError, match="believing ⊥"):
         process_e_plan(task, vac.plan, inst.classical_init)
+
+
+def test_replan_from_observed_layout():
+    """The arms' replanning path: a world object after a fault (red already on the shared table, robot1
+    knows its colours) → Layout.from_world → generate(layout=...) → solve: no sensing, no second put."""
+    from planners.epico import Layout
+
+    inst = generate("beta", 2)
+    assert Layout.from_world(inst.layout.to_world()) == inst.layout
+    world = inst.layout.to_world()
+    world["stacks"]["robot1"] = [["black"], [], []]
+    world["barrier"] = ["red"]
+    lay = Layout.from_world(world, owners={"red": "robot1"})
+    sol = solve(generate("beta", 2, layout=lay), known={"robot1": ["red", "black"]})
+    assert not any(n.startswith(("sense", "put_on_shared")) for n in sol.flat_plan)
+    assert sol.classical_calls == 1  # only the take
+    _accepts(sol)
