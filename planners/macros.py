@@ -250,9 +250,11 @@ def _valid(f: Formula) -> tuple[bool, str]:
     return False, ", ".join(f"{inv.get(p, p)}={'T' if b else 'F'}" for p, b in sorted(cex.items()))
 
 
-def prove_macro(task: Task, macro: MacroSpec, model: KripkeModel | None = None) -> MacroProof:
-    """Prove with z3 that the composed event model of ``macro`` (in ``model``, default the initial state,
-    or the first state along the macro's own sequence where it applies) equals the sequence of its steps."""
+def prove_macro(task: Task, macro: MacroSpec, model: KripkeModel | None = None, *,
+                composed: EventModel | None = None) -> MacroProof:
+    """Prove with z3 that the composed event model of ``macro`` in ``model`` (default: the initial state; the
+    macro must be applicable there) equals the sequence of its steps. ``composed`` checks a given event
+    model (events named ``e1;e2;…`` like the composition's) instead of building it."""
     from delkit.bisim import bisimilar
     from delkit.compose import compose_all
     from delkit.update import product_update
@@ -264,8 +266,11 @@ def prove_macro(task: Task, macro: MacroSpec, model: KripkeModel | None = None) 
         raise PlanningError(f"macro {macro.name}: not applicable in the given state; pass a state where it is")
     ems, states = seq
     problems: list[str] = []
-    composed = compose_all(ems, name=macro.name)
-    pruned = compose_all(ems, name=macro.name, prune=all(is_propositional(p) for e in ems for p in e.pre))
+    if composed is None:
+        composed = compose_all(ems, name=macro.name)
+        pruned = compose_all(ems, name=macro.name, prune=all(is_propositional(p) for e in ems for p in e.pre))
+    else:
+        pruned = composed
     mc = check_macro(pruned, ems)
     problems.extend(mc.problems)
     obligations = mc.events_compared

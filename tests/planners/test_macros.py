@@ -52,6 +52,8 @@ def test_proof_can_fail(alpha2):
     from dataclasses import replace
 
     from delkit.compose import compose_all
+    from delkit.events import EventModel
+    from delkit.formula import Not
     from delkit.verify import check_macro
 
     _, task, ms = alpha2
@@ -61,6 +63,13 @@ def test_proof_can_fail(alpha2):
     bad = check_macro(wrong, ems)
     assert not bad.equivalent
     assert prove_macro(task, replace(ms[0], steps=ms[0].steps[:1]), s).equal  # a one-step macro is its step
+    # a composed model with one postcondition wrong: the z3 obligations catch it
+    good = compose_all(ems)
+    p = next(iter(good.post[0]))
+    posts = (dict(good.post[0]) | {p: Not(good.post[0][p])},) + tuple(good.post[1:])
+    broken = EventModel(good.events, good.agents, good.pre, posts, good.relations, good.designated, good.name)
+    proof = prove_macro(task, ms[0], s, composed=broken)
+    assert not proof.equal and any(p in x for x in proof.problems)
 
 
 def test_listing4_inconsistent():
