@@ -65,7 +65,7 @@ from delkit.relation import Relation
 
 __all__ = ["CompactState", "CompactEngine", "refine_key"]
 
-_PROP, _TOP, _BOT, _NOT, _AND, _OR, _IFF, _K, _C, _D, _DYN = range(11)
+_PROP, _TOP, _BOT, _NOT, _AND, _OR, _IFF, _K, _C, _DYN = range(10)
 
 
 @dataclass(frozen=True, eq=False)
@@ -170,11 +170,25 @@ class CompactEngine:
     hot loop. Event models are compiled once (successor lists, pre/postconditions as node ids).
     """
 
-    def __init__(self, props: Sequence[str], agents: Sequence[str]) -> None:
+    def __init__(self, props: Sequence[str], agents: Sequence[str], groups: Sequence[Sequence[str]] = ()) -> None:
         self.props = tuple(props)
         self.agents = tuple(agents)
         self.pidx = {p: i for i, p in enumerate(self.props)}
         self.aidx = {a: i for i, a in enumerate(self.agents)}
+        # collective bisimulation: each group G (≥ 2 agents) whose distributed knowledge D_G matters gets its
+        # own relation R_G = ⋂_{a∈G} R_a, stored after the agents' relations and refined like them. D_G is
+        # not invariant under plain bisimulation (the quotient's R_a ∩ R_b can grow), but it is the box of
+        # R_G, which the contraction keeps as a relation of its own; the update carries it as
+        # (w,e) R_G (v,f) iff w R_G v and e (⋂_{a∈G} Q_a) f — the intersection of the products.
+        gs: list[tuple[str, ...]] = []
+        for g in groups:
+            key = tuple(sorted(set(g)))
+            for a in key:
+                self._agent(a)
+            if len(key) > 1 and key not in gs:
+                gs.append(key)
+        self.groups = tuple(gs)
+        self.gidx = {g: len(self.agents) + i for i, g in enumerate(self.groups)}
         self._fid: dict[Formula, int] = {}
         self._nodes: list[tuple] = []
         self._compiled: dict[int, tuple] = {}
@@ -186,10 +200,11 @@ class CompactEngine:
             raise ModelError("a model with no designated world has no compact state; designate a world")
         if tuple(m.agents) != self.agents or tuple(m.props) != self.props:
             m = _reorder(m, self.props, self.agents)
-        return from_kripke(m)
+        return from_kripke(m, self.groups)
 
     def to_kripke(self, s: CompactState) -> KripkeModel:
-        """The explicit delkit model of a state."""
+        """The explicit delkit model of a state (the agents' relations; group relations are not kept, so
+        distributed knowledge of a group is not preserved by this conversion when groups are declared)."""
         return to_kripke(s, self.props, self.agents)
 
     # ------------------------------------------------------------------ truth
@@ -223,7 +238,15 @@ class CompactEngine:
         elif isinstance(f, E):
             node = (_AND, tuple(self.cid(K(ag, f.arg)) for ag in f.group))
         elif isinstance(f, D):
-            node = (_D, tuple(self._agent(ag) for ag in f.group), self.cid(f.arg))
+            group = tuple(sorted(set(f.group)))
+            if len(group) == 1:
+                node = (_K, self._agent(group[0]), self.cid(f.arg))
+            elif group in self.gidx:
+                node = (_K, self.gidx[group], self.cid(f.arg))
+            else:
+                raise ModelError(f"distributed knowledge of the group {{{', '.join(group)}}} needs the group's "
+                                 f"relation: declare the group (CompactEngine(..., groups=[{list(group)}])); "
+                                 f"contracted states do not preserve D of an undeclared group")
         elif isinstance(f, C):
             node = (_C, tuple(self._agent(ag) for ag in f.group), self.cid(f.arg))
         else:  # dynamic and any other operators: evaluated by the numpy backend on the explicit model
@@ -290,16 +313,13 @@ class CompactEngine:
             out = full ^ (self.ev(s, node[1]) ^ self.ev(s, node[2]))
         elif op == _C:
             out = _common(s, node[1], self.ev(s, node[2]))
-        elif op == _D:
-            bad = full ^ self.ev(s, node[2])
-            out = 0
-            for w in range(n):
-                m = full
-                for a in node[1]:
-                    m &= s.masks[a][w]
-                if not (m & bad):
-                    out |= 1 << w
         else:
+            if self.groups:
+                from delkit.formula import subformulas
+
+                if any(isinstance(g, D) and len(set(g.group)) > 1 for g in subformulas(node[1])):
+                    raise ModelError("a dynamic formula with distributed knowledge of a group cannot be evaluated "
+                                     "on the compact backend; use the numpy backend (KripkeModel.holds)")
             vec = self.to_kripke(s).check(node[1])
             out = _mask([int(w) for w in np.flatnonzero(vec)])
         memo[i] = out
@@ -308,6 +328,14 @@ class CompactEngine:
     def inconsistent(self, s: CompactState) -> list[str]:
         """Agents with no accessible world at some designated world (they believe ⊥ there)."""
         return [ag for a, ag in enumerate(self.agents) if any(not s.succ[a][p] for p in s.points)]
+
+    def believes_bottom(self, s: CompactState) -> bool:
+        """Some agent has no accessible world at some designated world."""
+        for per in s.succ[:len(self.agents)]:
+            for p in s.points:
+                if not per[p]:
+                    return True
+        return False
 
     # ------------------------------------------------------------------ update
     def compile(self, em: EventModel) -> tuple:
@@ -323,6 +351,9 @@ class CompactEngine:
         for ag in self.agents:
             r = em.relations[ag]
             q.append([tuple(int(x) for x in r.successors(e)) for e in range(k)])
+        for g in self.groups:
+            per = [q[self.aidx[a]] for a in g]
+            q.append([tuple(sorted(set.intersection(*(set(p[e]) for p in per)))) for e in range(k)])
         posts = []
         for e in range(k):
             posts.append([(self.pidx[p], self.cid(f)) for p, f in em.post[e].items() if f != Prop(p)])
@@ -446,8 +477,9 @@ def _reorder(m: KripkeModel, props: tuple[str, ...], agents: tuple[str, ...]) ->
     return KripkeModel(props, agents, val, {a: m.relations[a] for a in agents}, m.designated)
 
 
-def from_kripke(m: KripkeModel) -> CompactState:
-    """A (multi-)pointed KripkeModel as a contracted state (its own vocabulary order)."""
+def from_kripke(m: KripkeModel, groups: Sequence[tuple[str, ...]] = ()) -> CompactState:
+    """A (multi-)pointed KripkeModel as a contracted state (its own vocabulary order); ``groups``: the
+    groups whose intersection relations are kept (collective bisimulation, see :class:`CompactEngine`)."""
     if not m.designated:
         raise ModelError("a model with no designated world has no compact state; designate a world")
     n = m.n_worlds
@@ -465,6 +497,9 @@ def from_kripke(m: KripkeModel) -> CompactState:
             succ.append([classes[lab] for lab in r.labels.tolist()])
         else:
             succ.append([[int(x) for x in r.successors(w)] for w in range(n)])
+    for g in groups:
+        per = [succ[m.agents.index(a)] for a in g]
+        succ.append([sorted(set.intersection(*(set(p[w]) for p in per))) for w in range(n)])
     # generated submodel of the designated worlds (the key must not see unreachable worlds)
     seen: dict[int, int] = {}
     order: list[int] = []
@@ -507,5 +542,5 @@ def to_kripke(s: CompactState, props: Sequence[str], agents: Sequence[str]) -> K
         for j in range(len(props)):
             val[w, j] = bool((v >> j) & 1)
     rels = {ag: Relation.from_pairs(n, [(w, x) for w in range(n) for x in s.succ[a][w]])
-            for a, ag in enumerate(agents)}
+            for a, ag in enumerate(agents)}  # group relations (after the agents') are not part of the model
     return KripkeModel(tuple(props), tuple(agents), val, rels, tuple(s.points))

@@ -50,20 +50,27 @@ class DelSpace:
 
     def __post_init__(self) -> None:
         self._conj = goal_conjuncts(self.task.goal)
+        self._groups = task_groups(self.task)
 
-    def initial(self) -> tuple[KripkeModel, Hashable]:
+    def _key(self, m: KripkeModel) -> tuple[KripkeModel, Hashable]:
+        """(state, key): contracted, keyed by its canonical form. With groups whose D matters the state is
+        kept as it is (no contraction: D_G is not bisimulation-invariant) and keyed by the canonical form of
+        the model extended with one relation ⋂_{a∈G} R_a per group (collective bisimulation)."""
         from delkit.bisim import canonical_form, contract
 
-        m = contract(self.task.initial)
-        return m, canonical_form(m, generated=False)
+        if not self._groups:
+            c = contract(m)
+            return c, canonical_form(c, generated=False)
+        return m, canonical_form(with_group_relations(m, self._groups))
+
+    def initial(self) -> tuple[KripkeModel, Hashable]:
+        return self._key(self.task.initial)
 
     def step(self, model: KripkeModel, name: str) -> KripkeModel | None:
         """Φ(A, M) for the action ``name`` (None if A is not applicable)."""
         return apply_action(self.task, self.task.action(name), model)
 
     def successors(self, model: KripkeModel) -> Iterator[tuple[str, KripkeModel, Hashable]]:
-        from delkit.bisim import canonical_form, contract
-
         for act in self.task.actions:
             new = self.step(model, act.name)
             if new is None:
@@ -71,8 +78,7 @@ class DelSpace:
             if not self.allow_inconsistent and new.inconsistent_agents():
                 self.dead_ends += 1
                 continue
-            c = contract(new)
-            yield act.name, c, canonical_form(c, generated=False)
+            yield (act.name, *self._key(new))
 
     def is_goal(self, model: KripkeModel) -> bool:
         return model.holds(self.task.goal)
@@ -91,7 +97,7 @@ class CompactSpace:
         self.task = task
         self.allow_inconsistent = allow_inconsistent
         self.dead_ends = 0
-        self.engine = CompactEngine(task.props, task.agents)
+        self.engine = CompactEngine(task.props, task.agents, groups=task_groups(task))
         self.aidx = self.engine.aidx
         self._conj = goal_conjuncts(task.goal)
         self._goal = self.engine.cid(task.goal)
@@ -254,18 +260,10 @@ class CompactSpace:
             new = self.apply_entry(s, entry)
             if new is None:
                 continue
-            if not self.allow_inconsistent and self._believes_bottom(new):
+            if not self.allow_inconsistent and self.engine.believes_bottom(new):
                 self.dead_ends += 1
                 continue
             yield entry[1].name, new, new.key
-
-    @staticmethod
-    def _believes_bottom(s: CompactState) -> bool:
-        for per in s.succ:
-            for p in s.points:
-                if not per[p]:
-                    return True
-        return False
 
 
 def _valuation_view(v: int, n_agents: int) -> CompactState:
@@ -301,23 +299,33 @@ def _group_d_formulas(task: Task) -> list[Formula]:
     return found
 
 
+def task_groups(task: Task) -> tuple[tuple[str, ...], ...]:
+    """The groups (≥ 2 agents) whose distributed knowledge the task mentions, sorted."""
+    return tuple(sorted({tuple(sorted(set(d.group))) for d in _group_d_formulas(task)}))
+
+
+def with_group_relations(m: KripkeModel, groups: tuple[tuple[str, ...], ...]) -> KripkeModel:
+    """``m`` with one extra agent per group, named ``D{a,b}``, whose relation is ⋂_{a∈G} R_a."""
+    rels = dict(m.relations)
+    names = []
+    for g in groups:
+        r = m.relations[g[0]]
+        for a in g[1:]:
+            r = r.intersect(m.relations[a])
+        name = "D{" + ",".join(g) + "}"
+        rels[name] = r
+        names.append(name)
+    return KripkeModel(m.props, tuple(m.agents) + tuple(names), m.valuation, rels, m.designated)
+
+
 def make_space(task: Task, *, engine: Literal["fast", "compact", "del"] = "fast",
                allow_inconsistent: bool = False) -> Any:
     """The state space for ``task`` on the compact backend (``fast``/``compact``, default) or the numpy one.
 
-    Both deduplicate states by bisimulation contraction, which preserves every formula of the language
-    except distributed knowledge of groups of two or more agents (D_G is not bisimulation-invariant). A
-    task that mentions such a D_G is refused with a clear error rather than planned unsoundly.
+    Both deduplicate states by bisimulation. Distributed knowledge of a group of two or more agents is not
+    invariant under bisimulation, so for the groups the task mentions both use collective bisimulation
+    (the group's intersection relation is refined and kept like an agent's; see ``delkit.compact``).
     """
-    bad = _group_d_formulas(task)
-    if bad:
-        from delkit.formula import show
-
-        raise PlanningError(f"{task.source}: the task uses distributed knowledge of a group ({show(bad[0])}); "
-                            "D of two or more agents is not preserved by the bisimulation contraction the "
-                            "planner uses to merge states, so it cannot plan for it soundly. Rewrite the goal "
-                            "without D of a group, or check a given plan with `delkit check` (which replays "
-                            "without contraction).")
     if engine == "del":
         return DelSpace(task, allow_inconsistent=allow_inconsistent)
     if engine in ("fast", "compact"):

@@ -9,10 +9,8 @@ from hypothesis import strategies as st
 
 from delkit.bisim import bisimilar, contract
 from delkit.compact import from_kripke
-from delkit.errors import PlanningError
 from delkit.formula import D as Dist
-from delkit.formula import subformulas
-from delkit.testing import formulas, kripke_models
+from delkit.testing import formulas
 from delkit.update import product_update
 from planners.demo import specs_dir
 from planners.epistemic import DelSpace, Limits, bfs, plan
@@ -131,34 +129,8 @@ def test_random_walks_fast_equals_delkit(idx: int, walk: list[int]) -> None:
         s, m = s2, m2
 
 
-# ----------------------------------------------------------------------------- property tests on random models
-
-
-_PROPS, _AGENTS = ("p", "q"), ("a", "b")
-
-
-def _tiny_space():
-    from planners.lang.mastar import parse_mastar
-
-    task = parse_mastar("fluent p, q; action x; agent a, b; initially p, q; goal p;", "tiny.txt")
-    return CompactSpace(task), task
-
-
-@settings(max_examples=60, deadline=None)
-@given(m=kripke_models(_PROPS, _AGENTS, 5, frame="K"), f=formulas(_PROPS, _AGENTS, 3))
-def test_fast_truth_equals_delkit_truth(m, f) -> None:
-    """Formula truth at the pointed world is the same in delkit and in the contracted fast state (which
-    also checks that contraction preserves every formula: bisimulation invariance)."""
-    space, _ = _tiny_space()
-    s = from_kripke(m)
-    assert space.holds(s, f) == m.holds(f)
-
-
-@settings(max_examples=60, deadline=None)
-@given(m1=kripke_models(_PROPS, _AGENTS, 4, frame="KD45"), m2=kripke_models(_PROPS, _AGENTS, 4, frame="KD45"))
-def test_canonical_key_iff_bisimilar(m1, m2) -> None:
-    assert (from_kripke(m1).key == from_kripke(m2).key) == bisimilar(m1, m2)
-    assert from_kripke(m1).key == from_kripke(contract(m1)).key
+# ----------------------------------------------------------------------------- random goals
+# (backend truth / canonical keys on random models: tests/delkit/test_backends.py)
 
 
 @settings(max_examples=15, deadline=None)
@@ -170,10 +142,6 @@ def test_random_goals_plan_found_implies_independent_replay_reaches_goal(goal) -
 
     task = load_task(D / "coin_in_the_box" / "domain.epddl", D / "coin_in_the_box" / "problem.epddl")
     t2 = replace(task, goal=goal, _cache={})
-    if any(isinstance(g, Dist) and len(g.group) > 1 for g in subformulas(goal)):
-        with pytest.raises(PlanningError, match="distributed knowledge"):
-            plan(t2)
-        return
     res = plan(t2, limits=Limits(max_expanded=150, timeout=10))
     if res.solved:
         assert check_plan(t2, list(res.plan)).valid
@@ -183,18 +151,23 @@ def test_random_goals_plan_found_implies_independent_replay_reaches_goal(goal) -
         assert res.plan is None and res.status in ("limit", "unsolvable")
 
 
-def test_group_distributed_knowledge_goal_is_refused_not_planned_unsoundly():
-    """D_{a,b} is not bisimulation-invariant, so the contracting planner must refuse it with a clear error."""
+def test_group_distributed_knowledge_goals_are_planned_with_collective_bisimulation():
+    """D_{a,b} is not bisimulation-invariant; the planner keeps each mentioned group's intersection relation
+    (collective bisimulation), so such goals are planned: both engines agree (the numpy one does not contract
+    at all), the plan replays under the independent checker, and no shorter prefix reaches the goal."""
     import dataclasses
 
-    from delkit.formula import K, Prop
+    from delkit.formula import K, Not, Prop
 
-    dom, prob, _ = OWN[0]
-    task = load_task(dom, prob)
-    agents, p = task.agents[:2], Prop(task.props[0])
-    for engine in ("fast", "del"):
-        with pytest.raises(PlanningError, match="distributed knowledge of a group"):
-            plan(dataclasses.replace(task, goal=Dist(agents, p)), engine=engine)
-    # D of a single agent is K, which contraction preserves: planned as usual
-    res = plan(dataclasses.replace(task, goal=Dist(agents[:1], p) | K(agents[0], p)), limits=Limits(timeout=10))
-    assert res.status in ("solved", "unsolvable", "limit")
+    task = load_task(D / "coin_in_the_box" / "domain.epddl", D / "coin_in_the_box" / "problem.epddl")
+    a, b = task.agents[:2]
+    tail = Prop("tail")
+    for goal in (Dist((a, b), tail) & Not(K(a, tail)) & Not(K(b, tail)), Dist((a, b), tail), Dist(task.agents, tail)):
+        t2 = dataclasses.replace(task, goal=goal, _cache={})
+        res = {e: plan(t2, engine=e, limits=Limits(timeout=60)) for e in ("fast", "del")}
+        assert res["fast"].status == res["del"].status
+        assert res["fast"].length == res["del"].length
+        if res["fast"].solved:
+            p = list(res["fast"].plan)
+            assert check_plan(t2, p).valid
+            assert all(not check_plan(t2, p[:k]).valid for k in range(len(p)))

@@ -129,3 +129,25 @@ def test_multi_pointed_spaces_agree() -> None:
     task = _coin_task((0, 1), "Kw_a p")
     a, b = bfs(CompactSpace(task)), bfs(DelSpace(task))
     assert (a.plan, a.expanded, a.generated) == (b.plan, b.expanded, b.generated)
+
+
+@pytest.mark.parametrize("engine", ["fast", "del"])
+def test_group_d_goal_hand_checked(engine) -> None:
+    """w0 (p) sees w1 for a and w2 for b (both ¬p, bisimilar): D_{a,b} p holds at w0 and K_a p, K_b p do not.
+    A plain contraction would merge w1, w2 and lose D_{a,b} p (the goal would look false and the planner
+    would search instead of answering the empty plan); 'tell' announces p to a and b privately, after which
+    both know p."""
+    from delkit.events import private_announcement
+    from delkit.formula import parse
+
+    m = KripkeModel.build([{"p"}, set(), set()], {"a": {"pairs": [(0, 0), (0, 1), (1, 1), (2, 2)]},
+                                                    "b": {"pairs": [(0, 0), (0, 2), (1, 1), (2, 2)]}},
+                          designated=[0])
+    tell = EventAction("tell", lambda bits: private_announcement("p", ["a", "b"], ["a", "b"], name="tell"))
+
+    def task(goal: str) -> Task:
+        return Task("d", ("p",), ("a", "b"), m, (tell,), parse(goal))
+
+    assert plan(task("D{a,b} p"), engine=engine).plan == ()
+    assert plan(task("D{a,b} p & ~K_a p"), engine=engine).plan == ()
+    assert plan(task("K_a p & K_b p & D{a,b} p"), engine=engine).plan == ("tell",)
