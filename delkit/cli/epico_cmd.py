@@ -47,16 +47,39 @@ def register(app: typer.Typer) -> None:
                   macros: bool = typer.Option(True, "--macros/--no-macros", help="offer the macros to the planner"),
                   timeout: float = typer.Option(110.0, "--timeout", help="epistemic search limit, seconds"),
                   classical: str = typer.Option("bfs", "--classical", help="classical engine: bfs or clingo"),
+                  world: Path | None = typer.Option(None, "--world", help="start from this layout: a world JSON "
+                                                    "or a plan/1 JSON (its world), e.g. observed after a fault"),
+                  owner: list[str] = typer.Option([], "--owner", help="BLOCK=ROBOT: whose block lies on the "
+                                                  "shared table of --world (repeatable)"),
+                  known: list[str] = typer.Option([], "--known", help="ROBOT:COLOUR,COLOUR — colours whose "
+                                                  "presence the robot already knows (repeatable)"),
                   out: Path | None = typer.Option(None, "--out", help="write the primitive plan (plan/1 JSON)"),
                   as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Solve one instance: epistemic plan, flattened plan, primitive plan, times, classical calls."""
-        from planners.epico import EpicoError, generate
+        from planners.epico import EpicoError, Layout, generate
         from planners.hierarchy import EpicoLimits, solve
 
         if classical not in ("bfs", "clingo"):
             raise EpicoError(f"--classical {classical!r}: use bfs or clingo")
-        sol = solve(generate(goal, colors, seed, symmetric=symmetric), macros=macros,
-                    limits=EpicoLimits(timeout=timeout, classical=classical))
+        layout = None
+        if world is not None:
+            try:
+                obj = json.loads(world.read_text())
+            except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+                raise EpicoError(f"{world}: cannot read a world JSON ({exc})") from None
+            obj = obj.get("world", obj) if isinstance(obj, dict) else obj
+            owners = dict(o.split("=", 1) for o in owner if "=" in o)
+            if len(owners) != len(owner):
+                raise EpicoError(f"--owner takes BLOCK=ROBOT, got {owner}")
+            layout = Layout.from_world(obj, owners)
+        knows: dict[str, list[str]] = {}
+        for k in known:
+            robot, sep, cols = k.partition(":")
+            if not sep or not cols:
+                raise EpicoError(f"--known takes ROBOT:COLOUR,COLOUR, got {k!r}")
+            knows.setdefault(robot, []).extend(c for c in cols.split(",") if c)
+        sol = solve(generate(goal, colors, seed, symmetric=symmetric, layout=layout), macros=macros,
+                    known=knows or None, limits=EpicoLimits(timeout=timeout, classical=classical))
         if out is not None:
             sol.write(out)
         if as_json:

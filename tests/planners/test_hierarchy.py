@@ -90,3 +90,19 @@ def test_primitive_plan_runs_in_mujoco(tmp_path):
     sol = solve(generate("delta", 2))
     res, _ = run_plan(parse_plan(sol.primitive_plan))
     assert res.success, res.failure
+
+
+def test_cli_replan_from_world(tmp_path, capsys):
+    """delkit epico solve --world (a world observed after a fault) --owner --known: plan from there."""
+    inst = generate("beta", 2)
+    world = inst.layout.to_world()
+    world["stacks"]["robot1"] = [["black"], [], []]
+    world["barrier"] = ["red"]
+    wf = tmp_path / "world.json"
+    wf.write_text(json.dumps({"format": "delkit.arms.plan/1", "world": world, "actions": []}))
+    assert main(["epico", "solve", "--goal", "beta", "--colors", "2", "--world", str(wf), "--owner", "red=robot1",
+                 "--known", "robot1:red,black", "--json"]) == 0
+    res = json.loads(capsys.readouterr().out)
+    assert res["flat_plan"][0].startswith("announce_block_on_barrier_robot1_red") and res["classical_calls"] == 1
+    assert main(["epico", "solve", "--world", str(wf), "--owner", "red"]) == 2
+    assert main(["epico", "solve", "--known", "robot1"]) == 2
