@@ -30,7 +30,11 @@ from delkit.formula import TOP, C, Formula, Implies, K, Not, Or, Prop, conj
 from planners.lang.initial import finitary_s5
 from planners.task import ActionSpec, Task, merge_observers
 
-__all__ = ["parse_epddl", "load_epddl", "SExp"]
+__all__ = ["parse_epddl", "load_epddl", "SExp", "EXTENSION_SECTIONS"]
+
+#: Domain sections that other delkit modules read and this reader skips (a strict reader must accept them):
+#: ``(:macro NAME :parameters (...) :steps ((action ?x ...) ...))`` — macro-actions, ``planners.macros``.
+EXTENSION_SECTIONS = frozenset({":macro"})
 
 
 @dataclass(frozen=True)
