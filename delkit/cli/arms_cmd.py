@@ -69,7 +69,7 @@ def register(app: typer.Typer) -> None:
     def run(plan: Path = typer.Argument(..., help="primitive-plan JSON (format: arms/README.md)"),
             out: Path | None = typer.Option(None, "--out", help="directory for scene.xml, result.json, "
                                                                   "final.png and the video"),
-            grasp: str = typer.Option("weld", "--grasp", help="weld (default) or friction"),
+            grasp: str = typer.Option("friction", "--grasp", help="friction (default) or weld (debugging only)"),
             as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
             video: bool = typer.Option(True, "--video/--no-video", help="also write run.mp4 / run.gif"),
             frames: bool = typer.Option(False, "--frames", help="also write every frame as PNG"),
@@ -102,7 +102,7 @@ def register(app: typer.Typer) -> None:
         p = demo_plan()
         cb, stop = _progress_cb(len(p.actions), "demo")
         try:
-            result, note = _execute(execute_and_render, p, out, "weld", video, 0.01, cb)
+            result, note = _execute(execute_and_render, p, out, "friction", video, 0.01, cb)
         finally:
             stop()
         raise typer.Exit(_report(result, note, as_json))
