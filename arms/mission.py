@@ -142,7 +142,7 @@ class MissionResult:
     arm_contacts: int
     replans: int
     steps: list[StepRecord]
-    plans: list[list[str]]
+    plans: list[list[dict]]
     planning_seconds: list[float]
     belief_log: list[dict]
     beliefs: dict
@@ -159,17 +159,30 @@ class MissionResult:
         return self.sim_seconds / self.wall_seconds if self.wall_seconds > 0 else float("inf")
 
     def tasks(self) -> list[dict]:
-        """Per task (the ``task`` field of the plan's actions, else one action each): planned, done, observed."""
+        """Per plan and task (the ``task`` field of the plan's actions, else one action each): the planned
+        actions, what the arms did, what was observed, and whether the monitor found the world and the
+        beliefs as the plan expects after it (``ok``)."""
         out: list[dict] = []
-        for s in self.steps:
-            key = (s.plan, s.task)
-            if not out or out[-1]["key"] != key:
-                out.append({"key": key, "plan": s.plan, "task": s.task, "done": [], "observed": {}, "ok": True})
-            out[-1]["done"].append(s.text + (f" [{s.fault}]" if s.fault else ""))
-            out[-1]["observed"].update({k: v for k, v in s.observed.items() if k != "sightings"})
-            out[-1]["ok"] = out[-1]["ok"] and s.ok
-        for t in out:
-            t.pop("key")
+        for no, plan in enumerate(self.plans):
+            order: list[str] = []
+            planned: dict[str, list[str]] = {}
+            for a in plan:
+                if a["task"] not in planned:
+                    order.append(a["task"])
+                planned.setdefault(a["task"], []).append(a["text"])
+            for key in [*order, "recovery", "re-sense"]:
+                done = [s for s in self.steps if s.plan == no and s.task == key]
+                if not done and key not in planned:
+                    continue
+                observed: dict = {}
+                for s in done:
+                    for k, v in s.observed.items():
+                        if k != "columns":
+                            observed.setdefault(k, {}).update(v) if isinstance(v, dict) else observed.update({k: v})
+                out.append({"plan": no, "task": key, "planned": planned.get(key, []),
+                            "done": [s.text + (f" [fault: {s.fault}]" if s.fault else "") for s in done],
+                            "observed": observed, "ok": bool(done) and all(s.ok for s in done),
+                            "message": next((s.message for s in done if not s.ok), "")})
         return out
 
     def to_json(self) -> dict:
@@ -183,6 +196,10 @@ class MissionResult:
                 "cpu_seconds": self.cpu_seconds,
                 "realtime_factor": self.realtime_factor if math.isfinite(self.realtime_factor) else None,
                 "grasp": self.grasp, "files": self.files}
+
+
+def _plan_summary(actions: list[Action]) -> list[dict]:
+    return [{"task": str(a.args.get("task", f"{i}")), "text": str(a)} for i, a in enumerate(actions)]
 
 
 class _Divergence(Exception):
@@ -336,7 +353,7 @@ class Mission:
         t_wall, t_cpu = time.perf_counter(), time.process_time()
         prior = _colour_names(self.world)
         faults = list(self.faults)
-        plans: list[list[str]] = []
+        plans: list[list[dict]] = []
         planning: list[float] = []
         if self.first_plan is not None:
             p0 = parse_plan(self.first_plan, source="plan")
@@ -346,7 +363,7 @@ class Mission:
         else:
             actions, dt = self._plan(self.world.to_json() | {"colors": dict(prior)}, {})
             planning.append(dt)
-        plans.append([str(a) for a in actions])
+        plans.append(_plan_summary(actions))
         true_world = self.world
         for f in [f for f in faults if f.kind == "swap-colours"]:
             first = next((a.args.get("block") for a in actions if a.name in ("pick", "announce")
@@ -364,9 +381,9 @@ class Mission:
         replans, k, plan_no, reason = 0, 0, 0, ""
         while True:
             divergence = ""
-            for act in actions:
+            for pos, act in enumerate(actions):
                 try:
-                    state = self._step(ex, act, state, k, plan_no, prior, beliefs, lost, anchors, faults, steps)
+                    state = self._step(ex, act, pos, state, k, plan_no, prior, beliefs, lost, anchors, faults, steps)
                 except _Divergence as exc:
                     divergence = str(exc)
                 k += 1
@@ -395,7 +412,7 @@ class Mission:
                 reason = f"goal {self.goal.name} unreachable from the observed state: {exc}"
                 break
             planning.append(dt)
-            plans.append([str(a) for a in actions])
+            plans.append(_plan_summary(actions))
         gw, gb, detail = self._goal_status(ex, beliefs, truth, lost)
         errs = self._errors(ex, state, lost, {})
         worst = max(errs.values(), default=0.0)
@@ -421,10 +438,10 @@ class Mission:
                 return f
         return None
 
-    def _step(self, ex: Executor, act: Action, state: SymbolicState, k: int, plan_no: int,
+    def _step(self, ex: Executor, act: Action, pos: int, state: SymbolicState, k: int, plan_no: int,
               prior: dict[str, str], beliefs: Beliefs, lost: set[str], anchors: dict, faults: list[Fault],
               steps: list[StepRecord]) -> SymbolicState:
-        task = str(act.args.get("task", k))
+        task = str(act.args.get("task", pos))
         rec = StepRecord(k, plan_no, task, act.robot, str(act), True, "ok", {}, 0.0, float("nan"))
         steps.append(rec)
         self._say(f"{k}: {act}")
@@ -468,11 +485,22 @@ class Mission:
             to = act.args.get("to", [r for r in self.world.robots if r != act.robot])
             to = tuple([to] if isinstance(to, str) else to)
             said = beliefs.believed(act.robot, b) if b else None
+            if said is None and b in state.places and state.places[b].kind == "barrier":
+                # e-PICO: a robot that has put a block on the shared table can tell its colour: it looks at
+                # it first (line of sight; the block must be the top one there)
+                ex.execute(Action(act.robot, "sense", MappingProxyType({"block": b})), state)
+                for s in ex.sightings:
+                    if s.block is not None:
+                        beliefs.sense(act.robot, s.block, s.colour, float(ex.data.time))
+                rec.observed["seen"] = {s.block: s.colour for s in ex.sightings if s.block}
+                self._check_sightings(ex.sightings, nxt, prior, diverge)
+                said = beliefs.believed(act.robot, b)
             if said is None:
                 diverge(f"{act.robot} is to announce the colour of {b!r} but does not know it")
             planned = act.args.get("color", act.args.get("colour"))
+            t = rec.sim_time = float(ex.data.time)
             beliefs.announce(act.robot, to, b, said, t)
-            rec.observed = {"announced": {b: said}, "to": list(to)}
+            rec.observed.update({"announced": {b: said}, "to": list(to)})
             if planned is not None and planned != said:
                 diverge(f"{act.robot} announced {b} is {said}; the plan expected {planned}")
         # -- the monitor --
