@@ -130,3 +130,21 @@ def test_robot_names_come_from_the_world_description():
     assert ex.model.body("right/panda_hand_tcp").id >= 0
     want = plan.world.position(symbolic_trace(plan)[-1].places["black"])
     assert np.linalg.norm(np.array(result.final_poses["black"]["pos"]) - want) < 0.01
+
+
+def test_arm_arm_contacts_are_counted_when_the_arms_do_touch():
+    """Both arms swung towards each other over the shared table: the contact counter sees it (so the 0
+    reported by every run is a measurement, not a default)."""
+    import mujoco
+
+    from arms.scene import HOME_Q
+
+    ex = Executor(demo_plan().world)
+    for r, sign in (("robot1", 1.0), ("robot2", -1.0)):
+        q = HOME_Q.copy()
+        q[0], q[1], q[3] = sign * np.pi / 2, 0.6, -1.2
+        ex.data.qpos[ex._arm_adr[r]] = q
+        ex.data.ctrl[ex._arm_act[r]] = q
+    mujoco.mj_forward(ex.model, ex.data)
+    ex._physics(5)
+    assert ex.arm_contacts > 0
