@@ -154,14 +154,15 @@ def default_layout(colors: int) -> Layout:
                   MappingProxyType(colors_of))
 
 
-def random_layout(colors: int, seed: int, *, need_two: bool) -> Layout:
+def random_layout(colors: int, seed: int, *, need_two: bool, owner_two: bool = True) -> Layout:
     """Each robot gets a random non-empty set of the colours (one block each) on random stacks; with
-    ``need_two`` at least one robot has two colours (γ, δ)."""
+    ``need_two`` robot1 (``owner_two``) or some robot has two colours (γ, δ)."""
     rng = random.Random(seed)
     pal = PALETTE[:colors]
     while True:
         sets = {r: [c for c in pal if rng.random() < 0.6] for r in ROBOTS}
-        if all(sets.values()) and (not need_two or any(len(v) >= 2 for v in sets.values())):
+        two = len(sets["robot1"]) >= 2 if owner_two else any(len(v) >= 2 for v in sets.values())
+        if all(sets.values()) and (not need_two or two):
             break
     stacks: dict[str, tuple[tuple[str, ...], ...]] = {}
     colors_of: dict[str, str] = {}
@@ -177,15 +178,15 @@ def random_layout(colors: int, seed: int, *, need_two: bool) -> Layout:
 
 # ----------------------------------------------------------------------------- E-PDDL problem text
 
-_FREE = "(forall (?a - agent ?k - color) (not (occup_by ?a ?k)))"
+_FREE = "(forall (?a - owner ?k - color) (not (occup_by ?a ?k)))"
 
 
-def goal_text(goal: str, colors: Iterable[str]) -> str:
-    """The goal formula of α β γ δ in E-PDDL."""
+def goal_text(goal: str, colors: Iterable[str], owners: Iterable[str] = ROBOTS) -> str:
+    """The goal formula of α β γ δ in E-PDDL (a robot knows colour(s) of an owner's blocks)."""
     g = goal_name(goal)
     cols = list(colors)
     parts = []
-    for owner in ROBOTS:
+    for owner in owners:
         for knower in ROBOTS:
             if knower == owner:
                 continue
@@ -198,19 +199,27 @@ def goal_text(goal: str, colors: Iterable[str]) -> str:
     return f"(and {know}\n    {_FREE})" if g in ("beta", "delta") else know
 
 
-def problem_text(layout: Layout, goal: str, *, colors: int | None = None,
+def problem_text(layout: Layout, goal: str, *, colors: int | None = None, owners: Iterable[str] = ("robot1",),
                  known: Mapping[str, Iterable[Any]] | None = None, name: str | None = None) -> str:
-    """The epistemic problem of a layout: actual colours, common knowledge of the shared table, ``known``
-    (robot ↦ colours C — or (owner, C) pairs — whose ``hold`` it knows) as common knowledge."""
+    """The epistemic problem of a layout: the colours of the ``owners`` (the robots whose colours are modelled;
+    the others learn them), common knowledge of the shared table, ``known`` (robot ↦ colours C — or
+    (owner, C) pairs — whose ``hold`` it knows) as common knowledge."""
     cols = PALETTE[:colors] if colors is not None else layout.palette()
+    owners = tuple(owners)
+    if not owners or any(o not in ROBOTS for o in owners):
+        raise EpicoError(f"owners must be robots among {', '.join(ROBOTS)}, got {list(owners)}")
     g = goal_name(goal)
     if not defined(g, len(cols)):
         raise EpicoError(f"goal {g} is not defined with {len(cols)} colour(s): it needs two different colours")
-    init = [f"(hold {r} {c})" for r in ROBOTS for c in cols if layout.has(r, c)]
+    init = [f"(hold {r} {c})" for r in owners for c in cols if layout.has(r, c)]
     on_table = {(layout.owners[b], layout.colors[b]) for b in layout.shared}
+    stray = sorted(r for r, _ in on_table if r not in owners)
+    if stray:
+        raise EpicoError(f"the shared table holds a block of {stray[0]}, whose colours are not modelled; "
+                         f"make it an owner (symmetric instance)")
     init += [f"(occup_by {r} {c})" for r, c in sorted(on_table)]
     group = " ".join(ROBOTS)
-    for r in ROBOTS:
+    for r in owners:
         for c in cols:
             lit = f"(occup_by {r} {c})" if (r, c) in on_table else f"(not (occup_by {r} {c}))"
             init.append(f"([{group}]{lit})")
@@ -219,14 +228,15 @@ def problem_text(layout: Layout, goal: str, *, colors: int | None = None,
             raise EpicoError(f"known: unknown robot {r!r}; robots are {', '.join(ROBOTS)}")
         for it in items:
             owner, c = (it if isinstance(it, (tuple, list)) else (r, it))
-            if owner not in ROBOTS or c not in cols:
+            if owner not in owners or c not in cols:
                 raise EpicoError(f"known[{r!r}]: {it!r} is not a colour of this instance ({', '.join(cols)}) "
-                                 f"or an (owner, colour) pair")
+                                 f"or an (owner, colour) pair with owner among {', '.join(owners)}")
             init.append(f"([{group}](or ([{r}](hold {owner} {c})) ([{r}](not (hold {owner} {c})))))")
     name = name or f"epico_{g}_{len(cols)}"
     return (f"(define (problem {name})\n  (:domain epico)\n  (:agents {' '.join(ROBOTS)})\n"
-            f"  (:objects {' '.join(cols)} - color)\n  (:init\n    " + "\n    ".join(init) + ")\n"
-            f"  (:goal {goal_text(g, cols)}))\n")
+            f"  (:objects {' '.join(cols)} - color {' '.join(owners)} - owner)\n  (:init\n    "
+            + "\n    ".join(init) + ")\n"
+            f"  (:goal {goal_text(g, cols, owners)}))\n")
 
 
 @dataclass(frozen=True)
@@ -239,6 +249,7 @@ class Instance:
     domain_text: str
     problem_text: str
     known: Mapping[str, tuple] = field(default_factory=dict)
+    owners: tuple[str, ...] = ("robot1",)
 
     @property
     def classical_init(self):
@@ -248,16 +259,20 @@ class Instance:
     def with_known(self, known: Mapping[str, Iterable[Any]] | None) -> Instance:
         k = {r: tuple(v) for r, v in (known or {}).items()}
         return Instance(self.layout, self.goal, self.colors, self.domain_text,
-                        problem_text(self.layout, self.goal, colors=self.colors, known=k), MappingProxyType(k))
+                        problem_text(self.layout, self.goal, colors=self.colors, owners=self.owners, known=k),
+                        MappingProxyType(k), self.owners)
 
     def to_json(self) -> dict[str, Any]:
-        return {"goal": self.goal, "colors": self.colors, "layout": self.layout.to_json(),
+        return {"goal": self.goal, "colors": self.colors, "owners": list(self.owners),
+                "layout": self.layout.to_json(),
                 "classical_init": self.classical_init.to_json(), "known": {r: list(v) for r, v in self.known.items()}}
 
 
-def generate(goal: str, colors: int, seed: int | None = None, *, layout: Layout | None = None) -> Instance:
+def generate(goal: str, colors: int, seed: int | None = None, *, layout: Layout | None = None,
+             symmetric: bool = False) -> Instance:
     """The instance of ``goal`` with ``colors`` colours: the seed's layout (``seed=None``), a random one, or
-    the given ``layout``."""
+    the given ``layout``. By default robot1's colours are modelled and robot2 is the robot that learns
+    them (2^n worlds); ``symmetric`` models both robots' colours and lets either learn the other's (4^n)."""
     g = goal_name(goal)
     if not isinstance(colors, int) or not 1 <= colors <= len(PALETTE):
         raise EpicoError(f"--colors must be 1..{len(PALETTE)}, got {colors!r}")
@@ -265,9 +280,10 @@ def generate(goal: str, colors: int, seed: int | None = None, *, layout: Layout 
         raise EpicoError(f"goal {g} is not defined (ND) with 1 colour: it asks for two different colours")
     if layout is None:
         layout = default_layout(colors) if seed is None else random_layout(
-            colors, seed, need_two=g in ("gamma", "delta"))
+            colors, seed, need_two=g in ("gamma", "delta"), owner_two=not symmetric)
+    owners = ROBOTS if symmetric else ("robot1",)
     return Instance(layout, g, colors, domain_path().read_text(),
-                    problem_text(layout, g, colors=colors))
+                    problem_text(layout, g, colors=colors, owners=owners), owners=owners)
 
 
 def __getattr__(name: str):  # solve / Solution live in planners.hierarchy (lazy: no import cycle)

@@ -270,3 +270,103 @@ def _epistemic_primitive(name: str, act: ActionSpec, c_state: CState, task: Task
         return {"robot": robot, "action": "announce", "args": [block], "color": color,
                 "to": [r for r in task.agents if r != robot], "task": name}
     return {"robot": robot, "action": "announce", "task": name, "to": [r for r in task.agents if r != robot]}
+
+
+# ----------------------------------------------------------------------------- Tables 1 and 2
+
+#: Seed 004, Table 1 (seconds; None = TO): goal ↦ colours ↦ (macro no, macro yes)
+SEED_TABLE1: dict[str, dict[int, tuple[float | None, float | None]]] = {
+    "alpha": {1: (0.019, 0.004), 2: (1.200, 0.080), 3: (5.192, 1.382), 4: (104.0, 25.889)},
+    "beta": {1: (0.083, 0.013), 2: (4.946, 0.242), 3: (21.780, 4.235), 4: (None, 85.144)},
+    "gamma": {2: (18.663, 1.427), 3: (None, 24.805), 4: (None, None)},
+    "delta": {2: (None, 4.827), 3: (None, 92.998), 4: (None, None)},
+}
+#: Seed 004, Table 2: goal ↦ colours ↦ (cumulative classical seconds, calls); None = TO
+SEED_TABLE2: dict[str, dict[int, tuple[float, int] | None]] = {
+    "alpha": {1: (0.074, 1), 2: (0.083, 1), 3: (0.092, 1), 4: (0.112, 1)},
+    "beta": {1: (0.157, 2), 2: (0.172, 2), 3: (0.177, 2), 4: (0.202, 2)},
+    "gamma": {2: (0.250, 3), 3: (0.267, 3), 4: None},
+    "delta": {2: (0.332, 4), 3: (0.351, 4), 4: None},
+}
+#: Seed 004 §5: initial-state construction, seconds, per number of colours
+SEED_INITIAL = {1: 0.003, 2: 0.031, 3: 0.126, 4: 2.117}
+#: the peer implementation (PyPI echosys) as measured on a machine like ours (issue 9): macro off / on
+PEER_TABLE1: dict[str, dict[int, tuple[float | None, float | None]]] = {
+    "alpha": {3: (4.4, 0.51), 4: (None, 19.8)},
+    "beta": {3: (55.9, 4.9)},
+    "delta": {2: (8.5, 10.4), 3: (None, None)},
+}
+
+
+def table_cell(goal: str, colors: int, *, repeat: int = 1, timeout: float = 110.0,
+               symmetric: bool = False) -> dict[str, Any]:
+    """One cell of Tables 1–2: macros off and on, ``repeat`` runs each; wall and CPU seconds (mean) of
+    initial state + epistemic search + hierarchy, classical seconds and calls. ``status`` per side is
+    ``ok`` / ``TO`` / ``ND``."""
+    from planners.epico import defined, generate
+
+    out: dict[str, Any] = {"goal": goal, "colors": colors, "symmetric": symmetric}
+    if not defined(goal, colors):
+        out["status"] = "ND"
+        return out
+    inst = generate(goal, colors, symmetric=symmetric)
+    for side, macros in (("off", False), ("on", True)):
+        walls, cpus, sol = [], [], None
+        for _ in range(repeat):
+            c0, w0 = time.process_time(), time.perf_counter()
+            try:
+                sol = solve(inst, macros=macros, limits=EpicoLimits(timeout=timeout))
+            except EpicoError as exc:
+                if "no plan" not in str(exc):
+                    raise
+                out[side] = {"status": "TO", "reason": str(exc)}
+                break
+            walls.append(time.perf_counter() - w0)
+            cpus.append(time.process_time() - c0)
+        else:
+            assert sol is not None
+            out[side] = {"status": "ok", "wall": sum(walls) / len(walls), "cpu": sum(cpus) / len(cpus),
+                         "initial": sol.times["initial"], "epistemic": sol.times["epistemic"],
+                         "classical": sol.times["classical"], "calls": sol.classical_calls,
+                         "max_call": max(sol.classical_call_seconds, default=0.0),
+                         "plan": list(sol.epistemic_plan), "flat_length": len(sol.flat_plan),
+                         "primitive_length": len(sol.primitive_plan["actions"]), "expanded": sol.search["expanded"]}
+    off, on = out.get("off", {}), out.get("on", {})
+    out["status"] = "ok" if off.get("status") == on.get("status") == "ok" else "TO"
+    if out["status"] == "ok":
+        out["ratio"] = off["wall"] / on["wall"] if on["wall"] > 0 else None
+    return out
+
+
+def run_demo(out) -> dict[str, Any]:
+    """The e-PICO section of ``delkit demo``: δ with 2 colours, macros on, to a primitive plan that
+    ``arms.plan`` accepts; the macro proved equal to its sequence; Listing 4's counterexample."""
+    from pathlib import Path
+
+    from planners.epico import generate
+    from planners.macros import check_handwritten, ground_handwritten, ground_macros, parse_macros, prove_macro
+    from planners.macros import sequence_states as seq
+    from planners.validate import check_plan
+
+    inst = generate("delta", 2)
+    sol = solve(inst, macros=True)
+    task, _, ms = epistemic_task(inst)
+    valid = check_plan(task, list(sol.flat_plan)).valid
+    s1 = seq(task, [task.action("sense_table_robot1")], task.initial)
+    proof = prove_macro(task, ms[0], s1[1][-1] if s1 else None)
+    lst4 = Path(__file__).resolve().parent.parent / "specs" / "epico" / "listing4.epddl"
+    htask, hand = ground_handwritten(inst.domain_text, inst.problem_text, lst4.read_text())
+    hw = check_handwritten(htask, hand, ground_macros(htask, parse_macros(inst.domain_text), inst.problem_text))
+    out = Path(out) / "epico"
+    out.mkdir(parents=True, exist_ok=True)
+    sol.write(out / "plan.json")
+    ok = valid and proof.equal and not hw.consistent
+    summary = (f"δ, 2 colours: {len(sol.epistemic_plan)} epistemic tasks ({len(sol.flat_plan)} flattened) → "
+               f"{len(sol.primitive_plan['actions'])} primitive actions, {sol.classical_calls} classical calls, "
+               f"{sol.times['total']:.2f} s; delkit check {'accepts' if valid else 'REJECTS'} it; macro "
+               f"{ms[0].name} {'proved equal' if proof.equal else 'NOT proved'} to its sequence by z3 "
+               f"({proof.obligations} obligations); Listing 4 "
+               f"{'inconsistent: ' + hw.counterexample.get('difference', '') if not hw.consistent else 'consistent?!'}"
+               f"; plan: {out / 'plan.json'}")
+    return {"ok": ok, "summary": summary, "solution": sol.to_json(), "proof": proof.to_json(),
+            "listing4": hw.to_json()}

@@ -78,6 +78,12 @@ def _arms(out: Path) -> dict[str, Any]:
     return res
 
 
+def _epico(out: Path) -> dict[str, Any]:
+    from planners.hierarchy import run_demo as epico_demo
+
+    return epico_demo(out)
+
+
 SECTIONS: list[tuple[str, Callable[[Path], dict[str, Any]]]] = [
     ("DEL puzzles (literature answers)", _puzzles),
     ("z3 proofs and counter-models", _verify),
@@ -85,6 +91,7 @@ SECTIONS: list[tuple[str, Callable[[Path], dict[str, Any]]]] = [
     ("Action consistency (VERIFYAC/ENFORCEAC)", _consistency),
     ("Exploration with epistemic task allocation", _explore),
     ("Two Franka Pandas execute a plan", _arms),
+    ("e-PICO: epistemic plan to primitive arm actions", _epico),
 ]
 
 
