@@ -564,6 +564,20 @@ class Mission:
         for bel in beliefs.known().values():  # what was observed (now or earlier) replaces the prior
             prior.update(bel)
         state, anch = self._observe_state(ex, lost)
+        for b in sorted(anch):  # re-seat a block resting off its slot, if it is on top of its stack
+            loc = state.places[b]
+            if loc.kind != "stack" or state.on_top("stack", loc.robot, loc.stack)[-1][1] != b:
+                continue
+            off = float(np.linalg.norm(anch[b] - self.world.position(loc)))
+            for name, args in (("pick", {"block": b}), ("place", {"block": b, "stack": loc.stack})):
+                act = Action(loc.robot, name, MappingProxyType(args))
+                ex.execute(act, state)
+                state = _apply(self.world, state, act)
+            steps.append(StepRecord(k, plan_no, "recovery", loc.robot, f"{loc.robot}: re-seat({b})", True,
+                                    f"recovery: {b} rested {off * 100:.1f} cm off its slot; picked and put back",
+                                    {}, float(ex.data.time), float("nan")))
+        if anch:
+            state, anch = self._observe_state(ex, lost)
         return state, {b: (state.places[b], p) for b, p in anch.items()}
 
 
