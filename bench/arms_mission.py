@@ -55,19 +55,21 @@ def _star(args):
 
 
 def table(rows: list[dict]) -> str:
-    head = ("| colours | fault | missions | success | replans mean / max | planning s per plan mean / max | "
-            "sim s mean | CPU s mean | RTF (sim/CPU) | RTF (sim/wall) |")
-    out = [head, "|---|---|---|---|---|---|---|---|---|---|"]
+    head = ("| colours | fault | missions | fault fired | success | replans mean / max | planning s per plan "
+            "mean / max | sim s mean | CPU s mean | RTF (sim/CPU) | RTF (sim/wall) |")
+    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|"]
     keys = sorted({(r["colors"], r["fault"]) for r in rows}, key=lambda k: (k[0], k[1] != "none", k[1]))
     for c, f in keys:
         rs = [r for r in rows if r["colors"] == c and r["fault"] == f]
         ok = sum(r["success"] for r in rs)
+        fired = sum(bool(r["fault_log"]) and not any("nothing swapped" in x for x in r["fault_log"]) for r in rs)
         rep = [r["replans"] for r in rs]
         plan = [p for r in rs for p in r["planning_s"]]
         sim = sum(r["sim_s"] for r in rs)
         cpu = sum(r["cpu_s"] for r in rs)
         wall = sum(r["wall_s"] for r in rs)
-        out.append(f"| {c} | {f} | {len(rs)} | {ok}/{len(rs)} ({100 * ok / len(rs):.0f} %) | "
+        out.append(f"| {c} | {f} | {len(rs)} | {fired if f != 'none' else '-'} | {ok}/{len(rs)} "
+                   f"({100 * ok / len(rs):.0f} %) | "
                    f"{sum(rep) / len(rep):.2f} / {max(rep)} | "
                    f"{(sum(plan) / len(plan)) if plan else float('nan'):.3f} / {max(plan, default=float('nan')):.3f} | "
                    f"{sim / len(rs):.1f} | {cpu / len(rs):.1f} | {sim / cpu if cpu else 0:.1f} | "
@@ -85,13 +87,21 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--workers", type=int, default=1)
     ap.add_argument("--json", type=Path, default=None, help="write every mission's row (JSON lines)")
     ap.add_argument("--results", type=Path, default=None, help="write the markdown table to this file")
+    ap.add_argument("--summarise", type=Path, default=None, help="only print the table of a --json file")
     args = ap.parse_args(argv)
+    if args.summarise is not None:
+        rows = [json.loads(line) for line in args.summarise.read_text().splitlines() if line.strip()]
+        fails = [f"- colours {r['colors']}, seed {r['seed']}, {r['fault']}: {r['reason']}"
+                 for r in rows if not r["success"]]
+        print(table(rows), "", "Failures:" if fails else "Failures: none", *fails, sep="\n")
+        return 0
 
     from rich.console import Console
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
 
-    jobs = [(args.goal, c, s, f) for c in args.colors
-            for s in range(args.first_seed, args.first_seed + args.layouts) for f in args.faults]
+    # seed by seed (every colour count and fault for seed 0, then seed 1, ...): a partial run covers all cells
+    jobs = [(args.goal, c, s, f) for s in range(args.first_seed, args.first_seed + args.layouts)
+            for c in args.colors for f in args.faults]
     rows: list[dict] = []
     load0 = os.getloadavg()[0]
     t0 = time.perf_counter()
