@@ -16,7 +16,8 @@ from pathlib import Path
 import typer
 
 
-def epico_replanner(goal: str, colors: int, origin: dict[str, str], *, macros: bool = True):
+def epico_replanner(goal: str, colors: int, origin: dict[str, str], *, macros: bool = True,
+                    symmetric: bool = False):
     """``replan(world_json, known)`` for :class:`arms.mission.Mission` backed by e-PICO's ``solve``.
 
     The observed world becomes an e-PICO ``Layout`` (blocks on the shared table keep their original owner),
@@ -30,8 +31,10 @@ def epico_replanner(goal: str, colors: int, origin: dict[str, str], *, macros: b
     def replan(world_json: dict, known: dict) -> dict:
         try:
             layout = Layout.from_world(world_json, {b: origin[b] for b in world_json.get("barrier", [])})
-            inst = generate(goal, colors, layout=layout)
-            kn = {r: sorted({(origin[b], c) for b, c in bel.items() if b in origin}) for r, bel in known.items()}
+            inst = generate(goal, colors, layout=layout, symmetric=symmetric)
+            # what each robot knows of the modelled owners' colours (e-PICO's hold(owner, colour) fluents)
+            kn = {r: sorted({(origin[b], c) for b, c in bel.items() if origin.get(b) in inst.owners})
+                  for r, bel in known.items()}
             sol = solve(inst, known={r: v for r, v in kn.items() if v} or None, macros=macros)
         except EpicoError as exc:
             raise GoalUnreachable(str(exc)) from None
@@ -48,17 +51,19 @@ def epico_replanner(goal: str, colors: int, origin: dict[str, str], *, macros: b
 
 
 def run_mission(goal: str, colors: int, seed: int | None, *, faults=(), grasp: str = "friction",
-                max_replans: int = 4, macros: bool = True, record_fps: float = 0.0, progress=None):
+                max_replans: int = 4, macros: bool = True, symmetric: bool = False, record_fps: float = 0.0,
+                progress=None):
     """Generate, plan, execute; returns (instance, MissionResult, Mission)."""
     from arms.mission import Mission
     from arms.world import World
     from planners.epico import generate
 
-    inst = generate(goal, colors, seed)
+    inst = generate(goal, colors, seed, symmetric=symmetric)
     world = World.from_json(inst.layout.to_world())
     origin = {b: r for r in world.robots for st in world.stacks[r] for b in st}
-    m = Mission(world, inst.goal, epico_replanner(inst.goal, colors, origin, macros=macros), faults=tuple(faults),
-                grasp=grasp, max_replans=max_replans, record_fps=record_fps, progress=progress)
+    replan = epico_replanner(inst.goal, colors, origin, macros=macros, symmetric=symmetric)
+    m = Mission(world, inst.goal, replan, faults=tuple(faults), grasp=grasp, max_replans=max_replans,
+                record_fps=record_fps, progress=progress)
     return inst, m.run(), m
 
 
@@ -118,6 +123,8 @@ def register(epico_app: typer.Typer) -> None:
             grasp: str = typer.Option("friction", "--grasp", help="friction (default) or weld (debugging only)"),
             max_replans: int = typer.Option(4, "--max-replans", min=0, help="give up after this many replans"),
             macros: bool = typer.Option(True, "--macros/--no-macros", help="plan with e-PICO's macros"),
+            symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours (e-PICO "
+                                                                     "default: robot2 learns robot1's)"),
             as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Plan an e-PICO goal and execute it on the two simulated arms, re-sensing and replanning on
         divergences; report per task what was planned, done and observed."""
@@ -137,7 +144,8 @@ def register(epico_app: typer.Typer) -> None:
         cb, stop = _progress_cb(0, "mission")
         try:
             inst, res, m = run_mission(goal, colors, seed, faults=faults, grasp=grasp, max_replans=max_replans,
-                                       macros=macros, record_fps=10.0 if out is not None else 0.0,
+                                       macros=macros, symmetric=symmetric,
+                                       record_fps=10.0 if out is not None else 0.0,
                                        progress=lambda msg: cb(0, msg))
         finally:
             stop()
