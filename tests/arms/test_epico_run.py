@@ -75,3 +75,15 @@ def test_table1_cell_executed_in_physics(goal, colors):
     _check_mission(res, m)
     assert res.replans == 0
     json.dumps(res.to_json())  # the report is strict JSON
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("fault", ["drop@0", "misplace@0", "swap-colours"])
+def test_injected_fault_is_detected_and_replanned_with_epico(fault):
+    from arms.mission import parse_fault
+
+    inst, res, m = epico_run.run_mission("alpha", 2, None, faults=(parse_fault(fault),))
+    assert res.success, res.reason
+    assert res.replans == 1 and len(res.planning_seconds) == 2 and res.faults
+    assert sum(not s.ok for s in res.steps) == 1
+    assert res.arm_contacts == 0 and res.max_block_error < 0.01
