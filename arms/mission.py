@@ -179,9 +179,11 @@ class MissionResult:
                     for k, v in s.observed.items():
                         if k != "columns":
                             observed.setdefault(k, {}).update(v) if isinstance(v, dict) else observed.update({k: v})
+                ok = bool(done) and all(s.ok for s in done)
                 out.append({"plan": no, "task": key, "planned": planned.get(key, []),
                             "done": [s.text + (f" [fault: {s.fault}]" if s.fault else "") for s in done],
-                            "observed": observed, "ok": bool(done) and all(s.ok for s in done),
+                            "observed": observed, "ok": ok,
+                            "status": "match" if ok else "diverged" if done else "not executed (replanned)",
                             "message": next((s.message for s in done if not s.ok), "")})
         return out
 

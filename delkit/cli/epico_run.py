@@ -95,7 +95,7 @@ def _print_report(inst, res, note: str) -> None:
     for t in res.tasks():
         obs = "; ".join(f"{k}: {v}" for k, v in t["observed"].items())
         table.add_row(str(t["plan"]), t["task"], "\n".join(t["planned"]) or "-", "\n".join(t["done"]) or "-", obs,
-                      "match" if t["ok"] else f"[red]DIVERGED[/red] {t['message']}")
+                      "match" if t["ok"] else f"[red]DIVERGED[/red] {t['message']}" if t["done"] else t["status"])
     con.print(table)
     for e in res.belief_log:
         to = f" → {', '.join(e['to'])}" if e["to"] else ""
