@@ -415,6 +415,9 @@ class Mission:
                 break
             planning.append(dt)
             plans.append(_plan_summary(actions))
+        for f in faults:
+            self.fault_log.append(f"{f}: not fired (no {'pick' if f.kind == 'drop' else 'place'} at or after "
+                                  f"action {f.at})")
         gw, gb, detail = self._goal_status(ex, beliefs, truth, lost)
         errs = self._errors(ex, state, lost, {})
         worst = max(errs.values(), default=0.0)

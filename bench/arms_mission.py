@@ -62,7 +62,8 @@ def table(rows: list[dict]) -> str:
     for c, f in keys:
         rs = [r for r in rows if r["colors"] == c and r["fault"] == f]
         ok = sum(r["success"] for r in rs)
-        fired = sum(bool(r["fault_log"]) and not any("nothing swapped" in x for x in r["fault_log"]) for r in rs)
+        fired = sum(bool(r["fault_log"]) and not any("nothing swapped" in x or "not fired" in x
+                                                     for x in r["fault_log"]) for r in rs)
         rep = [r["replans"] for r in rs]
         plan = [p for r in rs for p in r["planning_s"]]
         sim = sum(r["sim_s"] for r in rs)
