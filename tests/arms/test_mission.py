@@ -133,3 +133,15 @@ def test_fault_is_detected_and_the_mission_recovers(fault):
     assert res.replans == 1 and res.faults and res.arm_contacts == 0
     bad = [s for s in res.steps if not s.ok]
     assert len(bad) == 1 and ("no longer in the hand" in bad[0].message or "is not at" in bad[0].message)
+
+
+def test_a_fault_without_a_suitable_action_is_reported_as_not_fired():
+    world = world_from_layout(STACKS, COLOURS)
+    plan = {"world": world.to_json(), "actions": ALPHA_PLAN[:1]}  # only a sense: nothing to drop
+
+    def replan(world_json, known):
+        raise GoalUnreachable("stop here (test)")
+
+    res = Mission(world, "alpha", replan, plan=plan, faults=(parse_fault("drop@0"),), max_replans=0).run()
+    assert not res.success and "gave up" in res.reason and "does not hold" in res.reason
+    assert res.faults == ["drop@0: not fired (no pick at or after action 0)"]
