@@ -14,6 +14,9 @@ def register(app: typer.Typer) -> None:
     sub = typer.Typer(help="e-PICO (seed 004): epistemic plan → macros flattened → classical breakdown → "
                            "primitive plan for the arms.", no_args_is_help=True)
     app.add_typer(sub, name="epico")
+    from delkit.cli import epico_run  # `delkit epico run`: the plan executed in closed loop on the arms
+
+    epico_run.register(sub)
 
     @sub.command("generate")
     def generate_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
