@@ -1,8 +1,10 @@
-"""``delkit plan`` (epistemic planning on mA* / E-PDDL specs) and ``delkit check`` (plan + property checker).
+"""``delkit plan`` (epistemic planning on mA* / E-PDDL 2021 / EPDDL 2026 specs), ``delkit check`` (plan +
+property checker) and ``delkit convert`` (write a task as EPDDL 2026 or mA*).
 
 Exit statuses: ``plan`` — 0 plan found, 1 no plan exists (state space exhausted), 3 no plan within the
-limits; ``check`` — 0 valid, 1 invalid; both — 2 bad input. A failure is never printed as an empty plan.
-Heavy imports stay inside the commands.
+limits (the limit also covers reading, grounding and building the initial state); ``check`` — 0 valid,
+1 invalid; all — 2 bad input. A failure is never printed as an empty plan. The language of a file is
+decided by its content. Heavy imports stay inside the commands.
 
 Start-up: typer (with the click and pydantic it imports) costs about 0.1 s, half of the 0.2 s budget of a
 ``delkit plan`` run on a small instance. :func:`fast_args` therefore parses the *plain* forms of a ``plan``
@@ -17,6 +19,7 @@ from __future__ import annotations
 import json
 import re
 import sys
+import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -30,19 +33,50 @@ def _echo(text: str) -> None:
 
 
 def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeout: float = 60.0,
-             max_nodes: int | None = None, max_memory: float = 8192.0, engine: str = "fast",
-             allow_inconsistent: bool = False, as_json: bool = False) -> int:
+             max_nodes: int | None = None, max_memory: float = 8192.0, engine: str = "auto",
+             allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
+             strict: bool = False) -> int:
     """The body of ``delkit plan``; returns the exit status."""
     from delkit.errors import PlanningError
-    from planners.epistemic import Limits, plan
+    from planners.epistemic import Limits, SearchResult, best_first, bfs
     from planners.lang import load_task
+    from planners.lang.initial import LoadTimeout
 
     if search not in ("bfs", "gbfs", "astar"):
         raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
-    task = load_task(spec, problem)
-    res = plan(task, search=search, engine=engine,  # type: ignore[arg-type]
-               limits=Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory),
-               allow_inconsistent=allow_inconsistent)
+    Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
+    from delkit.resources import ResourceError, deadline
+
+    start = time.monotonic()
+    try:
+        # --timeout covers every phase: the readers check the deadline while grounding and building the initial
+        # state; the alarm (a little later) is the backstop for any phase that does not check it
+        with deadline(timeout + 2.0, "reading, grounding and building the initial state"):
+            task = load_task(spec, problem, list(library or ()), deadline=start + timeout, strict=strict)
+    except (LoadTimeout, ResourceError) as exc:
+        if isinstance(exc, ResourceError) and "--timeout" not in str(exc) and "time limit" not in str(exc):
+            raise
+        res = SearchResult(status="limit", plan=None, expanded=0, generated=0,
+                           seconds=time.monotonic() - start, search=search, reason=str(exc))
+        if as_json:
+            _echo(json.dumps({**res.to_json(), "task": str(problem or spec)}))
+        else:
+            _echo(f"NO PLAN (timeout): {exc} — {res.seconds:.3f} s")
+        return 3
+    limits = Limits(timeout=max(0.0, timeout - (time.monotonic() - start)), max_expanded=max_nodes,
+                    max_memory_mb=max_memory)
+    from planners.lang.epddl_run import space_for
+
+    try:
+        # the search checks its own limit; the alarm (a little later) is the backstop for every other phase
+        with deadline(limits.timeout + 2.0, "building the search space or searching"):
+            space = space_for(task, engine, allow_inconsistent)
+            res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
+    except ResourceError as exc:
+        if "--timeout" not in str(exc) and "time limit" not in str(exc):
+            raise
+        res = SearchResult("limit", None, 0, 0, time.monotonic() - start, search,
+                           reason=f"--timeout {timeout:g} s reached: {exc}")
     out = res.to_json()
     out["task"] = task.name
     if as_json:
@@ -62,8 +96,21 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
 
 
 def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path | None = None,
-              allow_inconsistent: bool = False, as_json: bool = False) -> int:
-    """The body of ``delkit check``; returns the exit status."""
+              allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
+              strict: bool = False, timeout: float = 0.0) -> int:
+    """The body of ``delkit check``; returns the exit status (``timeout`` 0: no limit)."""
+    from delkit.resources import deadline
+
+    if timeout < 0 or timeout != timeout:
+        from delkit.errors import ParseError
+
+        raise ParseError(f"--timeout {timeout!r}: use a number of seconds ≥ 0 (0: no limit)", source="delkit check")
+    with deadline(timeout, "delkit check"):
+        return _run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict)
+
+
+def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | None, allow_inconsistent: bool,
+               as_json: bool, library: list[Path] | None, strict: bool) -> int:
     from delkit.errors import ParseError, io_reason
     from planners.lang import load_task
     from planners.validate import check_plan, parse_property, read_plan
@@ -71,8 +118,13 @@ def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path
     if len(files) not in (2, 3):
         raise ParseError(f"expected SPEC PLAN_FILE or DOMAIN PROBLEM PLAN_FILE, got {len(files)} file(s)",
                          source="delkit check")
-    task = load_task(files[0], files[1] if len(files) == 3 else None)
+    task = load_task(files[0], files[1] if len(files) == 3 else None, list(library or ()), strict=strict)
     steps = read_plan(files[-1])
+    from planners.lang.epddl_run import check_event_plan, has_event_actions
+
+    if has_event_actions(task) and (prop or props_file is not None):
+        raise ParseError("--property/--properties are not supported for EPDDL (2026) tasks yet",
+                         source="delkit check")
     texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop or ()]   # (text, source, line)
     if props_file is not None:
         try:
@@ -82,7 +134,11 @@ def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path
         texts += [(ln.strip(), str(props_file), i) for i, ln in enumerate(lines, 1)
                   if ln.strip() and not ln.lstrip().startswith("#")]
     properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
-    res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent, plan_source=str(files[-1]))
+    if has_event_actions(task):
+        res = check_event_plan(task, steps, plan_source=str(files[-1]))
+    else:
+        res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent,
+                         plan_source=str(files[-1]))
     if as_json:
         _echo(json.dumps(res.to_json()))
     elif res.valid:
@@ -102,31 +158,77 @@ def register(app: typer.Typer) -> None:
     def plan_command(
         spec: Path = typer.Argument(..., help="mA* file, or E-PDDL domain file"),
         problem: Path | None = typer.Argument(None, help="E-PDDL problem file (with an E-PDDL domain)"),
+        library: list[Path] = typer.Option([], "--library", "-l", help="EPDDL action-type library (repeatable)"),
+        strict: bool = typer.Option(False, "--strict", help="refuse mA* duplicate declarations"),
         search: str = typer.Option("bfs", "--search", help="bfs (optimal), gbfs or astar"),
         timeout: float = typer.Option(60.0, "--timeout", help="wall-clock limit in seconds"),
         max_nodes: int | None = typer.Option(None, "--max-nodes", help="limit on expanded nodes"),
         max_memory: float = typer.Option(8192.0, "--max-memory", help="resident memory limit in MiB"),
-        engine: str = typer.Option("fast", "--engine", help="fast (specialised states) or del (generic delkit)"),
+        engine: str = typer.Option("auto", "--engine",
+                                   help="fast (compact bit sets), del (numpy, delkit's reference) or auto"),
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="expand states where an agent believes ⊥"),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
-        """Find a plan (BFS: of minimal length) for an mA* or E-PDDL problem."""
+        """Find a plan (BFS: of minimal length) for an mA*, E-PDDL (2021) or EPDDL (2026) problem."""
         raise typer.Exit(run_plan(spec, problem, search, timeout, max_nodes, max_memory, engine,
-                                  allow_inconsistent, as_json))
+                                  allow_inconsistent, as_json, library, strict))
 
     @app.command("check")
     def check_command(
         files: list[Path] = typer.Argument(..., help="SPEC [PROBLEM] PLAN_FILE"),
+        library: list[Path] = typer.Option([], "--library", "-l", help="EPDDL action-type library (repeatable)"),
+        strict: bool = typer.Option(False, "--strict", help="refuse mA* duplicate declarations"),
         prop: list[str] = typer.Option([], "--property", "-p",
                                        help='"always φ", "eventually φ" or "at end φ" (repeatable)'),
         props_file: Path | None = typer.Option(None, "--properties", help="file with one property a line"),
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="do not fail when an agent comes to believe ⊥"),
+        timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="wall-clock limit in seconds (0: none)"),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
         """Replay a plan on a spec and check its executability, goal and properties."""
-        raise typer.Exit(run_check(files, prop, props_file, allow_inconsistent, as_json))
+        raise typer.Exit(run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict))
+
+    @app.command("convert")
+    def convert_command(
+        files: list[Path] = typer.Argument(..., help="mA* file, or E-PDDL DOMAIN PROBLEM"),
+        to: str = typer.Option("epddl", "--to", help="epddl (EPDDL 2026: domain, problem, library) or mastar"),
+        out: Path = typer.Option(Path("."), "--out", "-o", help="output directory"),
+        name: str | None = typer.Option(None, "--name", help="base name of the written files"),
+        as_json: bool = typer.Option(False, "--json", help="print the written paths as JSON"),
+    ) -> None:
+        """Write an mA* or E-PDDL (2021) task as EPDDL (2026), or as mA* where it fits."""
+        from delkit.errors import ParseError
+        from planners.lang import load_task
+        from planners.lang.writer import to_epddl, to_mastar
+
+        if to not in ("epddl", "mastar"):
+            raise ParseError(f"--to {to!r}: use epddl or mastar", source="delkit convert")
+        if len(files) not in (1, 2):
+            raise ParseError(f"expected SPEC or DOMAIN PROBLEM, got {len(files)} file(s)", source="delkit convert")
+        task = load_task(files[0], files[1] if len(files) == 2 else None)
+        base = name or (files[-1].stem if len(files) == 2 else files[0].stem)
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise ParseError(f"cannot create the output directory: {exc.strerror}", source=str(out)) from None
+        written: dict[str, str] = {}
+        if to == "epddl":
+            dom, prob, lib = to_epddl(task, base)
+            for kind, text in (("domain", dom), ("problem", prob), ("library", lib)):
+                path = out / (f"{base}_{kind}.epddl" if kind != "library" else "mastar.epddl")
+                path.write_text(text)
+                written[kind] = str(path)
+        else:
+            path = out / f"{base}.txt"
+            path.write_text(to_mastar(task))
+            written["mastar"] = str(path)
+        if as_json:
+            typer.echo(json.dumps(written))
+        else:
+            for kind, path in written.items():
+                typer.echo(f"{kind}: {path}")
 
 
 # ---------------------------------------------------------------------------------------------- fast path
@@ -136,9 +238,12 @@ _INT = re.compile(r"[0-9]+\Z")
 # option -> (keyword, kind); kind: flag, str, float, int, path, list
 _PLAN_OPTS = {"--search": ("search", "str"), "--timeout": ("timeout", "float"), "--max-nodes": ("max_nodes", "int"),
               "--max-memory": ("max_memory", "float"), "--engine": ("engine", "str"),
-              "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag")}
+              "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),
+              "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag")}
 _CHECK_OPTS = {"--property": ("prop", "list"), "-p": ("prop", "list"), "--properties": ("props_file", "path"),
-               "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag")}
+               "--timeout": ("timeout", "float"),
+               "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),
+               "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag")}
 
 
 def _value(kind: str, text: str) -> Any:
@@ -149,7 +254,7 @@ def _value(kind: str, text: str) -> Any:
         return int(text) if kind == "int" else float(text)
     if not text or text.startswith("-"):
         raise ValueError(text)
-    return Path(text) if kind == "path" else text
+    return Path(text) if kind in ("path", "plist") else text
 
 
 def fast_args(argv: list[str]) -> Callable[[], int] | None:
@@ -189,7 +294,7 @@ def fast_args(argv: list[str]) -> Callable[[], int] | None:
             else:
                 return None
             value = _value(kind, text)
-            if kind == "list":
+            if kind in ("list", "plist"):
                 kw.setdefault(key, []).append(value)
             elif key in kw:
                 return None  # repeated single-valued option: let typer decide

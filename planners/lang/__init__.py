@@ -1,7 +1,7 @@
-"""Readers for epistemic planning languages (mA*, E-PDDL) into grounded tasks.
+"""Readers for epistemic planning languages (mA*, E-PDDL 2021, EPDDL 2026) into grounded tasks.
 
-:func:`load_task` picks the reader: a file whose text starts with ``(define`` (or ends in ``.epddl`` /
-``.pddl``) is E-PDDL (domain + problem, or both in one file); anything else is mA*.
+:func:`load_task` picks the reader by the file's content (:mod:`planners.lang.detect`): EPDDL (2026)
+(domain + problem + action-type libraries), E-PDDL (2021) (domain + problem, or both in one file) or mA*.
 """
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from pathlib import Path
 
 from delkit.errors import ParseError
 
-__all__ = ["load_task", "is_epddl", "shared_benchmarks"]
+__all__ = ["load_task", "is_epddl", "shared_benchmarks", "dialect_of"]
 
 
 def is_epddl(path: str | Path) -> bool:
@@ -27,14 +27,33 @@ def is_epddl(path: str | Path) -> bool:
     return text.startswith("(define") or text.startswith("( define")
 
 
-def load_task(spec: str | Path, problem: str | Path | None = None):
-    """Read an mA* file, or an E-PDDL domain (+ problem) into a :class:`planners.task.Task`."""
+def load_task(spec: str | Path, problem: str | Path | None = None, libraries=(), *,
+              deadline: float | None = None, strict: bool = False):
+    """Read an mA* file, an E-PDDL (2021) domain (+ problem) or an EPDDL (2026) domain + problem (+ action-type
+    libraries) into a :class:`planners.task.Task`. ``deadline`` (a ``time.monotonic()`` instant) bounds
+    reading, grounding and the initial state (EPDDL 2026 and mA*); ``strict`` refuses what is otherwise
+    accepted with a warning (mA* duplicate declarations)."""
+    from planners.lang.detect import detect
+
     spec = Path(spec)
     if not spec.exists():
         raise ParseError("no such file", source=str(spec))
     if problem is not None and not Path(problem).exists():
         raise ParseError("no such file", source=str(problem))
-    if is_epddl(spec):
+    for lib in libraries:
+        if not Path(lib).exists():
+            raise ParseError("no such file", source=str(lib))
+    dialect = detect(spec)
+    if dialect == "epddl2026":
+        from planners.lang.epddl2026 import load_epddl2026
+
+        if problem is None:
+            raise ParseError("an EPDDL (2026) domain needs a problem file: DOMAIN PROBLEM [--library FILE ...]",
+                             source=str(spec))
+        return load_epddl2026(spec, problem, list(libraries), deadline=deadline)
+    if libraries:
+        raise ParseError("--library is only accepted with an EPDDL (2026) domain", source=str(spec))
+    if dialect == "epddl2021":
         from planners.lang.epddl import load_epddl
 
         return load_epddl(spec, problem)
@@ -43,7 +62,14 @@ def load_task(spec: str | Path, problem: str | Path | None = None):
                          f"({problem}) is only accepted with an E-PDDL domain", source=str(spec))
     from planners.lang.mastar import load_mastar
 
-    return load_mastar(spec)
+    return load_mastar(spec, deadline=deadline, strict=strict)
+
+
+def dialect_of(path: str | Path) -> str:
+    """``"mastar"``, ``"epddl2021"`` or ``"epddl2026"`` by the file's content."""
+    from planners.lang.detect import detect
+
+    return detect(path)
 
 
 def shared_benchmarks() -> Path | None:

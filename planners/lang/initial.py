@@ -13,22 +13,327 @@ EFP's ``kstate::build_initial_prune``):
 Other modal statements (e.g. ``C(¬B(i,ψ) ∧ ¬B(i,¬ψ))``, which says i is ignorant — the default) add no
 structure; after construction *every* initial statement is checked on the model, and a statement the
 construction does not make true is reported as an error instead of being silently ignored.
+
+The worlds are found without enumerating all valuations (:func:`models`): unit propagation, then the
+constraints are split into independent components (conjuncts sharing no fluent); a component over few
+fluents is enumerated with numpy, a larger one is split on a top-level disjunction (DPLL-style, each branch
+propagated) and what is left goes to a BDD (``dd.cudd``, imported only then: it costs 0.3 s of start-up);
+the worlds are the product of the components' models with the unconstrained fluents. A ``deadline`` is
+honoured throughout (:class:`planners.lang.epddl2026.LoadTimeout`).
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 
 import numpy as np
 
-from delkit.errors import ParseError
-from delkit.formula import And, C, Formula, K, Not, Or, Prop, is_propositional, show
+from delkit.errors import ParseError, PlanningError
+from delkit.formula import (
+    BOT,
+    TOP,
+    And,
+    Bot,
+    C,
+    Formula,
+    Iff,
+    Implies,
+    K,
+    Not,
+    Or,
+    Prop,
+    Top,
+    is_propositional,
+    props_of,
+    show,
+)
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
-__all__ = ["finitary_s5", "knows_whether"]
+__all__ = ["finitary_s5", "finitary_s5_epddl", "knows_whether", "models", "LoadTimeout"]
 
-_MAX_FREE = 24
+_MAX_WORLDS = 1 << 22   # refuse initial models larger than this (4 M worlds)
+_NUMPY_VARS = 16        # components over at most this many fluents are enumerated with numpy
+
+
+class LoadTimeout(PlanningError):
+    """The time limit ran out while reading, grounding or building the initial state of a task."""
+
+
+InitTimeout = LoadTimeout
+
+
+def _check_deadline(deadline: float | None) -> None:
+    if deadline is not None and time.monotonic() > deadline:
+        raise LoadTimeout("time limit reached while building the initial state")
+
+
+def _components(parts: list[Formula]) -> list[tuple[list[str], list[Formula]]]:
+    """Group conjuncts into components connected by shared fluents (union-find)."""
+    parent: dict[str, str] = {}
+
+    def find(x: str) -> str:
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    supports = []
+    for f in parts:
+        ps = sorted(props_of(f))
+        supports.append(ps)
+        for p in ps:
+            parent.setdefault(p, p)
+        for p in ps[1:]:
+            ra, rb = find(ps[0]), find(p)
+            if ra != rb:
+                parent[rb] = ra
+    groups: dict[str, tuple[list[str], list[Formula]]] = {}
+    for f, ps in zip(parts, supports, strict=True):
+        if not ps:
+            continue
+        r = find(ps[0])
+        groups.setdefault(r, ([], []))[1].append(f)
+    for p in parent:
+        groups[find(p)][0].append(p)
+    return list(groups.values())
+
+
+def _numpy_models(vars_: list[str], fs: list[Formula], deadline: float | None) -> np.ndarray:
+    n = len(vars_)
+    codes = np.arange(1 << n, dtype=np.int64)
+    val = ((codes[:, None] >> np.arange(n - 1, -1, -1)) & 1).astype(bool)
+    flat = KripkeModel(tuple(vars_), (), val, {}, ())
+    keep = np.ones(1 << n, dtype=bool)
+    for f in fs:
+        _check_deadline(deadline)
+        keep &= flat.check(f)
+    return val[keep]
+
+
+def _bdd_models(vars_: list[str], fs: list[Formula], deadline: float | None) -> np.ndarray:
+    try:
+        from dd.cudd import BDD
+    except ImportError:  # pragma: no cover - dd without its CUDD extension
+        from dd.autoref import BDD
+    bdd = BDD()
+    names = {p: f"v{i}" for i, p in enumerate(vars_)}
+    bdd.declare(*names.values())
+    memo: dict[Formula, object] = {}
+
+    def conv(f: Formula):
+        got = memo.get(f)
+        if got is not None:
+            return got
+        if isinstance(f, Prop):
+            r = bdd.var(names[f.name])
+        elif isinstance(f, Top):
+            r = bdd.true
+        elif isinstance(f, Bot):
+            r = bdd.false
+        elif isinstance(f, Not):
+            r = ~conv(f.arg)
+        elif isinstance(f, And):
+            r = bdd.true
+            for g in f.args:
+                r = r & conv(g)
+        elif isinstance(f, Or):
+            r = bdd.false
+            for g in f.args:
+                r = r | conv(g)
+        elif isinstance(f, Implies):
+            r = ~conv(f.left) | conv(f.right)
+        elif isinstance(f, Iff):
+            r = conv(f.left).equiv(conv(f.right))
+        else:
+            raise ParseError(f"not a propositional formula: {show(f)}")
+        memo[f] = r
+        return r
+
+    u = bdd.true
+    for f in fs:
+        _check_deadline(deadline)
+        u = u & conv(f)
+    count = int(bdd.count(u, nvars=len(vars_)))
+    if count > _MAX_WORLDS:
+        raise ParseError(f"the initial common knowledge has {count} models over {len(vars_)} fluents (limit "
+                         f"{_MAX_WORLDS})")
+    rows = np.zeros((count, len(vars_)), dtype=bool)
+    order = list(names.values())
+    for i, m in enumerate(bdd.pick_iter(u, care_vars=order)):
+        if (i & 4095) == 0:
+            _check_deadline(deadline)
+        rows[i] = [m[v] for v in order]
+    return rows
+
+
+def _simplify(f: Formula) -> Formula:  # noqa: C901 - one clause per connective
+    """Constant folding (after substituting fixed fluents by ⊤/⊥)."""
+    if isinstance(f, (Prop, Top, Bot)):
+        return f
+    if isinstance(f, Not):
+        a = _simplify(f.arg)
+        return BOT if a == TOP else TOP if a == BOT else a.arg if isinstance(a, Not) else Not(a)
+    if isinstance(f, And):
+        out = []
+        for g in f.args:
+            g = _simplify(g)
+            if g == BOT:
+                return BOT
+            if g != TOP:
+                out.extend(g.args if isinstance(g, And) else (g,))
+        return TOP if not out else out[0] if len(out) == 1 else And(tuple(out))
+    if isinstance(f, Or):
+        out = []
+        for g in f.args:
+            g = _simplify(g)
+            if g == TOP:
+                return TOP
+            if g != BOT:
+                out.extend(g.args if isinstance(g, Or) else (g,))
+        return BOT if not out else out[0] if len(out) == 1 else Or(tuple(out))
+    if isinstance(f, Implies):
+        return _simplify(Or((Not(f.left), f.right)))
+    if isinstance(f, Iff):
+        a, b = _simplify(f.left), _simplify(f.right)
+        if a in (TOP, BOT):
+            return b if a == TOP else _simplify(Not(b))
+        if b in (TOP, BOT):
+            return a if b == TOP else _simplify(Not(a))
+        return Iff(a, b)
+    raise ParseError(f"not a propositional formula: {show(f)}")
+
+
+def _propagate(parts: list[Formula], fixed: dict[str, bool]) -> list[Formula] | None:
+    """Unit propagation: fix the literal conjuncts, substitute and fold until nothing changes (None if ⊥)."""
+    from delkit.formula import substitute
+
+    while True:
+        rest: list[Formula] = []
+        new: dict[str, bool] = {}
+        for f in parts:
+            for part in _conjuncts(f):
+                u = _unit(part)
+                if u is not None:
+                    if fixed.get(u[0], u[1]) != u[1] or new.get(u[0], u[1]) != u[1]:
+                        return None
+                    if u[0] not in fixed:
+                        new[u[0]] = u[1]
+                elif part == BOT:
+                    return None
+                elif part != TOP:
+                    rest.append(part)
+        if not new:
+            return rest
+        fixed.update(new)
+        sub = {p: (TOP if v else BOT) for p, v in new.items()}
+        parts = [_simplify(substitute(f, sub)) for f in rest]
+
+
+def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: float | None = None,
+           fixed: dict[str, bool] | None = None, _depth: int = 0) -> np.ndarray:
+    """Every valuation of ``props`` (a worlds × props boolean array) satisfying all ``constraints``
+    (propositional) and the ``fixed`` fluent values, without enumerating the unconstrained product.
+
+    Unit propagation first; then each component over few fluents is enumerated with numpy, a larger one is
+    split on its smallest top-level disjunction (each disjunct propagated in turn, at most 3 levels deep)
+    and only what remains goes to a BDD."""
+    props = tuple(props)
+    pidx = {p: i for i, p in enumerate(props)}
+    empty = np.zeros((0, len(props)), dtype=bool)
+    fixed = dict(fixed or {})
+    if fixed:
+        from delkit.formula import substitute
+
+        sub = {p: (TOP if v else BOT) for p, v in fixed.items()}
+        constraints = [_simplify(substitute(f, sub)) for f in constraints]
+    parts = _propagate([_simplify(f) for f in constraints], fixed)
+    if parts is None:
+        return empty
+    unknown = [p for p in fixed if p not in pidx]
+    if unknown:
+        raise ParseError(f"the initial state mentions unknown fluent(s) {unknown}")
+    blocks: list[tuple[list[int], np.ndarray]] = []
+    for vars_, fs in _components(parts):
+        _check_deadline(deadline)
+        unknown = [p for p in vars_ if p not in pidx]
+        if unknown:
+            raise ParseError(f"the initial state mentions unknown fluent(s) {unknown}")
+        if len(vars_) <= _NUMPY_VARS:
+            rows = _numpy_models(vars_, fs, deadline)
+        else:
+            ors = [f for f in fs if isinstance(f, Or)]
+            if ors and _depth < 3:
+                # the disjunction whose every branch fixes the most fluents (then the fewest branches)
+                split = min(ors, key=lambda f: (-min(sum(1 for c in _conjuncts(d) if _unit(c)) for d in f.args),
+                                                len(f.args)))
+                others = [f for f in fs if f is not split]
+                got = [models(vars_, [d, *others], deadline=deadline, _depth=_depth + 1) for d in split.args]
+                rows = np.unique(np.concatenate(got, axis=0), axis=0) if got else np.zeros((0, len(vars_)), bool)
+            else:
+                rows = _bdd_models(vars_, fs, deadline)
+        if rows.shape[0] == 0:
+            return empty
+        blocks.append(([pidx[p] for p in vars_], rows))
+    covered = {i for cols, _ in blocks for i in cols} | {pidx[p] for p in fixed}
+    for i in range(len(props)):
+        if i not in covered:
+            blocks.append(([i], np.array([[False], [True]])))
+    total = 1
+    for _, rows in blocks:
+        total *= rows.shape[0]
+    if total > _MAX_WORLDS:
+        raise ParseError(f"the initial state would have {total} worlds (limit {_MAX_WORLDS}); "
+                         f"{sum(1 for c, r in blocks if len(c) == 1 and r.shape[0] == 2)} fluent(s) are left "
+                         f"unconstrained by the common knowledge")
+    val = np.zeros((total, len(props)), dtype=bool)
+    for p, v in fixed.items():
+        val[:, pidx[p]] = v
+    rep = total
+    for cols, rows in blocks:  # mixed-radix product, first block varies slowest
+        _check_deadline(deadline)
+        rep //= rows.shape[0]
+        idx = (np.arange(total) // rep) % rows.shape[0]
+        val[:, cols] = rows[idx]
+    return val
+
+
+def _kw_relations(flat: KripkeModel, agents: Sequence[str], kw: dict[str, list[Formula]],
+                  deadline: float | None) -> dict[str, Relation]:
+    """Agent i's partition: the worlds agreeing on every formula i knows whether."""
+    rels: dict[str, Relation] = {}
+    n = flat.n_worlds
+    for a in agents:
+        _check_deadline(deadline)
+        key = [flat.check(f) for f in kw.get(a, [])]
+        lab = np.zeros(n, dtype=np.int64)
+        if key:
+            _, inv = np.unique(np.stack(key, axis=1), axis=0, return_inverse=True)
+            lab = np.asarray(inv).reshape(-1)
+        rels[a] = Relation.from_labels(lab)
+    return rels
+
+
+def finitary_s5_epddl(props: Sequence[str], agents: Sequence[str], type1: Sequence[Formula],
+                      type2: Sequence[Formula], type3: dict[str, list[Formula]], *, source: str = "<init>",
+                      deadline: float | None = None) -> KripkeModel:
+    """The EPDDL finitary-S5 initial state (plank's construction, see :mod:`planners.lang.epddl2026`):
+    worlds satisfy every ``type2`` formula, designated ones also every ``type1`` formula, and agent i's
+    relation links the worlds agreeing on every formula of ``type3[i]``."""
+    props, agents = tuple(props), tuple(agents)
+    val = models(props, list(type2), deadline=deadline)
+    if val.shape[0] == 0:
+        raise ParseError("no world satisfies the initial common knowledge ([C. All] formulas)", source=source)
+    flat = KripkeModel(props, (), val, {}, ())
+    des = np.ones(val.shape[0], dtype=bool)
+    for f in type1:
+        des &= flat.check(f)
+    if not des.any():
+        raise ParseError("no world satisfies the initial facts together with the common knowledge "
+                         "(no designated world)", source=source)
+    rels = _kw_relations(flat, agents, type3, deadline)
+    return KripkeModel(props, agents, val, rels, tuple(np.flatnonzero(des).tolist()))
 
 
 def knows_whether(f: Formula) -> tuple[str, Formula] | None:
@@ -64,7 +369,7 @@ def _unit(f: Formula) -> tuple[str, bool] | None:
 
 def finitary_s5(props: Sequence[str], agents: Sequence[str], pointed: dict[str, bool],
                 common: Sequence[tuple[Formula, str]], others: Sequence[tuple[Formula, str]] = (),
-                *, source: str = "<spec>") -> KripkeModel:
+                *, source: str = "<spec>", deadline: float | None = None) -> KripkeModel:
     """Build the initial model. ``common`` are the φ of ``C(...,φ)`` statements with their location
     (``"file:line:col"``), ``others`` further formulas that must hold at the pointed world."""
     props, agents = tuple(props), tuple(agents)
@@ -85,34 +390,14 @@ def finitary_s5(props: Sequence[str], agents: Sequence[str], pointed: dict[str, 
                 k = knows_whether(part)
                 if k is not None:
                     kw[k[0]].append(k[1])
-    free = [p for p in props if p not in fixed]
-    if len(free) > _MAX_FREE:
-        raise ParseError(f"{len(free)} fluents are not fixed by the initial common knowledge; the explicit "
-                         f"initial model would have 2^{len(free)} worlds (limit 2^{_MAX_FREE})", source=source)
-    n = 1 << len(free)
-    val = np.zeros((n, len(props)), dtype=bool)
-    pidx = {p: i for i, p in enumerate(props)}
-    codes = np.arange(n, dtype=np.int64)
-    for j, p in enumerate(free):
-        val[:, pidx[p]] = ((codes >> (len(free) - 1 - j)) & 1).astype(bool)
-    for p, v in fixed.items():
-        val[:, pidx[p]] = v
-    flat = KripkeModel(props, (), val, {}, ())
-    keep = np.ones(n, dtype=bool)
-    for f in prop_filters:
-        keep &= flat.check(f)
-    val = val[keep]
+    val = models(props, prop_filters, fixed=fixed, deadline=deadline)
     if val.shape[0] == 0:
         raise ParseError("no valuation satisfies the initial common knowledge", source=source)
     flat = KripkeModel(props, (), val, {}, ())
-    m = val.shape[0]
-    rels: dict[str, Relation] = {}
-    for a in agents:
-        lab = np.zeros(m, dtype=np.int64)
-        for psi in kw[a]:
-            lab = lab * 2 + flat.check(psi).astype(np.int64)
-        rels[a] = Relation.from_labels(lab)
-    match = np.ones(m, dtype=bool)
+    pidx = {p: i for i, p in enumerate(props)}
+    rels = _kw_relations(flat, agents, kw, deadline)
+    _check_deadline(deadline)
+    match = np.ones(val.shape[0], dtype=bool)
     for p, v in pointed.items():
         match &= val[:, pidx[p]] == v
     hits = np.flatnonzero(match)
@@ -127,11 +412,13 @@ def finitary_s5(props: Sequence[str], agents: Sequence[str], pointed: dict[str, 
     model = KripkeModel(props, agents, val, rels, (int(hits[0]),))
     everyone = tuple(sorted(agents))
     for phi, where in common:
+        _check_deadline(deadline)
         if not model.holds(C(everyone, phi)) or not model.holds(phi):
             raise ParseError(f"initial statement C({show(phi)}) is not made true by the finitary-S5 "
                              f"construction (supported: fluent formulas and B(i,ψ) | B(i,-ψ) under C)",
                              source=where)
     for phi, where in others:
+        _check_deadline(deadline)
         if not model.holds(phi):
             raise ParseError(f"initial statement {show(phi)} does not hold in the initial state",
                              source=where)

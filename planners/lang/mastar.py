@@ -70,8 +70,11 @@ _KEYWORDS = {"fluent", "action", "agent", "executable", "causes", "determines", 
 
 
 class _Parser:
-    def __init__(self, text: str, source: str) -> None:
+    def __init__(self, text: str, source: str, *, strict: bool = False, deadline: float | None = None) -> None:
         self.source = source
+        self.strict = strict
+        self.deadline = deadline
+        self.warnings: list[str] = []
         self.toks = tokenize(text, source)
         self.i = 0
         self.fluents: list[str] = []
@@ -287,7 +290,8 @@ class _Parser:
                 name=a, kind=kind.get(a, "ontic"), executable=conj(exe[a]), effects=tuple(effects[a]),
                 sensed=tuple(sensed[a]), full=tuple(merge_observers(full[a])),
                 partial=tuple(merge_observers(partial[a])), where=where))
-        model = finitary_s5(self.fluents, self.agents, pointed, common, others, source=self.source)
+        model = finitary_s5(self.fluents, self.agents, pointed, common, others, source=self.source,
+                            deadline=self.deadline)
         name = Path(self.source).stem
         return Task(name, tuple(self.fluents), tuple(self.agents), model, tuple(specs), conj(goals), self.source)
 
@@ -314,6 +318,16 @@ class _Parser:
                 target = {"fluent": self.fluents, "action": self.actions, "agent": self.agents}[t.text]
                 while True:
                     n = self.ident(f"a name for the {t.text}")
+                    if n.text in self.decl_at and not self.strict and n.text in target:
+                        first = self.decl_at[n.text]
+                        msg = (f"{self.source}:{n.line}: warning: {t.text} {n.text!r} is declared twice (first at "
+                               f"line {first.line}); the duplicate is ignored (--strict makes this an error)")
+                        self.warnings.append(msg)
+                        _warn(msg)
+                        if self.accept(";"):
+                            break
+                        self.expect(",")
+                        continue
                     if n.text in self.decl_at:
                         raise self.err(f"{n.text!r} is declared twice (first at line {self.decl_at[n.text].line})",
                                        n)
@@ -327,9 +341,20 @@ class _Parser:
         self.i = 0
 
 
-def parse_mastar(text: str, source: str = "<mA*>") -> Task:
-    """Parse mA* ``text`` into a grounded :class:`Task` (errors name ``source``, line and column)."""
-    return _Parser(text, source).parse()
+def _warn(msg: str) -> None:
+    """One line on stderr (the CLI's channel for warnings); tests capture it with ``capsys``."""
+    import sys
+
+    print(f"delkit: {msg}", file=sys.stderr)
+
+
+def parse_mastar(text: str, source: str = "<mA*>", *, strict: bool = False, deadline: float | None = None) -> Task:
+    """Parse mA* ``text`` into a grounded :class:`Task` (errors name ``source``, line and column).
+
+    A name declared twice in the same kind of list (``fluent p, q, p;``, as some published files do) is
+    accepted with a one-line warning naming the file, line and duplicate; ``strict`` keeps it an error.
+    ``deadline`` (``time.monotonic()``) bounds building the initial state."""
+    return _Parser(text, source, strict=strict, deadline=deadline).parse()
 
 
 def parse_mastar_formula(text: str, task: Task, *, source: str = "<formula>") -> Formula:
@@ -343,11 +368,11 @@ def parse_mastar_formula(text: str, task: Task, *, source: str = "<formula>") ->
     return f
 
 
-def load_mastar(path: str | Path) -> Task:
-    """Read an mA* file."""
+def load_mastar(path: str | Path, *, strict: bool = False, deadline: float | None = None) -> Task:
+    """Read an mA* file (see :func:`parse_mastar`)."""
     p = Path(path)
     try:
         text = p.read_text()
     except (OSError, UnicodeDecodeError) as exc:
         raise ParseError(f"cannot read the mA* file: {io_reason(exc)}", source=str(p)) from None
-    return parse_mastar(text, str(p))
+    return parse_mastar(text, str(p), strict=strict, deadline=deadline)

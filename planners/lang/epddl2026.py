@@ -1,0 +1,1072 @@
+"""EPDDL (2026), the language of the 2026 planning competition's epistemic track, into a grounded Task.
+
+A run is a domain, a problem and any number of action-type libraries (the built-in type ``basic`` needs
+none). The semantics follow the official guideline (Burigana & Fabiano, 2026) and its reference toolkit
+``plank`` exactly; the places where they are easy to get wrong:
+
+* ``[i]φ`` box, ``<i>φ`` diamond; for a group ``[G]φ`` is ⋀_{i∈G} [i]φ and ``<G>φ`` is ⋀_{i∈G} <i>φ (every
+  agent has *some* successor with φ — not the dual of ``[G]``); ``[Kw. G]φ`` is ⋀ ([i]φ ∨ [i]¬φ) and
+  ``<Kw. G>φ`` is ⋀ (<i>φ ∧ <i>¬φ); ``[C. G]φ`` quantifies over the *transitive* (not reflexive) closure of
+  ⋃_{i∈G} R_i (delkit's ``C``), ``<C. G>φ`` is its dual.
+* a state satisfies φ iff φ holds in every designated world (delkit's ``KripkeModel.holds``).
+* action types are event models: events are variables bound in order to the action's events, relations are
+  indexed by observability types, designated events are listed. An agent's observability type is decided on
+  the whole state before the update: for each (type, condition) of the agent, in type order, the last type
+  whose condition the state satisfies wins, and an agent none of whose conditions holds gets the first type
+  of the action type (plank's ``calculate_agents_obs_type``). ``if/else-if/else`` chains become conditions
+  c1, ¬c1∧c2, ¬c1∧¬c2; ``default T`` gives T to agents with no statement, and to a chain without ``else``.
+* an event's effects ``l`` / ``(when φ l)`` / ``(iff φ l)`` give each fluent p' = pos ∨ (p ∧ ¬neg), where pos
+  (neg) is the disjunction of the conditions making p true (false).
+* an action applies in s iff every designated world satisfies the precondition of some designated event.
+* finitary-S5 initial states: worlds are the valuations (facts fixed by ``:facts-init``) satisfying every
+  ``[C. All]φ``; designated worlds those satisfying the top-level formulas; i's relation links the worlds
+  that agree on every φ of ``[C. All]([Kw. i]φ)``; ``[C. All]([i]φ)`` constrains the worlds as φ does and
+  ``[C. All](<Kw. i>φ)`` adds nothing (plank ignores it too). The worlds are found with a BDD, never by
+  enumerating all valuations (plank enumerates 2^33 on N-Consecutive-Numbers).
+* explicit initial states (``:worlds/:relations/:labels/:designated``) keep the frame they are given: an
+  agent with no relation listed has the empty relation (it believes ⊥), as in plank.
+
+Ground action names are ``name_arg1_arg2`` (plank's). Facts (``:fact`` predicates) are static: they are
+folded away while grounding and are not fluents of the task.
+"""
+
+from __future__ import annotations
+
+import itertools
+import time
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from delkit.errors import ParseError
+from delkit.formula import BOT, TOP, And, C, Formula, Implies, K, Kw, Not, Or, Prop
+from planners.lang.initial import LoadTimeout
+from planners.lang.sexpr import Node, Sym, read
+
+__all__ = ["load_epddl2026", "parse_epddl2026", "LoadTimeout", "find_libraries", "BASIC"]
+
+BASIC = "basic"
+REQUIREMENTS = frozenset((
+    ":agent-groups :common-knowledge :conditional-effects :del :disjunctive-formulas :disjunctive-goals "
+    ":disjunctive-list-formulas :disjunctive-obs-conditions :disjunctive-postconditions :disjunctive-preconditions "
+    ":equality :events-conditions :existential-formulas :existential-goals :existential-list-formulas "
+    ":existential-obs-conditions :existential-postconditions :existential-preconditions :finitary-S5-theories "
+    ":facts :general-formulas :general-frames :general-goals :general-list-formulas :general-obs-conditions "
+    ":general-postconditions :general-preconditions :group-modalities :KD45-frames :knowing-whether :lists "
+    ":list-comprehensions :modal-formulas :modal-goals :modal-obs-conditions :modal-postconditions "
+    ":modal-preconditions :multi-pointed-models :negative-formulas :negative-goals :negative-list-formulas "
+    ":negative-obs-conditions :negative-postconditions :negative-preconditions :ontic-actions :pal "
+    ":partial-observability :quantified-formulas :quantified-goals :quantified-list-formulas "
+    ":quantified-obs-conditions :quantified-postconditions :quantified-preconditions :static-common-knowledge "
+    ":typing :universal-formulas :universal-goals :universal-list-formulas :universal-obs-conditions "
+    ":universal-postconditions :universal-preconditions").split())   # the guideline's (plank's lexer's) list
+_ENTITY, _OBJECT, _AGENT = "entity", "object", "agent"
+
+
+# ----------------------------------------------------------------------------- formula smart constructors
+def mk_not(f: Formula) -> Formula:
+    if f is TOP or f == TOP:
+        return BOT
+    if f is BOT or f == BOT:
+        return TOP
+    if isinstance(f, Not):
+        return f.arg
+    return Not(f)
+
+
+def _contradicts(parts: tuple[Formula, ...]) -> bool:
+    negs = {x.arg for x in parts if isinstance(x, Not)}
+    return bool(negs) and any(x in negs for x in parts)
+
+
+def mk_and(parts) -> Formula:
+    out: list[Formula] = []
+    for p in parts:
+        if p == BOT:
+            return BOT
+        if p == TOP:
+            continue
+        if isinstance(p, And):
+            out.extend(p.args)
+        else:
+            out.append(p)
+    if not out:
+        return TOP
+    uniq = tuple(dict.fromkeys(out))
+    if _contradicts(uniq):  # x ∧ ¬x
+        return BOT
+    return uniq[0] if len(uniq) == 1 else And(uniq)
+
+
+def mk_or(parts) -> Formula:
+    out: list[Formula] = []
+    for p in parts:
+        if p == TOP:
+            return TOP
+        if p == BOT:
+            continue
+        if isinstance(p, Or):
+            out.extend(p.args)
+        else:
+            out.append(p)
+    if not out:
+        return BOT
+    uniq = tuple(dict.fromkeys(out))
+    if _contradicts(uniq):  # x ∨ ¬x
+        return TOP
+    return uniq[0] if len(uniq) == 1 else Or(uniq)
+
+
+def atom_name(pred: str, args: tuple[str, ...]) -> str:
+    return "_".join((pred, *args)) if args else pred
+
+
+# ----------------------------------------------------------------------------- specification
+def _sections(define: Node, source: str) -> tuple[str, str, list[Node]]:
+    """(kind, name, sections) of a ``(define (kind name) ...)`` form."""
+    if not isinstance(define, Node) or define.head() != "define" or len(define) < 2 \
+            or not isinstance(define[1], Node) or len(define[1]) != 2:
+        line = define.line if isinstance(define, Node) else getattr(define, "line", None)
+        raise ParseError("expected (define (domain|problem|action-type-library NAME) ...)", source=source,
+                         line=line)
+    kind, name = define[1][0], define[1][1]
+    secs = []
+    for s in define[2:]:
+        if not isinstance(s, Node) or not s or not isinstance(s[0], Sym) or not s[0].startswith(":"):
+            raise ParseError("expected a section (:name ...)", source=source, line=getattr(s, "line", None))
+        secs.append(s)
+    return str(kind), str(name), secs
+
+
+def _read_define(path: Path) -> tuple[str, str, list[Node]]:
+    try:
+        text = path.read_text()
+    except (OSError, UnicodeDecodeError) as exc:
+        from delkit.errors import io_reason
+
+        raise ParseError(f"cannot read: {io_reason(exc)}", source=str(path)) from None
+    forms = read(text, str(path))
+    if len(forms) != 1:
+        raise ParseError(f"expected one (define ...) form, found {len(forms)}", source=str(path))
+    return _sections(forms[0], str(path))
+
+
+def find_libraries(domain: Path, names: list[str], given: list[Path]) -> list[Path]:
+    """The library files for the declared ``names`` that ``given`` does not provide: ``NAME.epddl`` next to
+    the domain or in a ``libraries/`` folder of one of its ancestors (plank's layout)."""
+    have = set()
+    for g in given:
+        try:
+            have.add(_read_define(g)[1])
+        except ParseError:
+            pass
+    out = []
+    for n in names:
+        if n in have:
+            continue
+        for d in [domain.parent, *domain.parents]:
+            for cand in (d / f"{n}.epddl", d / "libraries" / f"{n}.epddl"):
+                if cand.is_file():
+                    out.append(cand)
+                    break
+            else:
+                continue
+            break
+    return out
+
+
+# ----------------------------------------------------------------------------- grounding context
+class _Ground:
+    """Everything needed to ground formulas and lists: types, entities, facts, agents, predicates."""
+
+    def __init__(self, src: dict[int, str], deadline: float | None) -> None:
+        self.src = src
+        self.deadline = deadline
+        self.type_parent: dict[str, str] = {_OBJECT: _ENTITY, _AGENT: _ENTITY}
+        self.entities: dict[str, str] = {}  # name -> type
+        self.agents: list[str] = []
+        self.preds: dict[str, tuple[tuple[str, ...], bool]] = {}  # name -> (param types, is fact)
+        self.facts: set[tuple[str, ...]] = set()
+        self._by_type: dict[str, list[str]] = {}
+        self.where = "<epddl>"
+        self.counter = 0
+        self._order: dict[Node, list] = {}
+        self.groups: dict[str, tuple[str, ...]] = {}
+        self._is_static: dict[Node, bool] = {}
+
+    def err(self, msg: str, node) -> ParseError:
+        return ParseError(msg, source=self.where, line=getattr(node, "line", None))
+
+    def tick(self, every: int = 1023) -> None:
+        self.counter += 1
+        if self.deadline is not None and (self.counter & every) == 0 and time.monotonic() > self.deadline:
+            raise LoadTimeout("time limit reached while grounding the EPDDL task")
+
+    # types ---------------------------------------------------------------
+    def is_sub(self, t: str, sup: str) -> bool:
+        seen = 0
+        while t is not None and seen < 100:
+            if t == sup:
+                return True
+            t = self.type_parent.get(t)
+            seen += 1
+        return False
+
+    def of_type(self, t: str | tuple[str, ...]) -> list[str]:
+        key = t if isinstance(t, str) else "|".join(t)
+        got = self._by_type.get(key)
+        if got is None:
+            ts = (t,) if isinstance(t, str) else t
+            for x in ts:
+                if x not in self.type_parent and x != _ENTITY:
+                    raise ParseError(f"unknown type {x!r}", source=self.where)
+            got = [e for e, et in self.entities.items() if any(self.is_sub(et, x) for x in ts)]
+            self._by_type[key] = got
+        return got
+
+    def typed_list(self, items, default: str = _OBJECT) -> tuple[list[tuple[str, object]], Node | None]:
+        """[(name, type)] of ``a b - t c - (either u v)``, and the ``| filter`` if any."""
+        out: list[tuple[str, object]] = []
+        pending: list[str] = []
+        filt = None
+        i = 0
+        items = list(items)
+        while i < len(items):
+            x = items[i]
+            if x == "|":
+                if i + 2 != len(items):
+                    raise self.err("a '|' filter must be the last element of a parameter list", x)
+                filt = items[i + 1]
+                break
+            if x == "-":
+                if i + 1 >= len(items):
+                    raise self.err("'-' without a type", x)
+                t = items[i + 1]
+                if isinstance(t, Node):
+                    if t.head() != "either":
+                        raise self.err("expected a type or (either t1 t2 ...)", t)
+                    tt: object = tuple(str(y) for y in t[1:])
+                else:
+                    tt = str(t)
+                out += [(p, tt) for p in pending]
+                pending = []
+                i += 2
+                continue
+            if not isinstance(x, Sym):
+                raise self.err("expected a name in a typed list", x)
+            pending.append(str(x))
+            i += 1
+        out += [(p, default) for p in pending]
+        return out, filt
+
+    # terms ---------------------------------------------------------------
+    def term(self, x, env: dict[str, str]) -> str:
+        if not isinstance(x, Sym):
+            raise self.err("expected a term (a name or a ?variable)", x)
+        if x.startswith("?"):
+            try:
+                return env[x]
+            except KeyError:
+                raise self.err(f"unbound variable {x}", x) from None
+        return str(x)
+
+    def group(self, x, env: dict[str, str]) -> tuple[str, ...]:
+        if isinstance(x, Node):
+            return tuple(self.agent(y, env) for y in x)
+        if x == "All":
+            return tuple(self.agents)
+        if x in self.groups:
+            return self.groups[x]
+        return (self.agent(x, env),)
+
+    def agent(self, x, env) -> str:
+        a = self.term(x, env)
+        if a not in self.agents:
+            raise self.err(f"{a!r} is not an agent (agents: {', '.join(self.agents)})", x)
+        return a
+
+    # bindings -------------------------------------------------------------
+    def bindings(self, params: Node | list, env: dict[str, str], default: str = _OBJECT,
+                 domains: dict[str, list[str]] | None = None) -> Iterator[dict[str, str]]:
+        """Every extension of ``env`` by the typed variables of ``params`` that passes its ``|`` filter.
+
+        The filter's top-level conjuncts are tested as soon as their variables are bound."""
+        typed, filt = self.typed_list(params, default)
+        names = [v for v, _ in typed]
+        doms = []
+        for v, t in typed:
+            if not v.startswith("?"):
+                raise self.err(f"expected a ?variable, got {v!r}", params)
+            if domains is not None and t in domains:
+                doms.append(domains[t])
+            else:
+                doms.append(self.of_type(t))  # type: ignore[arg-type]
+        checks: list[list[Node]] = [[] for _ in names]
+        if filt is not None:
+            conjs = list(filt[1:]) if isinstance(filt, Node) and filt.head() == "and" else [filt]
+            for c in conjs:
+                used = _vars_in(c)
+                idx = max((names.index(u) for u in used if u in names), default=-1)
+                checks[max(idx, 0) if idx >= 0 else 0].append(c)
+        n = len(names)
+        cur = dict(env)
+
+        def rec(k: int) -> Iterator[dict[str, str]]:
+            if k == n:
+                yield dict(cur)
+                return
+            for val in doms[k]:
+                self.tick()
+                cur[names[k]] = val
+                if all(self.static(c, cur) for c in checks[k]):
+                    yield from rec(k + 1)
+            cur.pop(names[k], None)
+
+        if n == 0:
+            if filt is None or self.static(filt, cur):
+                yield dict(cur)
+            return
+        yield from rec(0)
+
+    def static(self, f, env) -> bool:
+        g = self.formula(f, env)
+        if g == TOP:
+            return True
+        if g == BOT:
+            return False
+        raise self.err("a '|' filter may only use equality and facts (it depends on a fluent)", f)
+
+    # formulas -------------------------------------------------------------
+    def atom(self, node: Node, env) -> Formula:
+        pred = node[0]
+        args = tuple(self.term(x, env) for x in node[1:])
+        decl = self.preds.get(pred)
+        if decl is None:
+            raise self.err(f"unknown predicate {pred!r}", node)
+        if len(decl[0]) != len(args):
+            raise self.err(f"predicate {pred!r} takes {len(decl[0])} argument(s), got {len(args)}", node)
+        if decl[1]:
+            return TOP if (pred, *args) in self.facts else BOT
+        return Prop(atom_name(pred, args))
+
+    def formula(self, f, env: dict[str, str]) -> Formula:  # noqa: C901 - one clause per construct
+        if isinstance(f, Sym):
+            if f in ("true", "⊤"):
+                return TOP
+            if f in ("false", "⊥"):
+                return BOT
+            raise self.err(f"expected a formula, got {f!r}", f)
+        if f.kind != "(" or not f:
+            raise self.err("expected a formula in parentheses", f)
+        h = f[0]
+        if isinstance(h, Node):
+            if h.kind not in "[<" or len(f) != 2:
+                raise self.err("expected ([modality] formula) or (<modality> formula)", f)
+            return self.modal(h, self.formula(f[1], env), env)
+        if h == "and":
+            return mk_and(self.formula(x, env) for x in self._static_first(f))
+        if h == "or":
+            return mk_or(self.formula(x, env) for x in self._static_first(f))
+        if h == "not":
+            self._arity(f, 1)
+            return mk_not(self.formula(f[1], env))
+        if h == "imply":
+            self._arity(f, 2)
+            a, b = self.formula(f[1], env), self.formula(f[2], env)
+            if a == TOP or b == BOT:
+                return mk_or([mk_not(a), b])
+            if a == BOT or b == TOP:
+                return TOP
+            return Implies(a, b)
+        if h in ("forall", "exists"):
+            self._arity(f, 2)
+            parts = (self.formula(f[2], e) for e in self.bindings(f[1], env))
+            return mk_and(parts) if h == "forall" else mk_or(parts)
+        if h in ("=", "/="):
+            self._arity(f, 2)
+            same = self.term(f[1], env) == self.term(f[2], env)
+            return TOP if same == (h == "=") else BOT
+        if h in ("true", "false"):
+            return TOP if h == "true" else BOT
+        if str(h).startswith(":"):
+            raise self.err(f"{h} is a list construct; formulas use and/or/forall/exists (without ':')", f)
+        return self.atom(f, env)
+
+    def _static_first(self, f: Node) -> list:
+        """The arguments of an and/or, those depending only on facts and equality first (they often decide
+        the whole formula, and the others are then never grounded)."""
+        got = self._order.get(f)
+        if got is None:
+            args = list(f[1:])
+            got = self._order[f] = [x for x in args if self._static(x)] + [x for x in args if not self._static(x)]
+        return got
+
+    def _static(self, x) -> bool:
+        if not isinstance(x, Node):
+            return isinstance(x, Sym) and x in ("true", "false")
+        got = self._is_static.get(x)
+        if got is None:
+            h = x.head()
+            if h in ("=", "/="):
+                got = True
+            elif h in ("and", "or", "not", "imply"):
+                got = all(self._static(y) for y in x[1:])
+            elif h in ("forall", "exists") and len(x) == 3:
+                got = self._static(x[2])
+            elif h is not None and h in self.preds:
+                got = self.preds[h][1]
+            else:
+                got = False
+            self._is_static[x] = got
+        return got
+
+    def _arity(self, f: Node, n: int) -> None:
+        if len(f) != n + 1:
+            raise self.err(f"({f[0]} ...) takes {n} argument(s), got {len(f) - 1}", f)
+
+    def modal(self, m: Node, phi: Formula, env) -> Formula:
+        items = list(m)
+        op = None
+        if items and items[0] in ("Kw.", "C."):
+            op = str(items[0])
+            items = items[1:]
+        if len(items) != 1:
+            raise self.err("a modality holds one agent, a group (a1 a2 ...) or All", m)
+        g = self.group(items[0], env)
+        box = m.kind == "["
+        if op is None:
+            return mk_and(K(a, phi) if box else mk_not(K(a, mk_not(phi))) for a in g)
+        if op == "Kw.":
+            if box:
+                return mk_and(Kw(a, phi) for a in g)
+            return mk_and(mk_and([mk_not(K(a, phi)), mk_not(K(a, mk_not(phi)))]) for a in g)
+        return C(g, phi) if box else mk_not(C(g, mk_not(phi)))
+
+    # list constructs ----------------------------------------------------------
+    def items(self, node, env: dict[str, str], leaf: Callable[[object, dict[str, str]], None]) -> None:
+        """Expand ``(:and ...)``/``(:forall (vars | filter) body)`` and call ``leaf`` on each element."""
+        if isinstance(node, Node) and node.kind == "(" and node.head() == ":and":
+            for x in node[1:]:
+                self.items(x, env, leaf)
+            return
+        if isinstance(node, Node) and node.kind == "(" and node.head() == ":forall":
+            if len(node) != 3:
+                raise self.err("(:forall (vars) body) takes a parameter list and one body", node)
+            for e in self.bindings(node[1], env):
+                self.items(node[2], e, leaf)
+            return
+        leaf(node, env)
+
+
+def _vars_in(x) -> set[str]:
+    if isinstance(x, Sym):
+        return {str(x)} if x.startswith("?") else set()
+    out: set[str] = set()
+    for y in x:
+        out |= _vars_in(y)
+    return out
+
+
+def _keyed(sec: Node, g: _Ground) -> dict[str, object]:
+    """``:key value`` pairs of an ``(:event ...)``/``(:action ...)`` section after its name."""
+    out: dict[str, object] = {}
+    for i in range(2, len(sec), 2):
+        k = sec[i]
+        if not isinstance(k, Sym) or not k.startswith(":"):
+            raise g.err(f"expected a :keyword in ({sec[0]} {sec[1]} ...), got {k!r}", sec)
+        if i + 1 >= len(sec):
+            raise g.err(f"{k} without a value", k)
+        out[str(k)] = sec[i + 1]
+    return out
+
+
+# ----------------------------------------------------------------------------- the reader
+@dataclass
+class _Event:
+    name: str
+    params: Node | list
+    pre: object
+    effects: object
+    line: int
+
+
+@dataclass
+class _ActType:
+    name: str
+    events: list[str]
+    obs_types: list[str]
+    relations: Node | None
+    designated: list[str]
+    line: int
+    source: str
+
+
+_BASIC_TYPE = _ActType(BASIC, ["?e"], ["Fully"], None, ["?e"], 0, "<built-in>")
+
+
+def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
+                    deadline: float | None = None):
+    """Read, type and ground one EPDDL run into a :class:`planners.task.Task`."""
+    from planners.task import EventAction, Task
+
+    domain, problem = Path(domain), Path(problem)
+    libraries = [Path(p) for p in libraries]
+    g = _Ground({}, deadline)
+    g.where = str(domain)
+    g.tick(0)
+    dkind, dname, dsecs = _read_define(domain)
+    if dkind != "domain":
+        raise ParseError(f"expected (define (domain NAME) ...), found ({dkind} {dname})", source=str(domain))
+    pkind, pname, psecs = _read_define(problem)
+    if pkind != "problem":
+        raise ParseError(f"expected (define (problem NAME) ...), found ({pkind} {pname})", source=str(problem))
+
+    # ---- domain sections
+    events: dict[str, _Event] = {}
+    actions: list[tuple[str, dict[str, object], int]] = []
+    declared_libs: list[str] = []
+    for sec in dsecs:
+        key = sec[0]
+        if key == ":requirements":
+            _requirements(g, sec)
+            continue
+        if key == ":action-type-libraries":
+            declared_libs += [str(x) for x in sec[1:]]
+        elif key == ":types":
+            typed, _ = g.typed_list(sec[1:], _OBJECT)
+            for t, parent in typed:
+                if isinstance(parent, tuple):
+                    raise g.err("a type's parent cannot be an (either ...)", sec)
+                g.type_parent[t] = parent  # type: ignore[assignment]
+        elif key == ":constants":
+            typed, _ = g.typed_list(sec[1:], _OBJECT)
+            for c, t in typed:
+                g.entities[c] = t  # type: ignore[assignment]
+        elif key == ":predicates":
+            for p in sec[1:]:
+                if not isinstance(p, Node) or not p:
+                    raise g.err("expected (name ?x - type ...) or (:fact name ...)", p)
+                fact = p[0] == ":fact"
+                body = list(p[1:]) if fact else list(p)
+                typed, _ = g.typed_list(body[1:], _ENTITY)
+                g.preds[str(body[0])] = (tuple(str(t) for _, t in typed), fact)
+        elif key == ":event":
+            kv = _keyed(sec, g)
+            events[str(sec[1])] = _Event(str(sec[1]), kv.get(":parameters") or [], kv.get(":precondition"),
+                                         kv.get(":effects"), sec.line)
+        elif key == ":action":
+            actions.append((str(sec[1]), _keyed(sec, g), sec.line))
+        else:
+            raise g.err(f"unsupported domain section {key} (supported: :requirements, :action-type-libraries, "
+                        f":types, :constants, :predicates, :event, :action)", sec)
+
+    # ---- libraries
+    act_types: dict[str, _ActType] = {BASIC: _BASIC_TYPE}
+    lib_names = []
+    for lp in [*libraries, *find_libraries(domain, declared_libs, libraries)]:
+        g.where = str(lp)
+        lkind, lname, lsecs = _read_define(lp)
+        if lkind != "action-type-library":
+            raise ParseError(f"expected (define (action-type-library NAME) ...), found ({lkind} {lname})",
+                             source=str(lp))
+        lib_names.append(lname)
+        for sec in lsecs:
+            if sec[0] == ":requirements":
+                _requirements(g, sec)
+                continue
+            if sec[0] != ":action-type":
+                raise g.err(f"unsupported library section {sec[0]}", sec)
+            kv = _keyed(sec, g)
+            evs = [str(x) for x in (kv.get(":events") or [])]
+            obs = [str(x) for x in (kv.get(":observability-types") or [])]
+            des = [str(x) for x in (kv.get(":designated") or [])]
+            act_types[str(sec[1])] = _ActType(str(sec[1]), evs, obs, kv.get(":relations"), des, sec.line,
+                                              str(lp))  # type: ignore[arg-type]
+    missing = [n for n in declared_libs if n != BASIC and n not in lib_names]
+    if missing:
+        raise ParseError(f"the domain declares action-type librar{'y' if len(missing) == 1 else 'ies'} "
+                         f"{', '.join(missing)} but no such file was given (pass --library FILE) or found "
+                         f"next to the domain", source=str(domain))
+
+    # ---- problem sections
+    g.where = str(problem)
+    init = goal = None
+    facts_init = None
+    group_secs: list[Node] = []
+    for sec in psecs:
+        key = sec[0]
+        if key in (":requirements", ":domain"):
+            if key == ":requirements":
+                _requirements(g, sec)
+            if key == ":domain" and str(sec[1]) != dname:
+                raise g.err(f"the problem is for domain {sec[1]!r}, the domain file defines {dname!r}", sec)
+            continue
+        if key == ":agents":
+            for a in sec[1:]:
+                g.entities[str(a)] = _AGENT
+        elif key == ":objects":
+            typed, _ = g.typed_list(sec[1:], _OBJECT)
+            for o, t in typed:
+                g.entities[o] = t  # type: ignore[assignment]
+        elif key == ":facts-init":
+            facts_init = sec
+        elif key == ":init":
+            init = sec
+        elif key == ":goal":
+            goal = sec
+        elif key == ":agent-groups":
+            group_secs.append(sec)
+        else:
+            raise g.err(f"unsupported problem section {key} (supported: :domain, :requirements, :agents, "
+                        f":agent-groups, :objects, :facts-init, :init, :goal)", sec)
+    g.agents = [e for e, t in g.entities.items() if g.is_sub(t, _AGENT)]
+    for sec in group_secs:
+        _agent_groups(g, sec)
+    if not g.agents:
+        raise g.err("no agents: declare them with (:agents ...) or as constants of type agent", problem)
+    if init is None or goal is None:
+        raise ParseError("the problem needs an :init and a :goal", source=str(problem))
+    if facts_init is not None:
+        def fact(node, env):
+            if not isinstance(node, Node) or not node or node.head() not in g.preds:
+                raise g.err("expected a fact (pred args ...)", node)
+            if not g.preds[node[0]][1]:
+                raise g.err(f"{node[0]!r} is not declared as a (:fact ...) predicate", node)
+            g.facts.add((str(node[0]), *(g.term(x, env) for x in node[1:])))
+        for x in facts_init[1:]:
+            g.items(x, {}, fact)
+
+    # ---- fluents: every well-typed ground atom of a non-fact predicate
+    props: list[str] = []
+    for p, (types, is_fact) in g.preds.items():
+        if is_fact:
+            continue
+        for args in itertools.product(*(g.of_type(t) for t in types)):
+            props.append(atom_name(p, args))
+    agents = tuple(g.agents)
+
+    # ---- initial state and goal
+    if len(init) >= 2 and isinstance(init[1], Sym) and init[1] == ":worlds":
+        model = _explicit_init(init, g, props, agents)
+    else:
+        from planners.lang.initial import finitary_s5_epddl
+
+        if len(init) != 2:
+            raise g.err("(:init ...) holds one list of finitary-S5 formulas (use (:and ...))", init)
+        type1: list[Formula] = []
+        type2: list[Formula] = []
+        type3: dict[str, list[Formula]] = {a: [] for a in agents}
+
+        def theory(node, env):
+            if isinstance(node, Node) and node.kind == "(" and node and isinstance(node[0], Node) \
+                    and node[0].kind == "[" and len(node[0]) == 2 and node[0][0] == "C.":
+                grp = g.group(node[0][1], env)
+                if set(grp) != set(agents):
+                    raise g.err("finitary-S5 theories only allow common knowledge of All ([C. All] ...)", node)
+                if len(node) != 2:
+                    raise g.err("expected ([C. All] formula)", node)
+                inner = node[1]
+                if isinstance(inner, Node) and inner and isinstance(inner[0], Node) and inner[0].kind in "[<":
+                    mod = inner[0]
+                    if len(inner) != 2:
+                        raise g.err("expected ([C. All] ([modality] formula))", inner)
+                    if mod.kind == "[" and len(mod) == 2 and mod[0] == "Kw.":
+                        type3[g.agent(mod[1], env)].append(_prop(g, inner[1], env))
+                        return
+                    if mod.kind == "<" and len(mod) == 2 and mod[0] == "Kw.":
+                        g.agent(mod[1], env)
+                        _prop(g, inner[1], env)
+                        return  # adds no structure (plank ignores it as well)
+                    if mod.kind == "[" and len(mod) == 1:
+                        g.agent(mod[0], env)
+                        type2.append(_prop(g, inner[1], env))
+                        return
+                    raise g.err("under [C. All] a finitary-S5 theory allows a propositional formula, [i]φ, "
+                                "[Kw. i]φ or <Kw. i>φ", inner)
+                type2.append(_prop(g, inner, env))
+                return
+            type1.append(_prop(g, node, env))
+
+        g.items(init[1], {}, theory)
+        model = finitary_s5_epddl(props, agents, type1, type2, type3, source=f"{problem}:{init.line}",
+                                  deadline=deadline)
+    if len(goal) != 2:
+        raise g.err("(:goal formula) takes one formula", goal)
+    goal_f = g.formula(goal[1], {})
+
+    # ---- actions
+    g.where = str(domain)
+    ground: list = []
+    for aname, kv, line in actions:
+        sig = kv.get(":action-type")
+        if not isinstance(sig, Node) or not sig:
+            raise ParseError(f"action {aname!r} has no :action-type", source=str(domain), line=line)
+        tname = str(sig[0])
+        at = act_types.get(tname)
+        if at is None:
+            raise ParseError(f"action {aname!r} uses the unknown action type {tname!r}; pass the library that "
+                             f"defines it (--library FILE)", source=str(domain), line=sig.line)
+        ev_refs = list(sig[1:])
+        if len(ev_refs) != len(at.events):
+            raise ParseError(f"action {aname!r}: action type {tname!r} has {len(at.events)} event(s) "
+                             f"({' '.join(at.events)}), {len(ev_refs)} given", source=str(domain), line=sig.line)
+        params = kv.get(":parameters") or []
+        typed, _ = g.typed_list(params)
+        for env in g.bindings(params, {}):
+            g.tick(0)
+            name = "_".join([aname, *(env[v] for v, _ in typed)])
+            ground.append(_ground_action(g, name, at, ev_refs, events, kv.get(":observability-conditions"),
+                                         env, agents, line, EventAction))
+    return Task(name=pname, props=tuple(props), agents=agents, initial=model, actions=tuple(ground),
+                goal=goal_f, source=str(problem))
+
+
+def _group_members(g: _Ground, node) -> list[str]:
+    members: list[str] = []
+
+    def member(n, env) -> None:
+        if isinstance(n, Node) and n.kind == "(" and n.head() not in (":and", ":forall"):
+            for y in n:
+                g.items(y, env, member)
+            return
+        members.append(g.agent(n, env))
+    g.items(node, {}, member)
+    return members
+
+
+def _requirements(g: _Ground, sec: Node) -> None:
+    """Requirement names are checked (an unknown one is a typo or a construct plank does not know); what
+    they imply is not enforced — plank only warns when a construct's requirement is missing."""
+    for r in sec[1:]:
+        if not isinstance(r, Sym) or r not in REQUIREMENTS:
+            raise g.err(f"unknown requirement {r!r} (EPDDL requirements: {', '.join(sorted(REQUIREMENTS))})", r)
+
+
+def _agent_groups(g: _Ground, sec: Node) -> None:
+    """``(:agent-groups (Name [- type] (a1 a2 ...)) ...)``: named groups usable in modalities."""
+    for item in sec[1:]:
+        if not isinstance(item, Node) or len(item) not in (2, 4) or not isinstance(item[0], Sym):
+            raise g.err("expected (GroupName [- type] (agent ...))", item)
+        members = _group_members(g, item[-1])
+        if not members:
+            raise g.err(f"agent group {item[0]} is empty", item)
+        g.groups[str(item[0])] = tuple(dict.fromkeys(members))
+
+
+def _prop(g: _Ground, node, env) -> Formula:
+    from delkit.formula import is_propositional
+
+    f = g.formula(node, env)
+    if not is_propositional(f):
+        raise g.err("a finitary-S5 theory allows only propositional formulas here", node)
+    return f
+
+
+def _explicit_init(init: Node, g: _Ground, props: list[str], agents: tuple[str, ...]):
+    from delkit.kripke import KripkeModel
+    from delkit.relation import Relation
+
+    kv: dict[str, object] = {}
+    i = 1
+    while i < len(init):
+        k = init[i]
+        if not isinstance(k, Sym) or k not in (":worlds", ":relations", ":labels", ":designated"):
+            raise g.err("expected :worlds, :relations, :labels or :designated", k if isinstance(k, Sym) else init)
+        if i + 1 >= len(init):
+            raise g.err(f"{k} without a value", k)
+        kv[str(k)] = init[i + 1]
+        i += 2
+    for k in (":worlds", ":relations", ":labels", ":designated"):
+        if k not in kv:
+            raise g.err(f"an explicit initial state needs {k}", init)
+    worlds = [str(w) for w in kv[":worlds"]]  # type: ignore[union-attr]
+    widx = {w: j for j, w in enumerate(worlds)}
+    for w in worlds:
+        g.entities[w] = "world"
+    g.type_parent.setdefault("world", _ENTITY)
+    g._by_type.clear()
+
+    def world(x, env) -> int:
+        w = g.term(x, env)
+        if w not in widx:
+            raise g.err(f"unknown world {w!r}", x)
+        return widx[w]
+
+    pairs: dict[str, list[tuple[int, int]]] = {a: [] for a in agents}
+    rel = kv[":relations"]
+    for j in range(0, len(rel), 2):  # type: ignore[arg-type]
+        a = g.agent(rel[j], {})  # type: ignore[index]
+        if j + 1 >= len(rel):  # type: ignore[arg-type]
+            raise g.err(f"no relation after agent {a}", rel)
+
+        def pair(node, env, a=a):
+            if not isinstance(node, Node) or len(node) != 2:
+                raise g.err("expected a pair of worlds (w v)", node)
+            pairs[a].append((world(node[0], env), world(node[1], env)))
+        g.items(rel[j + 1], {}, pair)  # type: ignore[index]
+    pidx = {p: j for j, p in enumerate(props)}
+    val = np.zeros((len(worlds), len(props)), dtype=bool)
+    lab = kv[":labels"]
+    for j in range(0, len(lab), 2):  # type: ignore[arg-type]
+        w = world(lab[j], {})  # type: ignore[index]
+
+        def true_atom(node, env, w=w):
+            f = g.atom(node, env) if isinstance(node, Node) and node.head() in g.preds else None
+            if not isinstance(f, Prop):
+                raise g.err("a label lists the fluents true in the world", node)
+            val[w, pidx[f.name]] = True
+        g.items(lab[j + 1], {}, true_atom)  # type: ignore[index]
+    des = [world(x, {}) for x in kv[":designated"]]  # type: ignore[union-attr]
+    if not des:
+        raise g.err("no designated world", init)
+    rels = {a: Relation.from_pairs(len(worlds), pairs[a]) for a in agents}
+    return KripkeModel(tuple(props), agents, val, rels, tuple(des), names=tuple(worlds))
+
+
+def _effects(g: _Ground, node, env) -> dict[str, Formula]:
+    """p ↦ p' of an event's effects (p' = pos ∨ (p ∧ ¬neg))."""
+    pos: dict[str, list[Formula]] = {}
+    neg: dict[str, list[Formula]] = {}
+
+    def lit(node, env, cond: Formula) -> None:
+        if isinstance(node, Node) and node.head() == "not" and len(node) == 2:
+            f = g.atom(node[1], env)
+            if isinstance(f, Prop):
+                neg.setdefault(f.name, []).append(cond)
+                return
+            raise g.err("effects may not change a fact", node)
+        if isinstance(node, Node) and node.head() in g.preds:
+            f = g.atom(node, env)
+            if isinstance(f, Prop):
+                pos.setdefault(f.name, []).append(cond)
+                return
+            raise g.err("effects may not change a fact", node)
+        raise g.err("expected an effect: a literal, (when φ effects) or (iff φ literal)", node)
+
+    def leaf(node, env, cond: Formula = TOP) -> None:
+        if isinstance(node, Node) and node.head() == "when":
+            if len(node) != 3:
+                raise g.err("(when condition effects)", node)
+            c = mk_and([cond, g.formula(node[1], env)])
+            if c == BOT:
+                return
+            g.items(node[2], env, lambda n, e: leaf(n, e, c))
+            return
+        if isinstance(node, Node) and node.head() == "iff":
+            if len(node) != 3:
+                raise g.err("(iff condition literal)", node)
+            c = g.formula(node[1], env)
+            lit(node[2], env, mk_and([cond, c]))
+            inv = node[2][1] if isinstance(node[2], Node) and node[2].head() == "not" else None
+            if inv is not None:
+                p = g.atom(inv, env)
+                if isinstance(p, Prop):
+                    pos.setdefault(p.name, []).append(mk_and([cond, mk_not(c)]))
+            else:
+                p = g.atom(node[2], env)
+                if isinstance(p, Prop):
+                    neg.setdefault(p.name, []).append(mk_and([cond, mk_not(c)]))
+            return
+        lit(node, env, cond)
+
+    if node is not None:
+        g.items(node, env, leaf)
+    post: dict[str, Formula] = {}
+    for p in dict.fromkeys([*pos, *neg]):
+        pf, nf = mk_or(pos.get(p, [])), mk_or(neg.get(p, []))
+        post[p] = mk_or([pf, mk_and([Prop(p), mk_not(nf)])])
+    return post
+
+
+def _ground_event(g: _Ground, ref, events: dict[str, _Event], env) -> tuple[str, Formula, dict[str, Formula]]:
+    if isinstance(ref, Sym):
+        name, args = str(ref), []
+    elif isinstance(ref, Node) and ref and isinstance(ref[0], Sym):
+        name, args = str(ref[0]), list(ref[1:])
+    else:
+        raise g.err("expected an event (name args ...)", ref)
+    ev = events.get(name)
+    if ev is None:
+        raise g.err(f"unknown event {name!r}", ref)
+    typed, _ = g.typed_list(ev.params)
+    if len(typed) != len(args):
+        raise g.err(f"event {name!r} takes {len(typed)} argument(s), got {len(args)}", ref)
+    eenv = {v: g.term(x, env) for (v, _), x in zip(typed, args, strict=True)}
+    pre = g.formula(ev.pre, eenv) if ev.pre is not None else TOP
+    post = _effects(g, ev.effects, eenv)
+    return atom_name(name, tuple(eenv.values())), pre, post
+
+
+_REL_CACHE: dict[tuple[int, str], dict[str, list[tuple[int, int]]]] = {}
+
+
+def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]]:
+    """obs type -> event index pairs of an action type (ground once per type)."""
+    key = (id(at), at.name)
+    got = _REL_CACHE.get(key)
+    if got is not None:
+        return got
+    if at.relations is None:  # basic
+        got = {"Fully": [(0, 0)]}
+        _REL_CACHE[key] = got
+        return got
+    eidx = {e: j for j, e in enumerate(at.events)}
+    saved = (dict(g.entities), g.where)
+    g.where = at.source
+    for e in at.events:
+        g.entities[e] = "event"
+    g.type_parent.setdefault("event", _ENTITY)
+    g._by_type.clear()
+    got = {t: [] for t in at.obs_types}
+    rel = at.relations
+    for j in range(0, len(rel), 2):
+        t = str(rel[j])
+        if t not in got:
+            raise g.err(f"relation for {t!r}, which is not an observability type of {at.name!r}", rel[j])
+
+        def pair(node, env, t=t):
+            if not isinstance(node, Node) or len(node) != 2:
+                raise g.err("expected a pair of events (?e ?f)", node)
+            a, b = g.term(node[0], env), g.term(node[1], env)
+            if a not in eidx or b not in eidx:
+                raise g.err(f"({a} {b}): not events of {at.name!r}", node)
+            got[t].append((eidx[a], eidx[b]))
+        g.items(rel[j + 1], {e: e for e in at.events}, pair)
+    g.entities, g.where = saved
+    g._by_type.clear()
+    _REL_CACHE[key] = got
+    return got
+
+
+def _obs_spec(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tuple[int, Formula]]]:
+    """agent -> [(obs type index, condition)] (plank's per-agent map, first statement per type wins)."""
+    tidx = {t: j for j, t in enumerate(at.obs_types)}
+    spec: dict[str, dict[int, Formula]] = {a: {} for a in agents}
+    if node is None:
+        return {a: [(0, TOP)] for a in agents}
+    default: list[int] = []
+
+    def tyid(x) -> int:
+        if str(x) not in tidx:
+            raise g.err(f"{x!r} is not an observability type of {at.name!r} ({', '.join(at.obs_types)})", x)
+        return tidx[str(x)]
+
+    def find_default(n, env) -> None:
+        if isinstance(n, Node) and n.head() == "default":
+            default.append(tyid(n[1]))
+    g.items(node, env, find_default)
+
+    def assign(a: str, t: int, c: Formula, where) -> None:
+        if t not in spec[a]:
+            spec[a][t] = c
+        elif spec[a][t] != c:
+            raise g.err(f"agent {a}: observability type {at.obs_types[t]} given twice with different conditions",
+                        where)
+
+    def leaf(n, env) -> None:
+        if not isinstance(n, Node) or len(n) != 2:
+            raise g.err("expected (agent Type), (agent (if ...)) or (default Type)", n)
+        if n[0] == "default":
+            return
+        a = g.agent(n[0], env)
+        body = n[1]
+        if isinstance(body, Sym):
+            assign(a, tyid(body), TOP, n)
+            return
+        if not (isinstance(body, Node) and body.head() == "if"):
+            raise g.err("expected an observability type or (if φ T else-if φ T ... else T)", body)
+        if len(body) < 3:
+            raise g.err("(if φ T else-if φ T ... else T)", body)
+        prev: list[Formula] = []
+        has_else = False
+        k = 0
+        while k < len(body):
+            w = body[k]
+            if w in ("if", "else-if") and k + 2 < len(body) and (w == "if") == (k == 0):
+                c = g.formula(body[k + 1], env)
+                assign(a, tyid(body[k + 2]), mk_and([*(mk_not(p) for p in prev), c]), body)
+                prev.append(c)
+                k += 3
+            elif w == "else" and k > 0 and k + 2 == len(body):
+                assign(a, tyid(body[k + 1]), mk_and(mk_not(p) for p in prev), body)
+                has_else = True
+                k += 2
+            else:
+                raise g.err(f"unexpected {w!r} in (if φ T else-if φ T ... else T)", body)
+        if not has_else and default:
+            assign(a, default[0], mk_and(mk_not(p) for p in prev), body)
+    g.items(node, env, leaf)
+    for a in agents:
+        if not spec[a]:
+            if not default:
+                raise g.err(f"no observability condition for agent {a} and no (default Type)", node)
+            spec[a][default[0]] = TOP
+    return {a: sorted(spec[a].items()) for a in agents}
+
+
+_TYPE_REL: dict[int, tuple] = {}  # id(action type) -> (type, obs type -> Relation); the type is kept alive
+
+
+def _relation(n: int, pairs: list[tuple[int, int]]):
+    """A relation on n events; an equivalence is kept as a partition (products with S5 states stay cheap)."""
+    from delkit.relation import Relation
+
+    r = Relation.from_pairs(n, pairs)
+    if r.is_reflexive() and r.is_symmetric() and r.is_transitive():
+        return r.as_partition()
+    return r
+
+
+def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_node, env, agents, line,
+                   EventAction):
+    from delkit.events import EventModel
+
+    evs = [_ground_event(g, r, events, env) for r in ev_refs]
+    rels = _type_relations(g, at)
+    obs = _obs_spec(g, obs_node, env, at, agents)
+    conds: list[Formula] = []
+    cidx: dict[Formula, int] = {}
+    plan: dict[str, list[tuple[int, int | None]]] = {}
+    for a in agents:
+        plan[a] = []
+        for t, c in obs[a]:
+            if c == TOP:
+                plan[a].append((t, None))
+            elif c != BOT:
+                if c not in cidx:
+                    cidx[c] = len(conds)
+                    conds.append(c)
+                plan[a].append((t, cidx[c]))
+    slots = tuple(e.lstrip("?") for e in at.events)
+    pre = tuple(e[1] for e in evs)
+    post = tuple(e[2] for e in evs)
+    des = tuple(at.events.index(d) for d in at.designated)
+    n = len(slots)
+    type_rel = _TYPE_REL.get(id(at))
+    if type_rel is None or type_rel[0] is not at:
+        type_rel = _TYPE_REL[id(at)] = (at, {t: _relation(n, rels.get(t, [])) for t in at.obs_types})
+    type_rel = type_rel[1]
+
+    def build(bits: tuple[bool, ...]) -> EventModel:
+        relations = {}
+        for a in agents:
+            t = 0
+            for tt, ci in plan[a]:
+                if ci is None or bits[ci]:
+                    t = tt
+            relations[a] = type_rel[at.obs_types[t]]
+        return EventModel(slots, agents, pre, post, relations, des, name)
+
+    return EventAction(name=name, build=build, conditions=tuple(conds), where=f"{g.where}:{line}",
+                       kind=at.name)
+
+
+def load_epddl2026(domain: str | Path, problem: str | Path, libraries: list[str | Path] = (), *,
+                   deadline: float | None = None):
+    """Read an EPDDL (2026) run; ``deadline`` is a ``time.monotonic()`` instant (:class:`LoadTimeout`)."""
+    for p in (domain, problem, *libraries):
+        if not Path(p).exists():
+            raise ParseError("no such file", source=str(p))
+    return parse_epddl2026(Path(domain), Path(problem), [Path(x) for x in libraries], deadline=deadline)

@@ -1,0 +1,75 @@
+"""S-expressions with line numbers for the EPDDL (2026) reader.
+
+EPDDL is Lisp-shaped, with two extra bracket pairs for modalities: ``[i] φ`` / ``[C. G] φ`` (boxes) and
+``<i> φ`` / ``<Kw. i> φ`` (diamonds). :func:`read` turns a text into :class:`Node` trees whose ``kind`` is
+``"("``, ``"["`` or ``"<"``; atoms are :class:`Sym` (a ``str`` that remembers its line). ``;`` starts a
+comment. Hand-written (a dozen lines of regular expression and a stack): a lark grammar would add start-up
+time for no gain on this token set.
+"""
+
+from __future__ import annotations
+
+import re
+
+from delkit.errors import ParseError
+
+__all__ = ["Sym", "Node", "read"]
+
+_TOKEN = re.compile(r"\s+|;[^\n]*|[()\[\]<>|]|[^\s()\[\]<>|;]+")
+_CLOSE = {"(": ")", "[": "]", "<": ">"}
+
+
+class Sym(str):
+    """An atom (identifier, ``?variable``, ``:keyword``, ``|``) with the line it is on."""
+
+    line: int
+
+    def __new__(cls, text: str, line: int) -> Sym:
+        s = super().__new__(cls, text)
+        s.line = line
+        return s
+
+
+class Node(list):
+    """A bracketed list; ``kind`` is its opening bracket, ``line`` the line it starts on."""
+
+    def __init__(self, kind: str, line: int) -> None:
+        super().__init__()
+        self.kind = kind
+        self.line = line
+
+    def head(self) -> str | None:
+        return self[0] if self and isinstance(self[0], Sym) else None
+
+    __hash__ = object.__hash__  # identity; used as a cache key
+
+    def __eq__(self, other: object) -> bool:
+        return self is other
+
+
+def read(text: str, source: str) -> list[Node | Sym]:
+    """All top-level forms of ``text``."""
+    out: list = []
+    stack: list[Node] = []
+    line = 1
+    for m in _TOKEN.finditer(text):
+        tok = m.group()
+        if tok[0].isspace() or tok[0] == ";":
+            line += tok.count("\n")
+            continue
+        if tok in _CLOSE:
+            stack.append(Node(tok, line))
+            continue
+        if tok in (")", "]", ">"):
+            if not stack:
+                raise ParseError(f"unbalanced {tok!r}", source=source, line=line)
+            node = stack.pop()
+            if _CLOSE[node.kind] != tok:
+                raise ParseError(f"{tok!r} closes {node.kind!r} opened on line {node.line}", source=source,
+                                 line=line)
+            (stack[-1] if stack else out).append(node)
+            continue
+        (stack[-1] if stack else out).append(Sym(tok, line))
+    if stack:
+        raise ParseError(f"{stack[-1].kind!r} opened here is never closed", source=source, line=stack[-1].line)
+    return out
