@@ -146,7 +146,7 @@ def _variant(task, kind: str):
     return dataclasses.replace(task, actions=acts, _cache={})
 
 
-@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(mastar_tasks(), st.sampled_from(["plain", "plain", "macro", "event"]))
 def test_h_epi_admissible_consistent_and_astar_optimal_on_random_tasks(text: str, kind: str) -> None:
     from delkit.errors import DelkitError
