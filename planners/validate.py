@@ -211,6 +211,10 @@ def explain(m: KripkeModel, f: Formula, w: int, depth: int = 0) -> tuple[str, st
 
 # ----------------------------------------------------------------------------- replay
 
+#: replayed models with more worlds than this are contracted after each step
+_CONTRACT_ABOVE = 64
+
+
 def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, model: KripkeModel,
                 allow_inconsistent: bool) -> CheckResult | KripkeModel:
     """One (non-macro) action at step ``i``: the new model, or the CheckResult saying why it fails."""
@@ -302,8 +306,9 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
             new = bad
         # bisimulation contraction keeps every formula's truth at the actual world (properties, goal,
         # preconditions) and keeps the replay small: without it a 15-step plan doubled to 2^15 worlds. Not
-        # for tasks that mention distributed knowledge of a group, which contraction does not preserve.
-        model = new if groups else contract(new)
+        # for tasks that mention distributed knowledge of a group, which contraction does not preserve; not
+        # for small models either (contraction needs scipy, whose import costs more than such a replay)
+        model = new if groups or new.n_worlds <= _CONTRACT_ABOVE else contract(new)
         bad = props_at(i, model, name)
         if bad:
             return bad
