@@ -19,7 +19,9 @@
 
 The positional ``args`` follow seed 004, Listing 5: ``pick(block, on, level, stack)``,
 ``place(block, onto, level, stack)``, ``put_on_barrier(block)``, ``take_from_barrier(block)``; keyword
-fields (``block``, ``on``/``onto``, ``level``, ``stack``) may be given instead. ``announce`` and
+fields (``block``, ``on``/``onto``, ``level``, ``stack``) may be given instead. Optional: ``task`` (any
+action; the epistemic task it belongs to, as the e-PICO hierarchy writes it) and ``color`` (``announce``:
+the colour announced). Any other field is an error. ``announce`` and
 ``sense`` are purely epistemic: they change no block. Stacks and levels are 0-based.
 """
 
@@ -95,7 +97,8 @@ def _action(obj: Any, i: int, world: World, source: str) -> Action:
     if not isinstance(robot, str) or robot not in world.robots:
         raise ArmsError(f"{where}: 'robot' must be one of {', '.join(world.robots)}, got {robot!r}")
     allowed = {*ACTIONS[name], "stack", "level"} if name == "sense" else set(ACTIONS[name])
-    allowed |= {"to"} if name == "announce" else set()
+    allowed |= {"to", "color"} if name == "announce" else set()
+    allowed |= {"task"}  # the epistemic task the action belongs to (e-PICO's hierarchy writes it)
     unknown = sorted(k for k in obj if k not in ("robot", "action", "args") and k not in allowed)
     if unknown:  # a misspelt field would silently be ignored
         raise ArmsError(f"{where}: unknown field {unknown[0]!r} for {name}; fields: robot, action, args, "
@@ -120,6 +123,9 @@ def _action(obj: Any, i: int, world: World, source: str) -> Action:
                     val in (float("inf"), float("-inf")) or int(val) != val:
                 raise ArmsError(f"{where}: '{key}' must be an integer, got {json.dumps(val)[:40]}")
             args[key] = int(val)
+    for key in ("task", "color"):
+        if key in args and not isinstance(args[key], str):
+            raise ArmsError(f"{where}: '{key}' must be a string, got {json.dumps(args[key])[:40]}")
     for key in ("block", "on", "onto"):  # block names (or "table"): strings, e.g. "red"
         if key in args and not isinstance(args[key], str):
             raise ArmsError(f"{where}: '{key}' must be a block name (a string), got {json.dumps(args[key])[:40]}")
