@@ -6,7 +6,8 @@ delkit.cli import main ..."``) ``--runs`` times after one untimed warm-up and re
 
 * the **whole-process** median wall seconds and median CPU seconds (user + system of the child, from
   ``RUSAGE_CHILDREN``) — interpreter start, imports, parsing, initial state, search, output, exit: the
-  same region as EFP's recorded times, which are whole runs of the EFP binary;
+  same region as EFP's recorded times, which are whole runs of the EFP binary (children may write
+  bytecode, as an installed package has: the warm-up leaves ``.pyc`` files);
 * the **search** seconds the planner reports (``seconds`` in its JSON: initial state + search, no parsing),
   median over the runs;
 * EFP's recorded seconds from the same CSV row (C++ -O2, 2-core machine, BFS, 60 s limit; "poss" is EFP's
@@ -53,6 +54,7 @@ def _efp(x: str) -> float | None:
 
 def _once(path: Path, search: str, engine: str, timeout: float) -> tuple[float, float, dict]:
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    env.pop("PYTHONDONTWRITEBYTECODE", None)  # as an installed package: the warm-up run leaves .pyc files
     cmd = [sys.executable, "-c", _MAIN, "plan", str(path), "--json", "--search", search, "--engine", engine,
            "--timeout", f"{timeout:g}"]
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)

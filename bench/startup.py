@@ -3,7 +3,9 @@
 Each row runs ``python -c "from delkit.cli import main; ..." ARGS`` as a fresh process ``--runs`` times
 (after one untimed warm-up run that also fills the parser cache) and reports the median wall seconds and the
 median CPU seconds (user + system of the child, from ``RUSAGE_CHILDREN``) — the timed region is the whole
-process: interpreter start, imports, parsing, the command itself, exit. Two baselines are the bare
+process: interpreter start, imports, parsing, the command itself, exit. Children may write bytecode
+(``PYTHONDONTWRITEBYTECODE`` is removed from their environment) so that, as for an installed package, the
+warm-up run leaves ``.pyc`` files and the timed runs do not recompile delkit's sources. Two baselines are the bare
 interpreter and ``import numpy``. The plan/check inputs are ``CB_simple__pl_2`` from
 ``../shared/benchmarks/mastar`` (skipped if absent) and ``specs/coin_in_the_box``.
 
@@ -90,6 +92,7 @@ def _once(argv: list[str], env: dict[str, str]) -> tuple[float, float, int]:
 
 def run(runs: int, only: list[str] | None = None) -> list[dict]:
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    env.pop("PYTHONDONTWRITEBYTECODE", None)  # as an installed package: the warm-up run leaves .pyc files
     rows = []
     with tempfile.TemporaryDirectory() as d:
         for label, argv in cases(Path(d)):
