@@ -20,7 +20,7 @@ def demo_plan() -> Plan:
     return parse_plan(json.loads(text), source="arms/demo_plan.json")
 
 
-def execute_and_render(plan: Plan, out_dir: Path | None, *, grasp: str = "weld", render: bool = True,
+def execute_and_render(plan: Plan, out_dir: Path | None, *, grasp: str = "friction", render: bool = True,
                        video: bool = False, fps: float = 10.0, save_scene: bool = True, progress=None,
                        tolerance: float = 0.01, save_frames: bool = False):
     """Run ``plan`` in physics; if ``out_dir`` is given write scene.xml, result.json and pictures.

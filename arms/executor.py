@@ -11,6 +11,12 @@ Verification: after action *i* the symbolic state s_i (``arms.plan.symbolic_trac
 block must be; the executor measures every block's centre in the simulation and fails the run at the
 first block farther than ``tolerance`` (default 1 cm) from its symbolic place, naming the action, the
 block and the distance. A held block must be within ``tolerance`` of its grasp pose on the TCP.
+
+Grasps hold the block by finger friction (default); ``grasp="weld"`` adds a weld constraint at grasp
+time and is for debugging only. A block that slips or drops fails the per-action check.
+
+Sensing (``sense``) is observation: the robot moves its palm camera above each column to be sensed and
+:func:`arms.sensing.look` casts rays; only the top block of a column is seen (see :mod:`arms.sensing`).
 """
 
 from __future__ import annotations
@@ -27,8 +33,9 @@ import numpy as np
 from arms.ik import DualArmIK, pose, pose_error
 from arms.plan import Action, Plan, apply_action
 from arms.scene import FINGER_OPEN, Scene, build_scene
+from arms.sensing import Sighting, look
 from arms.skills import pick, place
-from arms.world import COLORS, ArmsError, PlanError, SymbolicState, World, initial_state
+from arms.world import ArmsError, PlanError, SymbolicState, World, initial_state
 
 __all__ = ["ActionOutcome", "RunResult", "Executor", "MotionError", "run_plan"]
 
@@ -96,14 +103,10 @@ def _min_jerk(tau: float) -> float:
     return tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau)
 
 
-def _nearest_colour(rgba: np.ndarray) -> str:
-    return min(COLORS, key=lambda c: float(np.sum((np.array(COLORS[c][:3]) - rgba[:3]) ** 2)))
-
-
 class Executor:
     """Physics, control and verification for one world (see module docstring)."""
 
-    def __init__(self, world: World, *, grasp: str = "weld", tolerance: float = 0.01,
+    def __init__(self, world: World, *, grasp: str = "friction", tolerance: float = 0.01,
                  control_dt: float = 0.01, record_fps: float = 0.0) -> None:
         self.world = world
         self.scene: Scene = build_scene(world, grasp=grasp)
@@ -128,9 +131,13 @@ class Executor:
         self.fk_disagreement = 0.0
         g1, g2 = (set(self.scene.arm_geoms(r)) for r in world.robots)
         self._arm_pairs = (g1, g2)
+        self._arm_of_geom = np.zeros(self.model.ngeom, dtype=np.int64)
+        self._arm_of_geom[list(g1)] = 1
+        self._arm_of_geom[list(g2)] = 2
         self._arm_adr = {r: self.scene.arm_qpos_adr(r) for r in world.robots}
         self._arm_act = {r: self.scene.arm_actuators(r) for r in world.robots}
         self._tcp_id = {r: self.model.body(self.scene.tcp_body(r)).id for r in world.robots}
+        self.sightings: list[Sighting] = []  # what the last sense action saw
         self._record()
 
     # -- low level -----------------------------------------------------------------------------------
@@ -140,14 +147,13 @@ class Executor:
             self._next_frame += 1.0 / self.record_fps
 
     def _physics(self, n: int) -> None:
-        m, d = self.model, self.data
-        g1, g2 = self._arm_pairs
+        m, d, lut = self.model, self.data, self._arm_of_geom
         for _ in range(n):
             mujoco.mj_step(m, d)
-            for c in d.contact[: d.ncon]:
-                if (c.geom1 in g1 and c.geom2 in g2) or (c.geom1 in g2 and c.geom2 in g1):
-                    self.arm_contacts += 1
-            self._record()
+            if d.ncon:  # a contact between a geom of arm 1 (lut 1) and one of arm 2 (lut 2): product 2
+                self.arm_contacts += int(np.count_nonzero(lut[d.contact.geom1] * lut[d.contact.geom2] == 2))
+            if self.record_fps > 0:
+                self._record()
 
     def _tick(self, targets: Mapping[str, np.ndarray], *, posture: bool = True) -> None:
         try:
@@ -299,22 +305,61 @@ class Executor:
         tops = [loc.level for loc in state.places.values() if loc.kind != "held"]
         return lay.table_z + lay.block_size * (max(tops, default=0) + 2) + 0.08
 
-    def _sense(self, action: Action, state: SymbolicState) -> dict[str, str]:
-        """Read the colours of the named block, or of every block in the named / all stacks of the robot."""
-        a = action.args
-        if "block" in a:
-            names = [a["block"]]
-        else:
-            names = [b for b, loc in state.places.items()
-                     if loc.kind == "stack" and loc.robot == action.robot
-                     and ("stack" not in a or loc.stack == a["stack"])]
-        out = {}
-        for b in names:
-            if b not in state.places:
-                raise PlanError(f"sense: unknown block {b!r}")
-            gid = self.model.geom(f"block/{b}").id
-            out[b] = _nearest_colour(self.model.geom_rgba[gid])
+    def sense_columns(self, robot: str, columns: list[tuple[str, np.ndarray]], travel: float) -> list[Sighting]:
+        """Move the palm camera above each (name, xy) column in turn and look (line of sight)."""
+        lay = self.world.layout
+        z_view = max(travel, lay.table_z + 0.25)
+        out = []
+        for name, xy in columns:
+            cur = self.tcp_cmd[robot][:3, 3]
+            if cur[2] < z_view - 1e-3:
+                self.move(robot, pose([cur[0], cur[1], z_view]))
+            self.move(robot, pose([xy[0], xy[1], z_view]))
+            self.wait(0.1)
+            out.append(look(self.model, self.data, self.scene.camera_site(robot), xy, table_z=lay.table_z,
+                            block_size=lay.block_size, column=name))
         return out
+
+    def columns(self, robot: str, stacks: list[int] | None = None, *, barrier: bool = False,
+                ) -> list[tuple[str, np.ndarray]]:
+        """(name, xy) of the robot's stacks (all, or the given ones) and optionally the shared table."""
+        lay, i = self.world.layout, self.world.robot_index(robot)
+        n = len(self.world.stacks[robot])
+        cols = [(f"{robot} stack {s}", lay.stack_xy(i, s, n)) for s in (range(n) if stacks is None else stacks)]
+        return ([("shared table", lay.barrier_xy())] if barrier else []) + cols
+
+    def _sense(self, action: Action, state: SymbolicState, travel: float) -> dict[str, str]:
+        """Look at the named stack, or at the stack where the named block should be, or at all the robot's
+        stacks; returns {block: colour} of the blocks actually seen (``self.sightings`` has the details)."""
+        a, r = action.args, action.robot
+        if "stack" in a:
+            stacks = [int(a["stack"])]
+        elif "block" in a:
+            if a["block"] not in state.places:
+                raise PlanError(f"sense: unknown block {a['block']!r}")
+            loc = state.places[a["block"]]
+            if loc.kind == "barrier":
+                self.sightings = self.sense_columns(r, self.columns(r, [], barrier=True), travel)
+                return {x.block: x.colour for x in self.sightings if x.block}
+            stacks = [loc.stack] if loc.kind == "stack" and loc.robot == r else []
+            if not stacks:
+                raise PlanError(f"sense: {a['block']!r} is not on {r}'s table ({loc.describe()})")
+        else:
+            stacks = None
+        self.sightings = self.sense_columns(r, self.columns(r, stacks), travel)
+        return {x.block: x.colour for x in self.sightings if x.block}
+
+    def drop(self, robot: str, lower_to: float) -> None:
+        """Fault injection: lower the held block to ``lower_to`` (z of its centre) and let it go."""
+        cur = self.tcp_cmd[robot][:3, 3]
+        self.move(robot, pose([cur[0], cur[1], lower_to]), speed=0.12)
+        self.held.pop(robot, None)
+        self._grasp_offset.pop(robot, None)
+        if self.grasp == "weld":
+            for b in self.world.blocks:
+                self.data.eq_active[self.scene.weld_id(robot, b)] = 0
+        self.gripper(robot, 0.04)
+        self.move(robot, pose([cur[0], cur[1], cur[2]]), speed=0.15)
 
     def execute(self, action: Action, state: SymbolicState) -> dict[str, str]:
         """Drive the arms through one action (no checking); returns the sensed colours for ``sense`` and
@@ -334,7 +379,7 @@ class Executor:
                 self.move(r, pose([lay.stack_x - 0.12, base_y, travel]))  # above its own table
             self.wait(0.2)
         elif action.name == "sense":
-            return self._sense(action, state)
+            return self._sense(action, state, travel)
         elif action.name == "announce":  # purely epistemic: nothing moves; the content is reported
             return {k: (", ".join(map(str, v)) if isinstance(v, list) else str(v)) for k, v in a.items()}
         return {}
@@ -389,7 +434,7 @@ class Executor:
                          failure=failure)
 
 
-def run_plan(plan: Plan, *, grasp: str = "weld", tolerance: float = 0.01, record_fps: float = 0.0,
+def run_plan(plan: Plan, *, grasp: str = "friction", tolerance: float = 0.01, record_fps: float = 0.0,
              progress: Callable[[int, Action], None] | None = None) -> tuple[RunResult, Executor]:
     """Build the scene for the plan's world and run it; returns the result and the executor."""
     ex = Executor(plan.world, grasp=grasp, tolerance=tolerance, record_fps=record_fps)

@@ -484,15 +484,16 @@ class DualArmIK:
         return result
 
     def solve_clik(self, targets: Mapping[str, np.ndarray], q0: Mapping[str, np.ndarray] | None = None, *,
-                   budget: float = 0.005, seed: int = 0) -> IKResult:
-        """The pinocchio CLIK fallback, arm by arm (it knows nothing of the other arm)."""
+                   budget: float = 0.005, seed: int = 0, clock=time.perf_counter) -> IKResult:
+        """The pinocchio CLIK fallback, arm by arm (it knows nothing of the other arm); ``clock`` as in
+        :meth:`PinocchioArm.clik`."""
         t0 = time.perf_counter()
         qs: dict[str, np.ndarray] = {}
         ep = er = 0.0
         conv = True
         iters = restarts = 0
         for r, t in targets.items():
-            res = self.pin[r].clik(t, None if q0 is None else q0.get(r), budget=budget, seed=seed)
+            res = self.pin[r].clik(t, None if q0 is None else q0.get(r), budget=budget, seed=seed, clock=clock)
             qs[r] = res.q["arm"]
             ep, er = max(ep, res.position_error), max(er, res.orientation_error)
             conv = conv and res.converged

@@ -94,27 +94,62 @@ def _action(obj: Any, i: int, world: World, source: str) -> Action:
     robot = obj.get("robot")
     if not isinstance(robot, str) or robot not in world.robots:
         raise ArmsError(f"{where}: 'robot' must be one of {', '.join(world.robots)}, got {robot!r}")
+    allowed = {*ACTIONS[name], "stack", "level"} if name == "sense" else set(ACTIONS[name])
+    allowed |= {"to"} if name == "announce" else set()
+    unknown = sorted(k for k in obj if k not in ("robot", "action", "args") and k not in allowed)
+    if unknown:  # a misspelt field would silently be ignored
+        raise ArmsError(f"{where}: unknown field {unknown[0]!r} for {name}; fields: robot, action, args, "
+                        f"{', '.join(sorted(allowed))}")
     args: dict[str, Any] = {k: v for k, v in obj.items() if k not in ("robot", "action", "args")}
     pos = obj.get("args", [])
-    if not isinstance(pos, list) or len(pos) > len(ACTIONS[name]) and name in ONTIC:
+    if not isinstance(pos, list) or len(pos) > len(ACTIONS[name]):
         raise ArmsError(f"{where}: 'args' must be a list of at most {len(ACTIONS[name])} values "
                         f"({', '.join(ACTIONS[name])})")
     for key, val in zip(ACTIONS[name], pos, strict=False):
+        if key in args and args[key] != val:
+            raise ArmsError(f"{where}: '{key}' is given twice, as {args[key]!r} and in 'args' as {val!r}")
         args.setdefault(key, val)
     if name in ONTIC and "block" not in args:
         raise ArmsError(f"{where}: {name} needs a block")
     for key in ("level", "stack"):
         if key in args:
-            try:
-                args[key] = int(args[key])
-            except (TypeError, ValueError):
-                raise ArmsError(f"{where}: '{key}' must be an integer, got {args[key]!r}") from None
+            val = args[key]
+            if isinstance(val, str) and val.strip().lstrip("-").isdigit():
+                val = int(val)  # "1" as written by some plan emitters
+            if isinstance(val, bool) or not isinstance(val, (int, float)) or val != val or \
+                    val in (float("inf"), float("-inf")) or int(val) != val:
+                raise ArmsError(f"{where}: '{key}' must be an integer, got {json.dumps(val)[:40]}")
+            args[key] = int(val)
     for key in ("block", "on", "onto"):  # block names (or "table"): strings, e.g. "red"
         if key in args and not isinstance(args[key], str):
             raise ArmsError(f"{where}: '{key}' must be a block name (a string), got {json.dumps(args[key])[:40]}")
     if name in ("place",) and "stack" not in args:
         raise ArmsError(f"{where}: place needs a 'stack'")
+    _check_against_world(args, robot, name, world, where)
     return Action(robot=robot, name=name, args=MappingProxyType(args))
+
+
+def _check_against_world(args: dict[str, Any], robot: str, name: str, world: World, where: str) -> None:
+    """Everything an action names must exist before anything moves: blocks, stacks, levels, recipients."""
+    blocks = world.blocks
+    for key in ("block", "on", "onto"):
+        if key in args and args[key] not in blocks and not (key != "block" and args[key] == "table"):
+            raise ArmsError(f"{where}: {key} {args[key]!r} is not a block of the world (blocks: "
+                            f"{', '.join(blocks) or 'none'}{'; or table' if key != 'block' else ''})")
+    n_stacks = len(world.stacks[robot])
+    if "stack" in args and not 0 <= args["stack"] < n_stacks:
+        raise ArmsError(f"{where}: {robot} has stacks 0..{n_stacks - 1}, not stack {args['stack']}")
+    if "level" in args and not 0 <= args["level"] < max(1, len(blocks)):
+        raise ArmsError(f"{where}: level {args['level']} is impossible with {len(blocks)} block(s) "
+                        f"(levels are 0..{max(0, len(blocks) - 1)})")
+    if name == "announce":
+        to = args.get("to", [])
+        if not isinstance(to, list) or not all(isinstance(r, str) for r in to):
+            raise ArmsError(f"{where}: 'to' must be a list of robot names, got {json.dumps(to)[:40]}")
+        strangers = [r for r in to if r not in world.robots]
+        if strangers:
+            raise ArmsError(f"{where}: announces to {strangers[0]!r}, which is not a robot of the world "
+                            f"({', '.join(world.robots)})")
 
 
 def parse_plan(obj: Any, *, source: str = "<plan>") -> Plan:
@@ -127,6 +162,9 @@ def parse_plan(obj: Any, *, source: str = "<plan>") -> Plan:
     if "world" not in obj or "actions" not in obj:
         raise ArmsError(f"{source}: a plan needs both 'world' and 'actions'")
     world = World.from_json(obj["world"], source=f"{source}: world")
+    unknown = sorted(set(obj) - {"format", "world", "actions"})
+    if unknown:
+        raise ArmsError(f"{source}: unknown entry {unknown[0]!r}; a plan has 'format', 'world' and 'actions'")
     acts = obj["actions"]
     if not isinstance(acts, list):
         raise ArmsError(f"{source}: 'actions' must be a list")

@@ -11,7 +11,12 @@ fixed frames (``panda_hand``, ``panda_hand_tcp``) survive as bodies, and with th
   plus the URDF's mimic constraint q_f1 = q_f2 (which MuJoCo turns into a soft joint equality);
 * contact filtering (contype/conaffinity bits) so that an arm never collides with itself, but does with
   the other arm, the tables and the blocks;
-* one inactive weld equality per (robot, block), switched on by the executor at grasp time.
+* one inactive weld equality per (robot, block), switched on by the executor at grasp time (only with
+  ``grasp="weld"``, a debugging option; the default grasp holds the block by finger friction alone);
+* a camera site ``<robot>/camera`` in the palm, on the gripper axis 6 cm behind the fingertip centre,
+  looking along the TCP's z axis (down when the hand points down): the line-of-sight colour sensor of
+  :mod:`arms.sensing` casts its rays from there. The arms' geoms are in geom group ``ARM_GROUP`` so the
+  sensor's rays pass through the robot's own fingers (a palm camera sees between them).
 
 Two arms are attached with the prefixes ``robot1/`` and ``robot2/`` at mirrored base poses (see
 :class:`arms.world.Layout`).
@@ -29,8 +34,8 @@ import numpy as np
 from arms.world import ArmsError, World
 
 __all__ = [
-    "ARM_JOINTS", "HOME_Q", "TCP_BODY", "Scene", "panda_description_dir", "panda_urdf_path",
-    "panda_spec", "build_scene", "save_mjcf",
+    "ARM_JOINTS", "ARM_GROUP", "CAMERA_OFFSET", "HOME_Q", "TCP_BODY", "Scene", "panda_description_dir",
+    "panda_urdf_path", "panda_spec", "build_scene", "save_mjcf",
 ]
 
 ARM_JOINTS = tuple(f"panda_joint{i}" for i in range(1, 8))
@@ -43,6 +48,10 @@ KP = np.array([4500.0, 4500.0, 3500.0, 3500.0, 2000.0, 2000.0, 2000.0])
 KV = np.array([450.0, 450.0, 350.0, 350.0, 200.0, 200.0, 200.0])
 GRIPPER_KP = 300.0
 FINGER_OPEN = 0.04
+#: geom group of the arms' geoms (the colour sensor's rays only see group 0: tables, blocks, floor)
+ARM_GROUP = 1
+#: camera site position in the TCP frame (m): on the gripper axis, behind the fingertips
+CAMERA_OFFSET = (0.0, 0.0, -0.06)
 
 # contact bits: 1 = world (tables, blocks, floor); 2 = robot1; 4 = robot2.
 _WORLD_BITS = (1, 1 | 2 | 4)
@@ -121,6 +130,9 @@ class Scene:
     def block_body(self, block: str) -> int:
         return int(self.model.body(f"block/{block}").id)
 
+    def camera_site(self, robot: str) -> int:
+        return int(self.model.site(f"{robot}/camera").id)
+
     def weld_id(self, robot: str, block: str) -> int:
         return int(self.model.equality(f"{robot}/grasp/{block}").id)
 
@@ -147,8 +159,12 @@ def _add_arm(spec: mujoco.MjSpec, robot: str, index: int, base: np.ndarray, *, w
         if not body.name.startswith(f"{robot}/"):
             continue
         body.gravcomp = 1.0
+        if body.name == f"{robot}/{TCP_BODY}":
+            body.add_site(name=f"{robot}/camera", pos=list(CAMERA_OFFSET), size=[0.005, 0.005, 0.005],
+                          rgba=[0.1, 0.1, 0.1, 0.0])
         for g in body.geoms:
             g.contype, g.conaffinity = contype, conaff
+            g.group = ARM_GROUP
             g.rgba = [0.92, 0.92, 0.94, 1.0] if "finger" not in body.name else [0.25, 0.25, 0.28, 1.0]
             if "finger" in body.name:
                 g.friction = [1.5, 0.01, 0.001]
@@ -226,7 +242,7 @@ def _add_blocks(spec: mujoco.MjSpec, world: World, robots: tuple[str, ...]) -> N
 
 
 def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = None,
-                grasp: str = "weld", cell: bool = True, timestep: float = 0.002) -> Scene:
+                grasp: str = "friction", cell: bool = True, timestep: float = 0.002) -> Scene:
     """Build and compile the scene for a world description (``world=None``: the two arms alone).
 
     ``cell=False`` leaves out floor, tables and pedestals (the kinematic model the IK uses); ``robots``

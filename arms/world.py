@@ -167,6 +167,10 @@ class World:
         """Read and validate a ``world`` object (names unique, two robots, colour per block)."""
         if not isinstance(obj, Mapping):
             raise ArmsError(f"{source}: 'world' must be an object")
+        unknown = sorted(set(obj) - {"robots", "stacks", "barrier", "colors", "layout"})
+        if unknown:
+            raise ArmsError(f"{source}: unknown entry {unknown[0]!r}; a world has robots, stacks, barrier, colors, "
+                            "layout")
         raw_robots = obj.get("robots", ["robot1", "robot2"])
         if not isinstance(raw_robots, list) or not all(isinstance(r, str) for r in raw_robots):
             raise ArmsError(f"{source}: 'robots' must be a list of two robot names, got {raw_robots!r}")
@@ -209,6 +213,12 @@ class World:
                     isinstance(v, bool) or not isinstance(v, (int, float)) for v in lay_obj.values()):
                 raise TypeError("an object of numbers (metres) is needed")
             layout = Layout(**{k: float(v) for k, v in lay_obj.items()})
+            if not all(np.isfinite(getattr(layout, k)) for k in lay_obj):
+                raise TypeError("every value must be a finite number")
+            if not (0.005 <= layout.block_size <= 0.2 and layout.stack_pitch >= layout.block_size
+                    and 0 < layout.base_y <= 2 and 0 < layout.stack_x <= 2 and abs(layout.table_z) <= 1):
+                raise TypeError("need 0.005 <= block_size <= 0.2, stack_pitch >= block_size, 0 < base_y <= 2, "
+                                "0 < stack_x <= 2, |table_z| <= 1")
         except TypeError as exc:
             raise ArmsError(f"{source}: bad 'layout' ({exc}); keys: base_y, stack_x, stack_pitch, "
                             "table_z, block_size") from None

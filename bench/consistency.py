@@ -4,10 +4,12 @@ Run:  .venv/bin/python bench/consistency.py [--seeds 10] [--epochs 200] [--quick
 
 Prints markdown tables:
   A. Table I, seed 0, 10×10 grid, beside the paper's figures (Julia, i7-6500U);
-  B. mean ± sd over seeds on a 10×10 and a 20×20 grid, and the COMM saving of ENFORCEAC vs Baseline-I;
+  B. mean ± sd over seeds on a 10×10 and a 20×20 grid; Baseline-I without (paper, default) and with re-sending
+     of a lost backlog; ENFORCEAC's COMM saving counted in messages and in observations sent;
   C. time of one E = 200 episode of ENFORCEAC vs the paper's (speed-up ratio, target ≥ 10×);
-  D. ablations (what a robot sends, trigger rule, tie-break, Baseline-I without re-sending);
+  D. ablations (what a robot sends, trigger rule, tie-break, Baseline-I with/without re-sending);
   E. N = 2, 3, 4 robots;
+  F. Fig. 4(a): mean objective J of ENFORCEAC vs Baseline-I (does "slightly worse" hold?);
 and the number of Theorem-3.3 violations seen in every ENFORCEAC episode (must be 0).
 """
 
@@ -75,29 +77,63 @@ def section_a(epochs: int) -> str:
               rows)
 
 
+def _saving(ours: list, theirs: list, key: str) -> str:
+    vals = [1 - getattr(e, key) / getattr(b, key) for e, b in zip(ours, theirs, strict=True) if getattr(b, key)]
+    return f"{100 * statistics.fmean(vals):.0f} %" if vals else "–"
+
+
 def section_b(epochs: int, seeds: int, width: int) -> str:
+    """Table I over seeds; Baseline-I both without (the paper's reading, default) and with re-sending; ENFORCEAC's
+    COMM saving counted in messages and in observations sent, against both Baseline-I variants."""
     rows = []
     for (restr, prims, init), paper in PAPER_TABLE_I.items():
         m = round(restr * epochs / 200)
         per_alg = {}
-        for alg in ALGORITHMS:
-            res = [episode(SARConfig(width=width, height=width, epochs=epochs, seed=s, comm_restr=m,
-                                     primitives=prims, init=init), alg) for s in range(seeds)]  # type: ignore[arg-type]
-            per_alg[alg] = res
-        for alg in ALGORITHMS:
+        for alg, kw in (("baseline2", {}), ("baseline1", {}), ("baseline1+resend", {"resend": True}),
+                        ("enforce", {})):
+            per_alg[alg] = [episode(SARConfig(width=width, height=width, epochs=epochs, seed=s, comm_restr=m,
+                                              primitives=prims, init=init, **kw), alg.split("+")[0])
+                            for s in range(seeds)]  # type: ignore[arg-type]
+        theirs_msg = 100 * (1 - paper["enforce"][1] / paper["baseline1"][1])
+        for alg in ("baseline2", "baseline1", "baseline1+resend", "enforce"):
             res = per_alg[alg]
             saving = ""
             if alg == "enforce":
-                ratios = [1 - e.comms / b.comms for e, b in zip(res, per_alg["baseline1"], strict=True)]
-                theirs = 100 * (1 - paper["enforce"][1] / paper["baseline1"][1])
-                saving = f"{100 * statistics.fmean(ratios):.0f} % (paper {theirs:.0f} %)"
-            rows.append([label(restr, prims, init), ALGORITHM_NAMES[alg],
-                         ms([r.not_ac for r in res], 1), str(paper[alg][0]),
-                         ms([r.comms for r in res]), str(paper[alg][1]),
+                saving = (f"msgs {_saving(res, per_alg['baseline1'], 'comms')} / "
+                          f"obs {_saving(res, per_alg['baseline1'], 'observations_sent')}; vs resend: msgs "
+                          f"{_saving(res, per_alg['baseline1+resend'], 'comms')} / obs "
+                          f"{_saving(res, per_alg['baseline1+resend'], 'observations_sent')} "
+                          f"(paper msgs {theirs_msg:.0f} %)")
+            base = alg.split("+")[0]
+            name = ALGORITHM_NAMES[base] + (" (re-send backlog, ours)" if "+" in alg else "")
+            rows.append([label(restr, prims, init), name,
+                         ms([r.not_ac for r in res], 1), str(paper[base][0]),
+                         ms([r.comms for r in res]), str(paper[base][1]),
                          ms([r.observations_sent for r in res]), saving,
                          f"{statistics.fmean(r.team_j[-1] for r in res):.2f}"])
-    return md(["Input", "Algorithm", "Not-AC", "paper", "COMM", "paper", "obs sent", "COMM saved vs B-I",
-               "final J"], rows)
+    return md(["Input", "Algorithm", "Not-AC", "paper", "COMM (messages)", "paper", "observations sent",
+               "ENFORCEAC saving vs B-I", "final J"], rows)
+
+
+def section_f(epochs: int, seeds: int) -> str:
+    """Fig. 4(a): the objective J of the executed joint action, ENFORCEAC vs Baseline-I (paired by seed)."""
+    rows = []
+    for (restr, prims, init) in PAPER_TABLE_I:
+        m = round(restr * epochs / 200)
+        res = {}
+        for alg, kw in (("enforce", {}), ("baseline1", {}), ("baseline1+resend", {"resend": True})):
+            res[alg] = [episode(SARConfig(epochs=epochs, seed=s, comm_restr=m, primitives=prims, init=init, **kw),
+                                alg.split("+")[0]) for s in range(seeds)]  # type: ignore[arg-type]
+        mean_j = {a: [statistics.fmean(r.team_j) for r in v] for a, v in res.items()}
+        for other in ("baseline1", "baseline1+resend"):
+            diff = [e - b for e, b in zip(mean_j["enforce"], mean_j[other], strict=True)]
+            rel = [d / abs(b) for d, b in zip(diff, mean_j[other], strict=True) if b]
+            worse = sum(d < 0 for d in diff)
+            rows.append([label(restr, prims, init), "Baseline-I" + (" (re-send)" if "+" in other else ""),
+                         f"{statistics.fmean(mean_j['enforce']):.3f}", f"{statistics.fmean(mean_j[other]):.3f}",
+                         ms(diff, 3), f"{100 * statistics.fmean(rel):+.1f} %", f"{worse}/{len(diff)}"])
+    return md(["Input", "vs", "ENFORCEAC mean J", "B-I mean J", "difference (E − B)", "relative",
+               "seeds where ENFORCEAC lower"], rows)
 
 
 def section_c(epochs: int, seeds: int) -> str:
@@ -209,7 +245,9 @@ def main() -> None:
                       (f"B2. Table I, mean ± sd over {seeds} seeds, 20×20 grid", lambda: section_b(epochs, seeds, 20)),
                       ("C. Speed of ENFORCEAC (one episode)", lambda: section_c(epochs, seeds)),
                       ("D. Ablations", lambda: section_d(epochs, max(3, seeds // 2))),
-                      ("E. N robots (MaxEntropy-Init, comm-restr = 0)", lambda: section_e(epochs, max(2, seeds // 3)))):
+                      ("E. N robots (MaxEntropy-Init, comm-restr = 0)", lambda: section_e(epochs, max(2, seeds // 3))),
+                      (f"F. Fig. 4(a): objective J, ENFORCEAC vs Baseline-I, {seeds} seeds, 10×10",
+                       lambda: section_f(epochs, seeds))):
         t0 = time.perf_counter()
         print(f"## {title}\n\n{fn()}\n\n({time.perf_counter() - t0:.0f} s)\n", flush=True)
     print(f"Theorem 3.3 violations over all {EPISODES} episodes: {VIOLATIONS}")

@@ -3,54 +3,85 @@
 The core names are re-exported here::
 
     from delkit import parse, KripkeModel, product_update, public_announcement, contract, bisimilar
+
+The re-exports are resolved lazily (PEP 562): ``import delkit`` (and so every ``delkit`` command) does not
+import numpy until a name that needs it is used.
 """
 
-from delkit.bisim import bisimilar, canonical_hash, contract
-from delkit.compose import compose, compose_all
-from delkit.errors import DelkitError, ModelError, ParseError, UnknownSymbolError
-from delkit.events import (
-    EventModel,
-    action,
-    announcement,
-    ontic,
-    private_announcement,
-    public_announcement,
-    semi_private_announcement,
-    sensing,
-    skip,
-)
-from delkit.formula import (
-    BOT,
-    TOP,
-    And,
-    Announce,
-    Bot,
-    C,
-    D,
-    E,
-    Formula,
-    Iff,
-    Implies,
-    K,
-    Kw,
-    Not,
-    Or,
-    Prop,
-    Top,
-    Update,
-    parse,
-    show,
-)
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
-from delkit.update import applicable, product_update, update_sequence
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "BOT", "TOP", "And", "Announce", "Bot", "C", "D", "DelkitError", "E", "EventModel", "Formula", "Iff",
-    "Implies", "K", "KripkeModel", "Kw", "ModelError", "Not", "Or", "ParseError", "Prop", "Relation", "Top",
-    "UnknownSymbolError", "Update", "action", "announcement", "applicable", "bisimilar", "canonical_hash",
-    "compose", "compose_all", "contract", "ontic", "parse", "private_announcement", "product_update",
-    "public_announcement", "semi_private_announcement", "sensing", "show", "skip", "update_sequence",
-]
+_EXPORTS: dict[str, tuple[str, ...]] = {
+    "delkit.bisim": ("bisimilar", "canonical_hash", "contract"),
+    "delkit.compose": ("compose", "compose_all"),
+    "delkit.errors": ("DelkitError", "ModelError", "ParseError", "UnknownSymbolError"),
+    "delkit.events": ("EventModel", "action", "announcement", "ontic", "private_announcement",
+                      "public_announcement", "semi_private_announcement", "sensing", "skip"),
+    "delkit.formula": ("BOT", "TOP", "And", "Announce", "Bot", "C", "D", "E", "Formula", "Iff", "Implies", "K",
+                       "Kw", "Not", "Or", "Prop", "Top", "Update", "parse", "show"),
+    "delkit.kripke": ("KripkeModel",),
+    "delkit.relation": ("Relation",),
+    "delkit.update": ("applicable", "product_update", "update_sequence"),
+}
+_WHERE = {name: mod for mod, names in _EXPORTS.items() for name in names}
+
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name: str) -> Any:
+    mod = _WHERE.get(name)
+    if mod is None:
+        raise AttributeError(f"module 'delkit' has no attribute {name!r}")
+    value = getattr(importlib.import_module(mod), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+if TYPE_CHECKING:  # static analysers see the eager imports
+    from delkit.bisim import bisimilar, canonical_hash, contract  # noqa: F401
+    from delkit.compose import compose, compose_all  # noqa: F401
+    from delkit.errors import DelkitError, ModelError, ParseError, UnknownSymbolError  # noqa: F401
+    from delkit.events import (  # noqa: F401
+        EventModel,
+        action,
+        announcement,
+        ontic,
+        private_announcement,
+        public_announcement,
+        semi_private_announcement,
+        sensing,
+        skip,
+    )
+    from delkit.formula import (  # noqa: F401
+        BOT,
+        TOP,
+        And,
+        Announce,
+        Bot,
+        C,
+        D,
+        E,
+        Formula,
+        Iff,
+        Implies,
+        K,
+        Kw,
+        Not,
+        Or,
+        Prop,
+        Top,
+        Update,
+        parse,
+        show,
+    )
+    from delkit.kripke import KripkeModel  # noqa: F401
+    from delkit.relation import Relation  # noqa: F401
+    from delkit.update import applicable, product_update, update_sequence  # noqa: F401

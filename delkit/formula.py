@@ -35,9 +35,13 @@ __all__ = [
 
 
 class Formula:
-    """Base class of all formulas. Supports ``~f``, ``f & g``, ``f | g``, ``f >> g`` (implication)."""
+    """Base class of all formulas. Supports ``~f``, ``f & g``, ``f | g``, ``f >> g`` (implication).
 
-    __slots__ = ()
+    Hashes are computed once per object and cached (slot ``_hash``): formulas are dictionary keys in the
+    evaluators' caches, and without the cache hashing a deep formula is linear in its size each time.
+    """
+
+    __slots__ = ("_hash",)
 
     def __invert__(self) -> Formula:
         return Not(self)
@@ -188,6 +192,34 @@ class Update(Formula):
     event: int
     arg: Formula
     name: str = "E"
+
+
+_FIELD_HASH: dict[type, Any] = {}
+
+
+def _cached_hash(self: Formula) -> int:
+    """The dataclass field hash, computed once per object; subformulas without a cached hash are hashed
+    first, bottom-up without recursion, so that deeply nested formulas (a stack of 400 announcements)
+    hash in linear time and without RecursionError."""
+    try:
+        return self._hash
+    except AttributeError:
+        pass
+    stack: list[tuple[Formula, bool]] = [(self, False)]
+    while stack:
+        f, ready = stack.pop()
+        if ready:
+            if not hasattr(f, "_hash"):
+                object.__setattr__(f, "_hash", _FIELD_HASH[type(f)](f))
+            continue
+        stack.append((f, True))
+        stack.extend((c, False) for c in children(f) if not hasattr(c, "_hash"))
+    return self._hash
+
+
+for _cls in (Top, Bot, Prop, Not, And, Or, Implies, Iff, K, Kw, E, C, D, Announce, Update):
+    _FIELD_HASH[_cls] = _cls.__hash__
+    _cls.__hash__ = _cached_hash
 
 
 # ----------------------------------------------------------------------------- helpers
@@ -425,9 +457,9 @@ QUOTED: /"([^"\\]|\\.)*"/
 
 @lru_cache(maxsize=1)
 def _parser() -> Any:
-    from lark import Lark
+    from delkit._larkcache import build_lark
 
-    return Lark(_GRAMMAR, parser="lalr", propagate_positions=False, maybe_placeholders=False)
+    return build_lark("formula", _GRAMMAR, propagate_positions=False, maybe_placeholders=False)
 
 
 _TOKEN_NAMES = {
@@ -531,7 +563,12 @@ class _Build:
             if ch[1].type == "QUOTED":
                 import json
 
-                ev = json.loads(ev)
+                try:
+                    ev = json.loads(ev)
+                except json.JSONDecodeError as exc:  # "e\q": an escape JSON does not know
+                    raise ParseError(f"bad escape in the quoted event name {ev} ({exc.msg}); inside quotes "
+                                     f"write \\\\ for a backslash and \\\" for a quote", source=self.source,
+                                     line=ch[1].line, column=ch[1].column + exc.pos) from None
             if name not in self.events:
                 known = ", ".join(sorted(self.events)) or "none given"
                 raise ParseError(f"unknown event model {name!r} (known: {known})", source=self.source,

@@ -39,6 +39,7 @@ Malformed input raises :class:`~delkit.errors.ParseError` (JSON/DOT syntax, with
 from __future__ import annotations
 
 import json
+import re
 from collections.abc import Mapping
 from functools import lru_cache
 from pathlib import Path
@@ -61,6 +62,10 @@ __all__ = [
 
 SCHEMA_VERSION = 1
 _KINDS = ("kripke-model", "event-model")
+_CONSTANTS = frozenset({"T", "F", "true", "false"})
+_OPERATOR_NAME = re.compile(r"(K|B|Kw)_[A-Za-z0-9]+$")
+_MODEL_KEYS = ("delkit", "version", "props", "agents", "worlds", "relations", "designated")
+_EVENT_KEYS = ("delkit", "version", "name", "agents", "events", "relations", "designated")
 
 
 class ModelFileError(ModelError):
@@ -160,7 +165,23 @@ class _Reader:
         dup = sorted({x for x in val if val.count(x) > 1})
         if dup:
             raise self.fail(f"{where}: {key!r} lists {dup} more than once", "list each name once")
+        if key == "props":
+            self.plain_props(val, where)
         return val
+
+    def plain_props(self, props: list[str], where: str) -> None:
+        """A proposition must read back as itself in a formula: ``T`` would be read as the constant true."""
+        for p in props:
+            if p in _CONSTANTS or _OPERATOR_NAME.match(p):
+                what = "a constant" if p in _CONSTANTS else "a modal operator"
+                raise self.fail(f"{where}: proposition {p!r} would be read as {what} in formulas",
+                                "rename it (e.g. \"" + p.lower() + "_\")")
+
+    def keys(self, d: Mapping, allowed: tuple[str, ...], where: str) -> None:
+        """Unknown entries are errors, not ignored (a misspelt key would silently change the model)."""
+        extra = [k for k in d if k not in allowed]
+        if extra:
+            raise self.fail(f"{where}: unknown entry {extra[0]!r}", f"the entries are {', '.join(allowed)}")
 
     def names(self, items: list, kind: str) -> list[str]:
         out = []
@@ -269,6 +290,7 @@ def model_from_dict(data: Any, *, source: str = "<data>") -> KripkeModel:
     """Build a :class:`KripkeModel` from the JSON schema (see the module docstring)."""
     r = _Reader(source)
     r.header(data, "kripke-model")
+    r.keys(data, _MODEL_KEYS, "the model")
     worlds = r.get(data, "worlds", list, "the model")
     if not worlds:
         raise r.fail("the model has no worlds", "list at least one world")
@@ -276,6 +298,7 @@ def model_from_dict(data: Any, *, source: str = "<data>") -> KripkeModel:
     index = {n: i for i, n in enumerate(names)}
     truths = []
     for i, w in enumerate(worlds):
+        r.keys(w, ("name", "true"), f"world {names[i]!r}")
         t = r.get(w, "true", list, f"world {names[i]!r}", default=[])
         if not all(isinstance(p, str) for p in t):
             raise r.fail(f"world {names[i]!r}: \"true\" must list proposition names", "write [\"p\", \"q\"]")
@@ -303,6 +326,7 @@ def event_model_from_dict(data: Any, *, source: str = "<data>") -> EventModel:
     """Build an :class:`EventModel` from the JSON schema (see the module docstring)."""
     r = _Reader(source)
     r.header(data, "event-model")
+    r.keys(data, _EVENT_KEYS, "the event model")
     events = r.get(data, "events", list, "the event model")
     if not events:
         raise r.fail("the event model has no events", "list at least one event")
@@ -310,6 +334,7 @@ def event_model_from_dict(data: Any, *, source: str = "<data>") -> EventModel:
     index = {n: i for i, n in enumerate(names)}
     pres, posts = [], []
     for i, ev in enumerate(events):
+        r.keys(ev, ("name", "pre", "post"), f"event {names[i]!r}")
         pres.append(r.formula(ev.get("pre", "T"), f"precondition of event {names[i]!r}"))
         post = r.get(ev, "post", dict, f"event {names[i]!r}", default={})
         posts.append({p: r.formula(v, f"postcondition of {p!r} in event {names[i]!r}") for p, v in post.items()})
@@ -549,15 +574,19 @@ def from_dot(text: str, *, source: str = "<dot>") -> KripkeModel | EventModel:
         raise r.fail("the graph has no delkit_kind attribute", "only DOT written by delkit.io.to_dot can be read "
                      "back; convert other drawings to the JSON schema")
 
-    def js(val: str | None, what: str, default: Any = None) -> Any:
+    def js(val: str | None, what: str, default: Any = None, typ: type = list) -> Any:
         if val is None:
             if default is not None:
                 return default
             raise r.fail(f"missing {what} attribute", "only DOT written by delkit.io.to_dot can be read back")
         try:
-            return json.loads(val)
+            out = json.loads(val)
         except json.JSONDecodeError as exc:
             raise r.fail(f"attribute {what} is not valid JSON ({exc.msg})", "re-export the model") from None
+        if not isinstance(out, typ) or typ is list and not all(isinstance(x, str) for x in out):
+            shape = "a JSON list of names" if typ is list else "a JSON object"
+            raise r.fail(f"attribute {what} must be {shape}, got {val[:40]!r}", "re-export the model")
+        return out
 
     agents = js(graph_attrs.get("delkit_agents"), "delkit_agents")
     partitions = set(js(graph_attrs.get("delkit_partitions"), "delkit_partitions", []))
@@ -598,7 +627,7 @@ def from_dot(text: str, *, source: str = "<dot>") -> KripkeModel | EventModel:
         return model_from_dict(data, source=source)
     data = {"delkit": kind, "name": graph_attrs.get("delkit_name", "E"), "agents": agents,
             "events": [{"name": n, "pre": nodes[n].get("delkit_pre", "T"),
-                        "post": js(nodes[n].get("delkit_post"), f"delkit_post of {n!r}", {})} for n in names],
+                        "post": js(nodes[n].get("delkit_post"), f"delkit_post of {n!r}", {}, dict)} for n in names],
             "relations": relations, "designated": designated}
     return event_model_from_dict(data, source=source)
 

@@ -13,11 +13,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 
+from delkit._lazy import lazy_module
 from delkit.errors import ModelError, UnknownSymbolError
 from delkit.formula import Formula, agents_of, props_of
 from delkit.relation import Relation, RelationError
+
+sp = lazy_module("scipy.sparse")  # imported on first use (start-up time)
 
 __all__ = ["KripkeModel"]
 

@@ -10,11 +10,14 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
-import scipy.sparse as sp
 
+from delkit._lazy import lazy_module
 from delkit.errors import ModelError
+
+sp = lazy_module("scipy.sparse")  # imported on first use (start-up time)
 
 __all__ = ["Relation", "RelationError"]
 
@@ -36,7 +39,17 @@ class Relation:
 
     n: int
     labels: np.ndarray | None = None
-    matrix: sp.csr_matrix | None = None
+    _csr: Any = None  # the CSR matrix (built on first use when the relation came from pairs)
+    _rows: Any = None  # (indptr, indices) of the CSR form, computed with numpy only (no scipy import)
+
+    @property
+    def matrix(self) -> sp.csr_matrix | None:
+        """The relation as a CSR boolean matrix (None for a partition: see :meth:`to_matrix`)."""
+        if self._csr is None and self._rows is not None:
+            indptr, indices = self._rows
+            m = sp.csr_matrix((np.ones(indices.size, dtype=bool), indices, indptr), shape=(self.n, self.n))
+            object.__setattr__(self, "_csr", m)
+        return self._csr
 
     # ------------------------------------------------------------------ constructors
     @staticmethod
@@ -70,9 +83,11 @@ class Relation:
         """Arbitrary relation from (source, target) pairs."""
         arr = np.asarray(list(pairs), dtype=np.int64).reshape(-1, 2)
         _check_points(n, arr.ravel(), "relation pair")
-        m = sp.csr_matrix((np.ones(len(arr), dtype=bool), (arr[:, 0], arr[:, 1])), shape=(n, n), dtype=bool)
-        m.sum_duplicates()
-        return Relation(n=n, matrix=m)
+        # sorted, duplicate-free CSR rows in numpy: scipy is imported only if the matrix itself is used
+        keys = np.unique(arr[:, 0] * max(n, 1) + arr[:, 1])
+        src, dst = np.divmod(keys, max(n, 1))
+        indptr = np.searchsorted(src, np.arange(n + 1)).astype(np.int64)
+        return Relation(n=n, _rows=(indptr, dst.astype(np.int64)))
 
     @staticmethod
     def from_matrix(m: sp.spmatrix | np.ndarray) -> Relation:
@@ -80,7 +95,7 @@ class Relation:
         mat.eliminate_zeros()
         mat.sum_duplicates()
         mat.sort_indices()
-        return Relation(n=mat.shape[0], matrix=mat)
+        return Relation(n=mat.shape[0], _csr=mat)
 
     @staticmethod
     def identity(n: int) -> Relation:
@@ -124,6 +139,9 @@ class Relation:
     def successors(self, w: int) -> np.ndarray:
         if self.labels is not None:
             return np.flatnonzero(self.labels == self.labels[w])
+        if self._csr is None and self._rows is not None:
+            indptr, indices = self._rows
+            return indices[indptr[w]:indptr[w + 1]].copy()
         m = self.matrix
         return m.indices[m.indptr[w]:m.indptr[w + 1]].copy()
 

@@ -18,8 +18,10 @@ N_τ robots have arrived (the joint arrival time t_iτ of eq. 20).
   and can itself gossip in the next round (the cascade).
 * :func:`milp_allocation` — an exact mixed-integer programme (scipy HiGHS) for small instances: assignment
   y_iτ with Σ_i y_iτ = N_τ, per-robot routing arcs with flow conservation, common start times S_τ with
-  big-M precedence ``S_σ ≥ S_τ + δ_τ + c_τσ − M(1 − x_iτσ)``, minimising the makespan; used to report the
-  optimality gap of Algorithms 1–2.
+  big-M precedence ``S_σ ≥ S_τ + δ_τ + c_τσ − M(1 − x_iτσ)``. Objective ``"utility"`` (default) is eq. 20,
+  max Σ_i Σ_τ u_iτ(t_iτ) y_iτ with the utility of the bids, u_iτ(t) = λ_τ − t (eq. 22; t_iτ = S_τ, the joint
+  start); ``"makespan"`` minimises the makespan (what Algorithm 2 targets). :func:`team_utility` scores
+  any bundles by eq. 20; both are used to report the optimality gap of Algorithms 1–2.
 """
 
 from __future__ import annotations
@@ -33,7 +35,8 @@ from scipy.optimize import Bounds, LinearConstraint, milp
 from delkit.errors import PlanningError
 
 __all__ = ["Task", "Robot", "Allocation", "Schedule", "euclidean_cost", "bundle_cost", "ssi_bundles",
-           "schedule", "makespan", "minimise_makespan", "gossip_auction", "allocate", "milp_allocation"]
+           "schedule", "makespan", "team_utility", "minimise_makespan", "gossip_auction", "allocate",
+           "milp_allocation"]
 
 Cost = Callable[[tuple[float, float], tuple[float, float]], float]
 
@@ -158,6 +161,16 @@ def makespan(robots: Sequence[Robot], bundles: Mapping[int, Sequence[int]], task
     return schedule(robots, bundles, tasks, cost).makespan
 
 
+def team_utility(robots: Sequence[Robot], bundles: Mapping[int, Sequence[int]], tasks: Mapping[int, Task],
+                 cost: Cost) -> float:
+    """Eq. 20's objective Σ_i Σ_τ u_iτ(t_iτ) y_iτ with u_iτ(t) = λ_τ − t and t_iτ the joint start of τ
+    (−∞ if the bundle orders deadlock)."""
+    sched = schedule(robots, bundles, tasks, cost)
+    if not np.isfinite(sched.makespan):
+        return float("-inf")
+    return float(sum(tasks[t].reward - sched.start[t] for b in bundles.values() for t in b))
+
+
 def minimise_makespan(robots: Sequence[Robot], bundles: Mapping[int, Sequence[int]], tasks: Sequence[Task],
                       cost: Cost, locked: Mapping[int, Sequence[int]] | None = None) -> dict[int, tuple[int, ...]]:
     """Algorithm 2: re-insert each unlocked task of each bundle at its best position if the makespan drops."""
@@ -233,11 +246,14 @@ def allocate(robots: Sequence[Robot], tasks: Sequence[Task], cost: Cost, *, conn
 
 
 def milp_allocation(robots: Sequence[Robot], tasks: Sequence[Task], cost: Cost,
-                    time_limit: float = 30.0) -> tuple[float, dict[int, tuple[int, ...]]]:
-    """Exact minimum makespan of the ST-MR-TA instance (small instances), solved with HiGHS.
+                    time_limit: float = 30.0, objective: str = "utility") -> tuple[float, dict[int, tuple[int, ...]]]:
+    """Exact optimum of the ST-MR-TA instance (small instances), solved with HiGHS.
 
-    Returns ``(makespan, bundles)``; bundles are recovered from the arc variables.
+    ``objective="utility"``: eq. 20 (maximum team utility, returned as that utility); ``"makespan"``: the
+    minimum makespan. Returns ``(value, bundles)``; bundles are recovered from the arc variables.
     """
+    if objective not in ("utility", "makespan"):
+        raise PlanningError(f"unknown MILP objective {objective!r}; use 'utility' (eq. 20) or 'makespan'")
     R, T = len(robots), len(tasks)
     if any(t.n_required > R for t in tasks):
         raise PlanningError("a task needs more robots than exist; the MILP is infeasible")
@@ -284,9 +300,14 @@ def milp_allocation(robots: Sequence[Robot], tasks: Sequence[Task], cost: Cost,
                     gap = dur[a] + c_tt[a, b] + 1e-3
                     add({S[b]: 1, S[a]: -1, x[i, a, b]: -big}, gap - big, np.inf)
     obj = np.zeros(n)
-    obj[Cm] = 1.0
-    for a in range(T):
-        obj[S[a]] = 1e-4
+    if objective == "makespan":
+        obj[Cm] = 1.0
+        for a in range(T):
+            obj[S[a]] = 1e-4
+    else:  # max Σ_τ N_τ (λ_τ − S_τ)  ⇔  min Σ_τ N_τ S_τ (Σ_i y_iτ = N_τ); C only tie-broken
+        for a in range(T):
+            obj[S[a]] = float(tasks[a].n_required)
+        obj[Cm] = 1e-6
     integrality = np.array([0 if k[0] in ("S", "C") else 1 for k in names])
     ub = np.array([np.inf if k[0] in ("S", "C") else 1 for k in names])
     res = milp(obj, constraints=LinearConstraint(np.array(rows), lo, hi), integrality=integrality,
@@ -301,4 +322,6 @@ def milp_allocation(robots: Sequence[Robot], tasks: Sequence[Task], cost: Cost,
             seq.append(cur)
             cur = next((b for b in range(T) if b != cur and sol[x[i, cur, b]] > 0.5), None)
         bundles[robots[i].id] = tuple(tasks[a].id for a in seq)
-    return float(sol[Cm]), bundles
+    if objective == "makespan":
+        return float(sol[Cm]), bundles
+    return float(sum(tasks[a].n_required * (tasks[a].reward - sol[S[a]]) for a in range(T))), bundles

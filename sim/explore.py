@@ -2,16 +2,21 @@
 
 Three team methods share the map, sensing, motion and task model:
 
-* ``epistemic`` — the paper's method. Each robot keeps its own log-odds map, belief records (timestamps Q)
-  and task knowledge. While the whole team is connected (one connected component of the r_c disk graph),
-  every step is a *global announcement* (eq. 15: all particles reset to the true states); when it breaks,
-  every robot propagates the same common belief set C (:class:`sim.particles.CommonBelief`) and follows
-  its empathy particle's frontier goal (§5.2). Robots that meet exchange maps, tasks, allocations and belief
-  records (the *local announcement*, eq. 19: p_ji,i ← x_i, and the most recent record per robot wins).
-  A robot that finds a task runs Algorithms 1–3 for its connected group, bidding on behalf of the
-  others from its beliefs; gossipers travel to the believed particle of the robot they must tell; if it is
-  not there, that robot is excluded and the task is re-auctioned (ruleset 1 of §5.3.2); a task that a
-  common-belief particle of another robot covered earlier is assumed to be handled by that robot (ruleset 2).
+* ``epistemic`` — the paper's method. Each robot keeps its own log-odds map and task knowledge, and its
+  N × N belief/empathy particles p_ij,k (eq. 2, :class:`sim.particles.BeliefParticles`) with timestamps Q.
+  The statuses the particles are propagated with come from the delkit epistemic model
+  (:class:`sim.status_model.FactoredStatusModel`), updated by the announce/perceive events of §5.3.1:
+  a robot's status is announced to its connected group, robots out of range are oblivious and keep a
+  (possibly false) belief. While the whole team is connected every particle is the true state (eq. 15);
+  when it breaks, the common belief set C (:class:`sim.particles.CommonBelief`) is propagated from the last
+  global state and every robot follows its empathy particle's frontier goal (§5.2). Robots that meet
+  exchange maps, tasks, allocations, gossip plans and particles (the local announcement, eq. 19:
+  p_ji,i ← x_i, and the most recent version of every particle wins). A robot that finds a task runs
+  Algorithms 1–3 for its connected group, bidding on behalf of the others from its particles; gossipers
+  travel to the most recent particle of the robot they must tell (the cascade of Algorithm 3 is delivered:
+  a robot told later learns its own gossip bundle); if it is not there, that robot is excluded and the task
+  re-auctioned (ruleset 1 of §5.3.2); a task that a common-belief particle of another robot covered earlier
+  is assumed to be handled by that robot (ruleset 2). Eqs. 14 and 18 are model-checked on the driving model.
 * ``ideal`` — unlimited communication: one shared map, Voronoi frontier assignment with the true positions,
   immediate allocation (Algorithms 1–2) of every discovered task.
 * ``flock`` — the team never leaves the communication range: a virtual leader follows the A* path to the
@@ -33,17 +38,15 @@ import numpy as np
 from scipy.sparse.csgraph import connected_components
 
 from delkit.errors import SimulationError
-from delkit.formula import K as K_
 from planners.allocation import Robot as BidRobot
 from planners.allocation import Task as AllocTask
 from planners.allocation import allocate, euclidean_cost
 from sim.grid import LidarModel, OccupancyGrid, WorldMap, frontier_mask, random_map, read_movingai
 from sim.motion import GridGraph, integrate, line_free
 from sim.particles import (
-    BeliefRecord,
+    BeliefParticles,
     CommonBelief,
     Navigator,
-    believed_position,
     choose_frontier,
     graph_for,
     obstacle_points,
@@ -74,17 +77,23 @@ class MissionConfig:
     comm_range: float = 10.0
     task_radius: float = 1.0
     noise_std: float = 0.2
-    eta_g: float = 1.0
+    eta_g: float = 3.0  # [1/s]: eq. 6 reaches v_max = 3 m/s 1 m from the waypoint (paper gives no value)
     eta_o: float = 5.0
     rho_o: float = 1.0
     delta: float = 20.0
     particle_speed: float = 0.85
-    flock_radius: float = 3.0
+    # formation slot radius inside the r_c/2 disk the connectivity constraint allows (None: r_c/2 − 0.5 m);
+    # 3 m is the fastest measured (bench/RESULTS-explore.md: 4.5 m stalls the leader, 4 m is slower)
+    flock_radius: float | None = 3.0
+    flock_leader_speed: float = 1.0  # × v_max
     t_max: float = 1500.0
     wait_timeout: float = 120.0
     map_path: str | None = None
     record: bool = True
-    status_model: bool = False
+    status_model: bool = True  # model-check eqs. 14 and 18 on the DEL model that drives the run
+    linger: float = 10.0
+    robot_repulsion: bool = True
+    cruise: bool = False
 
     def validate(self) -> None:
         if self.method not in METHODS:
@@ -143,12 +152,16 @@ class MissionResult:
     wall_time: float
     task_completers: tuple[tuple[int, ...], ...] = ()
     epistemic_checks: tuple[tuple[str, int, int], ...] = ()
+    cascade: tuple[int, int] = (0, 0)
+    min_separation: float = float("inf")
     history: MissionHistory | None = field(default=None, repr=False, compare=False)
 
     def row(self) -> dict:
         return {k: getattr(self, k) for k in ("method", "case", "n_robots", "seed", "mission_time", "distance",
                                               "tasks_done", "n_tasks", "communications", "success", "all_home",
-                                              "collisions", "min_completers_ok", "explored", "wall_time")}
+                                              "collisions", "min_completers_ok", "explored", "wall_time")} | {
+            "min_separation": self.min_separation, "cascade_assigned": self.cascade[0],
+            "cascade_delivered": self.cascade[1]}
 
 
 def make_scenario(cfg: MissionConfig) -> tuple[WorldMap, tuple[TaskSpec, ...], np.ndarray, np.ndarray]:
@@ -224,7 +237,11 @@ class _Robot:
         self.graph_version = -1
         self.tasks: dict[int, _TaskKnowledge] = {}
         self.gossip: list[int] = []
-        self.records: dict[int, BeliefRecord] = {}
+        # Algorithm 3's gossip bundles of this allocation round, for every informer (also those told later):
+        # (version, informer) -> ordered targets. They travel with the allocation (merged on every local
+        # announcement), so a robot that is told later learns its own gossip bundle and continues the cascade.
+        self.plans: dict[tuple[float, int], tuple[int, ...]] = {}
+        self.adopted: set[float] = set()
         self.excluded: set[int] = set()
         self.wait_since: float | None = None
         self.wait_task: int | None = None
@@ -258,8 +275,6 @@ class Mission:
         shared = OccupancyGrid(self.shape, self.res) if cfg.method != "epistemic" else None
         self.robots = [_Robot(i, starts[i], shared if shared is not None else OccupancyGrid(self.shape, self.res),
                               self.n) for i in range(self.n)]
-        for r in self.robots:
-            r.records = {j: BeliefRecord(0.0, tuple(starts[j]), "exploring") for j in range(self.n)}
         self.task_cells = np.array([int(self.world.cell(np.array(t.xy))[0] * self.shape[1]
                                         + self.world.cell(np.array(t.xy))[1]) for t in self.task_specs], dtype=int)
         self.completed = [False] * len(self.task_specs)
@@ -269,6 +284,10 @@ class Mission:
         self.prev_adj = np.ones((self.n, self.n), dtype=bool)
         self.communications = 0
         self.collisions = 0
+        self.cascade_assigned = 0  # gossip bundles given to robots outside the allocating group (Algorithm 3)
+        self.cascade_delivered = 0  # ... that reached their informer (it was told and took the bundle on)
+        self.cascade_pending: set[tuple[float, int]] = set()
+        self.min_sep = float("inf")
         self.events: list[tuple[float, str, str]] = []
         self.cost = euclidean_cost(cfg.v_max)
         self.done = False
@@ -279,13 +298,18 @@ class Mission:
         self._hist_x: list[np.ndarray] = []
         self._hist_s: list[np.ndarray] = []
         self._hist_p: list[np.ndarray] = []
-        self.status_model = None
         self.checks = {"eq14": [0, 0], "eq18": [0, 0], "outsiders_unchanged": [0, 0]}
-        if cfg.status_model:
-            if self.n > 4:
-                raise SimulationError("the delkit status model is tracked for at most 4 robots (4^N worlds)")
-            from sim.status_model import StatusModel
-            self.status_model = StatusModel.initial(self.n)
+        self.false_beliefs = 0  # robot-steps with a false first-order belief B_i σ_k (σ_k untrue)
+        self.del_model = None
+        self.beliefs = None
+        if cfg.method == "epistemic":
+            from sim.status_model import FactoredStatusModel
+
+            self.del_model = FactoredStatusModel(self.n)
+            self._told = [("exploring", frozenset(range(self.n)))] * self.n
+            self.beliefs = BeliefParticles(starts, self.home, eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
+                                           v_max=cfg.particle_speed * cfg.v_max, linger=cfg.linger,
+                                           cruise=cfg.cruise)
         for r in self.robots:
             self._scan(r)
 
@@ -336,9 +360,6 @@ class Mission:
         d = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
         return d <= self.cfg.comm_range
 
-    def _record(self, r: _Robot) -> BeliefRecord:
-        return BeliefRecord(self.t, (float(r.xy[0]), float(r.xy[1])), r.status, r.target)
-
     def _share(self, members: list[int]) -> None:
         """Local announcement to a connected group (eq. 19 and the Q revision of §5.3.1)."""
         group = [self.robots[m] for m in members]
@@ -357,16 +378,25 @@ class Mission:
                 best = replace(best, assumed_by=None)  # ruleset 2 verified on contact: allocate it if undone
             for a in group:
                 a.tasks[tid] = replace(best, eta=dict(best.eta))
-        for j in range(self.n):
-            latest = max((a.records[j] for a in group), key=lambda rec: rec.time)
-            for a in group:
-                a.records[j] = latest
+        plans: dict[tuple[float, int], tuple[int, ...]] = {}
         for a in group:
-            rec = self._record(a)
-            for b in group:
-                b.records[a.id] = rec
+            plans.update(a.plans)
+        for a in group:
+            a.plans = dict(plans)
+            self._adopt_gossip(a)
             a.gossip = [g for g in a.gossip if g not in members]
             a.excluded -= set(members)
+
+    def _adopt_gossip(self, a: _Robot) -> None:
+        """Take on the gossip bundle Algorithm 3 gave robot ``a`` in an allocation it has now heard of."""
+        for (version, informer), targets in sorted(a.plans.items()):
+            if informer != a.id or version in a.adopted:
+                continue
+            a.adopted.add(version)
+            a.gossip += [g for g in targets if g not in a.gossip and g != a.id]
+            if (version, informer) in self.cascade_pending:
+                self.cascade_pending.discard((version, informer))
+                self.cascade_delivered += 1
 
     def _communicate(self) -> None:
         adj = self._adjacency()
@@ -378,6 +408,7 @@ class Mission:
             for i, j in zip(*np.nonzero(np.triu(new_links, 1)), strict=True):
                 self._event("connect", f"robots {i} and {j} connect")
         self.prev_adj = adj
+        split_now = False
         if self.cfg.method == "epistemic":
             if ncomp == 1:
                 if self.common is not None:
@@ -388,15 +419,14 @@ class Mission:
                 self.common = None
             elif self.common is None:
                 self._start_common_belief()
+                split_now = True
+            self._update_beliefs(labels, ncomp, split_now)
         for c in range(ncomp):
             members = [int(m) for m in np.flatnonzero(labels == c)]
             if len(members) > 1 or self.cfg.method != "epistemic":
                 self._share(members)
             if self.cfg.method == "epistemic" and len(members) > 1:
                 self._allocate_pending(self.robots[members[0]], members)
-        if ncomp == 1 and self.cfg.method == "epistemic":
-            for r in self.robots:  # eq. 15: every particle at the true state
-                r.records = {j: self._record(self.robots[j]) for j in range(self.n)}
 
     def _start_common_belief(self) -> None:
         base = self.robots[0].map
@@ -407,21 +437,21 @@ class Mission:
         self.common = CommonBelief(self.t, base, np.array([r.xy for r in self.robots]), queues, self.home,
                                    self.lidar, delta=self.cfg.delta, eta_g=self.cfg.eta_g, eta_o=self.cfg.eta_o,
                                    rho_o=self.cfg.rho_o, v_max=self.cfg.particle_speed * self.cfg.v_max,
-                                   homing=homing)
+                                   homing=homing, cruise=self.cfg.cruise)
         self._event("disconnect", "team splits: common belief set C propagated from here")
 
     # ------------------------------------------------------------------ allocation
     def _believed_xy(self, r: _Robot, j: int, members: list[int]) -> np.ndarray:
         if j in members or self.cfg.method != "epistemic":
             return self.robots[j].xy.copy()
-        return believed_position(r.records[j], self.common, j, self.t, self.cfg.v_max)
+        return self.beliefs.believed_xy(r.id, j)
 
     def _on_discovery(self, r: _Robot, spec: TaskSpec) -> None:
         if self.cfg.method == "epistemic" and self.common is not None:
             c = self.task_cells[spec.id]
             j = int(self.common.seen_by.ravel()[c])
             seen = self.common.seen_time.ravel()[c]
-            if j not in (-1, r.id) and seen < self.t and r.records[j].time <= self.common.t0:
+            if j not in (-1, r.id) and seen < self.t and self._q(r.id, j) <= self.common.t0 + 1e-9:
                 r.tasks[spec.id].assumed_by = j  # ruleset 2: j's particle covered it first
                 self._event("assume", f"robot {r.id} assumes robot {j} handles task {spec.id}")
                 return
@@ -451,7 +481,7 @@ class Mission:
         todo = [AllocTask(k.spec.id, k.spec.xy, k.spec.n_required, k.spec.reward) for k in new]
         locked = {j: b for j, b in current.items() if j not in members}
         # a disconnected robot's bid is made by the group member with the most recent record of it (set Q)
-        informer = {j: (j if j in members else max(members, key=lambda m: (self.robots[m].records[j].time, m == r.id)))
+        informer = {j: (j if j in members else max(members, key=lambda m: (self._q(m, j), m == r.id)))
                     for j in avail}
         newly = {t.id for t in todo}
         if self.cfg.case == 1:
@@ -473,8 +503,14 @@ class Mission:
             k.version = version
             k.eta = {j: alloc.start.get(tid, 0.0) + 1e-3 * b.index(tid) for j, b in alloc.bundles.items()
                      if tid in b}
+        r.plans.update({(version, v): tuple(gs) for v, gs in alloc.gossip.items() if gs})
+        for v, gs in alloc.gossip.items():
+            if gs and v not in members:  # a cascade informer: it learns its bundle when it is told
+                self.cascade_pending.add((version, v))
+                self.cascade_assigned += 1
         for m in members:
-            self.robots[m].gossip += [g for g in alloc.gossip.get(m, ()) if g not in self.robots[m].gossip]
+            self.robots[m].plans.update(r.plans)
+            self._adopt_gossip(self.robots[m])
         self._event("allocate", f"robot {r.id} allocates {sorted(newly)}: "
                     + ", ".join(f"{j}:{list(b)}" for j, b in alloc.bundles.items() if b)
                     + (f"; gossip {dict(alloc.gossip)}" if alloc.gossip else ""))
@@ -647,11 +683,11 @@ class Mission:
             sp = g.to_cell(self._cell(self.anchor), self._cell(goal_xy))
             self.anchor_nav.set_path(sp, self._cell(goal_xy), self.shape, lead.map.version, goal_xy=goal_xy)
         spread = np.linalg.norm(xs - self.anchor[None, :], axis=1).max()
-        if spread < self.cfg.comm_range / 2 - 0.5:
+        if spread < self._flock_disk():
             # the leader is virtual: it follows the (clearance-weighted) A* path without obstacle repulsion
             u = self.anchor_nav.control(self.anchor, lead.map.occupied_mask(), eta_g=self.cfg.eta_g,
                                         eta_o=0.0, rho_o=self.cfg.rho_o,
-                                        v_max=self.cfg.particle_speed * self.cfg.v_max)
+                                        v_max=self.cfg.flock_leader_speed * self.cfg.v_max)
             moved = integrate(self.anchor, u, self.cfg.dt, self.world.is_occupied, None)
             # the leader only moves where every robot stays within r_c/2 of it (pairwise ≤ r_c); a shorter step
             # is taken when the full one would leave a robot behind
@@ -665,7 +701,7 @@ class Mission:
         else:
             self._flock_regroup(xs)
         slots = []
-        radius = self.cfg.flock_radius if self.n > 1 else 0.0
+        radius = self._flock_radius() if self.n > 1 else 0.0
         if np.hypot(*(goal_xy - self.home)) < 1e-6 and np.hypot(*(self.anchor - self.home)) < 3.0:
             radius = min(radius, 1.5)  # gather at home base
         for k, r in enumerate(self.robots):
@@ -692,6 +728,9 @@ class Mission:
         if np.linalg.norm(xs - cand[None, :], axis=1).max() <= self._flock_disk() and \
                 not self.world.is_occupied(cand[None, :]).any():
             self.anchor = cand
+
+    def _flock_radius(self) -> float:
+        return self.cfg.comm_range / 2 - 0.5 if self.cfg.flock_radius is None else self.cfg.flock_radius
 
     def _flock_disk(self) -> float:
         return self.cfg.comm_range / 2 - 0.1
@@ -757,16 +796,17 @@ class Mission:
         self._communicate()
         if self.common is not None:
             self.common.step(cfg.dt)
+            self.beliefs.step(self.t, cfg.dt, self.common)
         slots = self._flock_step() if cfg.method == "flock" else None
         for r in self.robots:
             if slots is None:
                 self._decide(r)
-                u = r.nav.control(r.xy, r.map.occupied_mask(), eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
-                                  v_max=cfg.v_max)
             else:
                 self._goto(r, slots[r.id], tol=1.0)
-                u = r.nav.control(r.xy, r.map.occupied_mask(), eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
-                                  v_max=cfg.v_max)
+            x = np.array([o.xy for o in self.robots if o is not r])
+            near = x[np.hypot(*(x - r.xy).T) <= cfg.rho_o] if len(x) and cfg.robot_repulsion else None
+            u = r.nav.control(r.xy, r.map.occupied_mask(), eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
+                              v_max=cfg.v_max, robots=near, cruise=cfg.cruise)
             new = integrate(r.xy, u, cfg.dt, self.world.is_occupied, self.rng, cfg.noise_std)
             if slots is not None:
                 new = self._flock_clip(r.xy, new)
@@ -775,9 +815,11 @@ class Mission:
             if self.world.is_occupied(r.xy[None, :]).any():
                 self.collisions += 1
             self._scan(r)
+        if self.n > 1:  # robot–robot separation, measured every step
+            x = np.array([r.xy for r in self.robots])
+            d = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
+            self.min_sep = min(self.min_sep, float(d[np.triu_indices(self.n, 1)].min()))
         self._tasks_step()
-        if self.status_model is not None:
-            self._update_status_model()
         self.t += cfg.dt
         if cfg.record:
             self._hist_t.append(self.t)
@@ -788,37 +830,53 @@ class Mission:
         if self._finished():
             self.done = True
 
-    def _update_status_model(self) -> None:
-        """Mirror status changes and announcements in the delkit model and check eqs. 14 and 18 there."""
-        from sim.status_model import agent, eq14, eq18, status_prop
+    def _q(self, i: int, j: int) -> float:
+        """q_ii,j: the time of robot i's most recent information about robot j (set Q)."""
+        return float(self.beliefs.stamps(i)[i, j])
 
-        sm = self.status_model
-        labels = self.components
-        for r in self.robots:
-            if sm.statuses[r.id] != r.status:
-                sm.change(r.id, r.status, [int(m) for m in np.flatnonzero(labels == labels[r.id])])
-        comps = {int(c): [int(m) for m in np.flatnonzero(labels == c)] for c in set(labels.tolist())}
-        if len(comps) == 1 and self.n > 1:
-            sm.announce_global()
-            edges = [(i, j) for i in range(self.n) for j in range(self.n) if i != j and self.prev_adj[i, j]]
-            ok = sm.holds(eq14(sm.statuses, edges))
-            self.checks["eq14"][0] += int(ok)
-            self.checks["eq14"][1] += 1
-            return
-        for members in comps.values():
-            if len(members) < 2:
-                continue
-            outsiders = [k for k in range(self.n) if k not in members]
-            before = [sm.holds(K_(agent(k), status_prop(j, sm.statuses[j]))) for k in outsiders
-                      for j in range(self.n)]
-            sm.announce_local(members)
-            ok = sm.holds(eq18(sm.statuses, members))
-            self.checks["eq18"][0] += int(ok)
-            self.checks["eq18"][1] += 1
-            after = [sm.holds(K_(agent(k), status_prop(j, sm.statuses[j]))) for k in outsiders
-                     for j in range(self.n)]
-            self.checks["outsiders_unchanged"][0] += int(before == after)
-            self.checks["outsiders_unchanged"][1] += 1
+    def _update_beliefs(self, labels: np.ndarray, ncomp: int, split_now: bool) -> None:
+        """announce/perceive in the delkit model, then the particle resets (eqs. 15–19); checks eqs. 14, 18.
+
+        Robot k's status is announced to its connected group when it changed or when the group gained a
+        robot since k last announced (perceive on meeting); robots outside the group are oblivious.
+        """
+        dm = self.del_model
+        groups = {int(c): [int(m) for m in np.flatnonzero(labels == c)] for c in np.unique(labels)}
+        told_groups: set[int] = set()
+        before = dm.believed().copy()
+        for k, r in enumerate(self.robots):
+            c = int(labels[k])
+            g = frozenset(groups[c])
+            status, last = self._told[k]
+            if r.status != status or not g <= last:
+                dm.tell(k, r.status, g)
+                told_groups.add(c)
+            self._told[k] = (r.status, g)
+        check = self.cfg.status_model
+        if told_groups and check:
+            if ncomp == 1:
+                edges = [(i, j) for i in range(self.n) for j in range(self.n) if i != j and self.prev_adj[i, j]]
+                ok = dm.check_eq14(edges)
+                self.checks["eq14"][0] += int(ok)
+                self.checks["eq14"][1] += 1
+            else:
+                after = dm.believed()
+                for c in told_groups:
+                    g = groups[c]
+                    if len(g) < 2:
+                        continue
+                    ok = dm.check_eq18(g)
+                    self.checks["eq18"][0] += int(ok)
+                    self.checks["eq18"][1] += 1
+                    out = [m for m in range(self.n) if m not in g]
+                    same = bool(np.array_equal(before[np.ix_(out, out)][..., g], after[np.ix_(out, out)][..., g])
+                                ) if out else True
+                    self.checks["outsiders_unchanged"][0] += int(same)
+                    self.checks["outsiders_unchanged"][1] += 1
+        self.false_beliefs += dm.false_beliefs()
+        targets = [r.target for r in self.robots]
+        self.beliefs.update(self.t, labels, np.array([r.xy for r in self.robots]), targets, dm.believed(),
+                            self.common, split_now)
 
     def run(self, progress: Callable[[float, float], None] | None = None) -> MissionResult:
         wall = _time.perf_counter()
@@ -850,7 +908,7 @@ class Mission:
                              all(self._at_home(r) for r in self.robots), self.collisions, ok,
                              round(float((explored & free).sum() / free.sum()), 4), round(wall, 3),
                              tuple(self.completers), tuple((k, v[0], v[1]) for k, v in self.checks.items()),
-                             hist)
+                             (self.cascade_assigned, self.cascade_delivered), round(self.min_sep, 3), hist)
 
 
 def run_mission(cfg: MissionConfig, progress: Callable[[float, float], None] | None = None) -> MissionResult:

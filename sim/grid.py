@@ -102,9 +102,11 @@ def read_movingai(path: str | Path, resolution: float = 1.0) -> WorldMap:
     """
     path = Path(path)
     try:
-        lines = path.read_text().splitlines()
+        lines = path.read_text(encoding="ascii").splitlines()
     except OSError as exc:
-        raise SimulationError(f"{path}: cannot read MovingAI map ({exc})") from exc
+        raise SimulationError(f"{path}: cannot read MovingAI map ({exc.strerror or exc})") from None
+    except UnicodeDecodeError as exc:  # a binary file, or not the ASCII the format is written in
+        raise SimulationError(f"{path}: not a MovingAI .map file (byte {exc.start} is not ASCII text)") from None
     try:
         header = {}
         i = 0
@@ -113,11 +115,18 @@ def read_movingai(path: str | Path, resolution: float = 1.0) -> WorldMap:
             header[key.strip().lower()] = value.strip()
             i += 1
         height, width = int(header["height"]), int(header["width"])
-    except (KeyError, ValueError) as exc:
-        raise SimulationError(f"{path}: not a MovingAI .map file (need 'height', 'width' and 'map' lines)") from exc
+    except (KeyError, ValueError):
+        raise SimulationError(f"{path}: not a MovingAI .map file (need 'height', 'width' and 'map' lines)") from None
+    if i >= len(lines):
+        raise SimulationError(f"{path}: not a MovingAI .map file (no 'map' line before the rows)")
+    if not (1 <= height <= 100_000 and 1 <= width <= 100_000):
+        raise SimulationError(f"{path}: height {height} and width {width} must be 1..100000 cells")
     rows = lines[i + 1:i + 1 + height]
     if len(rows) != height or any(len(r) < width for r in rows):
         raise SimulationError(f"{path}: expected {height} rows of {width} characters after 'map'")
+    bad = sorted({ch for r in rows for ch in r[:width]} - set(".GS@OTW"))
+    if bad:
+        raise SimulationError(f"{path}: unknown terrain {bad[0]!r} in the rows (MovingAI uses . G S @ O T W)")
     grid = np.array([[ch not in ".GS" for ch in r[:width]] for r in rows], dtype=bool)
     return WorldMap(grid[::-1].copy(), resolution, name=path.stem)
 

@@ -14,10 +14,9 @@ point f is its path length plus the penalty Δ when f lies outside its cell (eq.
 the minimiser (eqs. 11–12). A particle with a task queue (tasks its robot announced before the
 disconnection) first visits those tasks, then explores, then goes home when no frontier is left.
 
-:class:`BeliefRecord` is the most recent information robot i has about robot j — position, status,
-destination and timestamp q_ij (the set Q of §5.3.1); :func:`believed_position` turns it into the
-particle p_ij,j: a robot last seen heading to a task is predicted to move there in a straight line at top
-speed and then to rejoin its common-belief particle; otherwise p_ij,j = c_ij.
+:class:`BeliefParticles` holds every robot's N × N particles p_ij,k (eq. 2) — belief particles about the
+others and the empathy particles p_ij,i — with their timestamps (the set Q), as views into a bank of
+distinct deterministic trajectories, with the resets of eqs. 15–19.
 """
 
 from __future__ import annotations
@@ -29,8 +28,8 @@ import numpy as np
 from sim.grid import FREE, UNKNOWN, LidarModel, OccupancyGrid, frontier_mask
 from sim.motion import GridGraph, ShortestPaths, apf_velocity, integrate, smooth_waypoint
 
-__all__ = ["select_frontier", "choose_frontier", "graph_for", "Navigator", "CommonBelief", "BeliefRecord",
-           "believed_position", "obstacle_points"]
+__all__ = ["select_frontier", "choose_frontier", "graph_for", "Navigator", "CommonBelief",
+           "BeliefParticles", "obstacle_points"]
 
 
 def obstacle_points(blocked: np.ndarray, res: float, xy: np.ndarray, radius: float) -> np.ndarray:
@@ -140,21 +139,28 @@ class Navigator:
         self.goal, self.goal_xy, self.path_xy = None, None, np.empty((0, 2))
 
     def control(self, xy: np.ndarray, blocked: np.ndarray, *, eta_g: float, eta_o: float, rho_o: float,
-                v_max: float) -> np.ndarray:
+                v_max: float, robots: np.ndarray | None = None, cruise: bool = False) -> np.ndarray:
+        """Eqs. 6–8 towards the smoothed A* waypoint; the threats are the known obstacles within ρ_o and the
+        other ``robots`` (positions) within ρ_o.
+
+        ``cruise`` (off by default, not in the paper) adds the missing speed along the attractive direction
+        while more than 1 m from the goal, so that a robot keeps v_max between look-ahead waypoints instead of
+        the η_g ρ_g of eq. 6 (which slows it when the waypoint is near); ``bench/explore.py`` measures both.
+        """
         if self.goal_xy is None or len(self.path_xy) == 0:
             return np.zeros(2)
         wp = smooth_waypoint(self.path_xy, xy, blocked, self.res, margin=self.margin)
         if np.hypot(*(self.goal_xy - xy)) < 0.2:
             return np.zeros(2)
         obs = obstacle_points(blocked, self.res, xy, rho_o)
+        if robots is not None and len(robots):
+            obs = np.vstack([obs, robots])
         u = apf_velocity(xy, wp, obs, eta_g=eta_g, eta_o=eta_o, rho_o=rho_o, v_max=v_max)
-        # keep full speed while cruising: the attractive term eq. 6 is proportional to ρ_g, which would slow
-        # the robot near each look-ahead waypoint; the saturation keeps |u| ≤ v_max.
-        att = wp - xy
-        n = np.hypot(*att)
-        remaining = np.hypot(*(self.goal_xy - xy))
-        if n > 1e-9 and np.hypot(*u) < v_max and remaining > 1.0:
-            u = u + att / n * (v_max - np.hypot(*u))
+        if cruise:
+            att = wp - xy
+            n = np.hypot(*att)
+            if n > 1e-9 and np.hypot(*u) < v_max and np.hypot(*(self.goal_xy - xy)) > 1.0:
+                u = u + att / n * (v_max - np.hypot(*u))
         return u
 
 
@@ -171,7 +177,7 @@ class CommonBelief:
 
     def __init__(self, t0: float, base: OccupancyGrid, positions: np.ndarray, queues: list[list[np.ndarray]],
                  home: np.ndarray, lidar: LidarModel, *, delta: float, eta_g: float, eta_o: float, rho_o: float,
-                 v_max: float, homing: list[bool] | None = None) -> None:
+                 v_max: float, homing: list[bool] | None = None, cruise: bool = False) -> None:
         self.t0, self.t = t0, t0
         self.res = base.resolution
         self.shape = base.shape
@@ -182,7 +188,7 @@ class CommonBelief:
         self.seen_by = np.full(self.shape, -1, dtype=int)
         self.home = home
         self.lidar = lidar
-        self.params = dict(eta_g=eta_g, eta_o=eta_o, rho_o=rho_o, v_max=v_max)
+        self.params = dict(eta_g=eta_g, eta_o=eta_o, rho_o=rho_o, v_max=v_max, cruise=cruise)
         self.delta = delta
         homing = homing or [False] * len(positions)
         self.particles = [_Particle(np.array(p, float), [np.array(q, float) for q in qs],
@@ -267,30 +273,157 @@ class CommonBelief:
         self.t += dt
 
 
-@dataclass(frozen=True)
-class BeliefRecord:
-    """What robot i last heard about robot j: time q_ij, position, status and destination (if any)."""
-
-    time: float
-    xy: tuple[float, float]
-    status: str
-    target: tuple[float, float] | None = None
+STATUS_CODES = ("exploring", "gossiping", "task", "home")
 
 
-def believed_position(rec: BeliefRecord, common: CommonBelief | None, j: int, t: float, v_max: float,
-                      linger: float = 10.0) -> np.ndarray:
-    """The particle p_ij,j at time t (see module docstring)."""
-    if common is not None and rec.time <= common.t0 + 1e-9:
-        return common.particles[j].xy.copy()
-    xy = np.array(rec.xy, float)
-    if rec.target is not None:
-        tgt = np.array(rec.target, float)
-        d = float(np.hypot(*(tgt - xy)))
-        travelled = v_max * (t - rec.time)
-        if travelled < d:
-            return xy + (tgt - xy) * (travelled / max(d, 1e-9))
-        if common is None or travelled < d + v_max * linger:
-            return tgt
-    if common is not None:
-        return common.particles[j].xy.copy()
-    return xy
+class BeliefParticles:
+    """Every robot's belief and empathy particles p_ij,k (eq. 2), N × N per robot.
+
+    ``rec[i, j, k]`` indexes a *bank* of distinct particles; robot i's particle set is ``xy[rec[i]]``, an
+    N × N × 2 array (row j: what i believes j believes about every robot; p_ij,i are i's empathy particles),
+    and ``time[rec[i]]`` the timestamps q_ij,k of the set Q. Propagation is deterministic, so every particle
+    that starts from the same shared state with the same believed status follows the same trajectory: the
+    bank holds one trajectory per distinct (robot, last shared state, believed status) and the N³ particles
+    are views into it (that is what keeps 8 robots fast). Bank entries:
+
+    * ``LIVE(k)`` (index k): robot k's true state — the particle of everybody connected to k (eq. 15 when the
+      whole team is connected, eq. 19 ``p_ji,i ← x_i`` inside a connected group);
+    * ``COMMON(k)`` (index N + k): the common belief particle c_k of :class:`CommonBelief` (the set C_i);
+    * a *snapshot*: robot k's state when it was last shared (time q, position, believed status, destination),
+      propagated with the same smoothed A* + APF as the robots on the common-belief map: to the announced
+      destination when the believed status is *task*/*gossiping* (and, after ``linger`` seconds there —
+      the assumed task completion — on towards c_k), home when it is *home*, towards c_k when *exploring*;
+      once it reaches c_k it merges into ``COMMON(k)`` (§5.3.1: "then the particle will propagate toward its
+      common belief").
+
+    :meth:`update` applies the resets: everybody in a connected group takes, per particle, the most recent
+    version any member holds (the Q revision), particles of group members inside the group are their true
+    states (eqs. 15, 16, 19), and a ``LIVE`` particle whose believer lost contact is frozen into a snapshot
+    with the status the DEL model says the believer believes (``believed[i, j, k]``).
+    """
+
+    def __init__(self, xy: np.ndarray, home: np.ndarray, *, eta_g: float, eta_o: float, rho_o: float,
+                 v_max: float, linger: float = 10.0, cruise: bool = False) -> None:
+        n = len(xy)
+        self.n = n
+        self.home = np.asarray(home, float)
+        self.params = dict(eta_g=eta_g, eta_o=eta_o, rho_o=rho_o, v_max=v_max, cruise=cruise)
+        self.linger = linger
+        self.rec = np.broadcast_to(np.arange(n), (n, n, n)).copy()
+        self.xy = np.vstack([xy, xy]).astype(float)
+        self.time = np.zeros(2 * n)
+        self.owner = np.r_[np.arange(n), np.arange(n)]
+        self.status = np.zeros(2 * n, dtype=np.int8)
+        self.target = np.full((2 * n, 2), np.nan)
+        self.phase = np.zeros(2 * n, dtype=np.int8)  # 0: to destination, 1: lingering, 2: to c_k
+        self.since = np.zeros(2 * n)
+        self.navs: dict[int, Navigator] = {}
+        self.snapshots = 0
+        self._last_target: list[np.ndarray | None] = [None] * n
+
+    # ------------------------------------------------------------------ views
+    def of(self, i: int) -> np.ndarray:
+        """Robot i's particles p_ij,k as an N × N × 2 array."""
+        return self.xy[self.rec[i]]
+
+    def stamps(self, i: int) -> np.ndarray:
+        """Robot i's timestamps q_ij,k (N × N)."""
+        return self.time[self.rec[i]]
+
+    def believed_xy(self, i: int, k: int) -> np.ndarray:
+        """Where robot i looks for robot k: the particle p_ij,k with the most recent timestamp (§5.3.2)."""
+        j = int(np.argmax(self.time[self.rec[i, :, k]]))
+        return self.xy[self.rec[i, j, k]].copy()
+
+    # ------------------------------------------------------------------ resets
+    def _snapshot(self, k: int, status: int, target: np.ndarray | None) -> int:
+        idx = len(self.time)
+        self.xy = np.vstack([self.xy, self.xy[k]])
+        self.time = np.r_[self.time, self.time[k]]
+        self.owner = np.r_[self.owner, k]
+        self.status = np.r_[self.status, np.int8(max(status, 0))]
+        self.target = np.vstack([self.target, np.full(2, np.nan) if target is None else target])
+        self.phase = np.r_[self.phase, np.int8(0 if status in (1, 2) and target is not None else 2)]
+        self.since = np.r_[self.since, 0.0]
+        self.snapshots += 1
+        return idx
+
+    def update(self, t: float, labels: np.ndarray, xy: np.ndarray, targets: list, believed: np.ndarray,
+               common: CommonBelief | None, reset_to_common: bool) -> None:
+        """Resets on announce/perceive for the connected groups ``labels`` (see class docstring).
+
+        ``xy`` and ``targets`` are the robots' current states; ``believed`` the DEL table B_i B_j σ_k.
+        """
+        n = self.n
+        same = labels[:, None] == labels[None, :]
+        inside = same[:, None, :] & same[None, :, :]  # i, j and k in one group
+        live = self.rec == np.arange(n)[None, None, :]
+        lost = live & ~inside
+        if lost.any():  # contact lost: freeze the last shared state (still in xy[:n], time[:n])
+            if reset_to_common and common is not None:
+                self.rec[lost] = n + np.nonzero(lost)[2]
+            else:
+                ii, jj, kk = np.nonzero(lost)
+                made: dict[tuple[int, int], int] = {}
+                for i, j, k in zip(ii.tolist(), jj.tolist(), kk.tolist(), strict=True):
+                    key = (k, int(believed[i, j, k]))
+                    if key not in made:
+                        made[key] = self._snapshot(k, key[1], self._last_target[k])
+                    self.rec[i, j, k] = made[key]
+        self.xy[:n] = xy
+        self.time[:n] = t
+        if common is not None:
+            self.xy[n:2 * n] = common.positions
+            self.time[n:2 * n] = common.t0
+        for c in np.unique(labels):
+            g = np.flatnonzero(labels == c)
+            if len(g) > 1:  # Q revision: per particle, the most recent version any member holds
+                sub = self.rec[g]
+                best = np.argmax(self.time[sub], axis=0)
+                self.rec[g] = np.take_along_axis(sub, best[None], axis=0)
+        kk = np.broadcast_to(np.arange(n), (n, n, n))
+        self.rec[inside] = kk[inside]
+        self._last_target = [None if tg is None else np.asarray(tg, float) for tg in targets]
+
+    # ------------------------------------------------------------------ propagation
+    def step(self, t: float, dt: float, common: CommonBelief | None) -> None:
+        """Propagate every snapshot particle still believed by someone (A* + APF on the common map)."""
+        n = self.n
+        used = np.unique(self.rec)
+        active = used[used >= 2 * n]
+        if common is None or not len(active):
+            return
+        remap = np.arange(len(self.time))
+        for e in active.tolist():
+            k = int(self.owner[e])
+            st = int(self.status[e])
+            if st == 3:
+                goal = self.home
+            elif self.phase[e] == 0:
+                goal = self.target[e]
+                if np.hypot(*(goal - self.xy[e])) < 0.8:
+                    self.phase[e], self.since[e] = 1, t
+            if self.phase[e] == 1:
+                if t - self.since[e] < self.linger:
+                    continue
+                self.phase[e] = 2
+            if st != 3 and self.phase[e] == 2:
+                goal = common.particles[k].xy
+                if np.hypot(*(goal - self.xy[e])) < 1.0:
+                    remap[e] = n + k  # rejoined its common belief particle
+                    continue
+            nav = self.navs.get(e)
+            if nav is None:
+                nav = self.navs[e] = Navigator(common.res)
+            if nav.goal_xy is None or np.hypot(*(nav.goal_xy - goal)) > 2.0:
+                src, dst = common._cell(self.xy[e]), common._cell(goal)
+                nav.set_path(common.graph.to_cell(src, dst), dst, common.shape, 0, goal_xy=goal)
+            elif len(nav.path_xy):
+                nav.path_xy[-1] = goal
+                nav.goal_xy = np.asarray(goal, float)
+            u = nav.control(self.xy[e], common.blocked, **self.params)
+            self.xy[e] = integrate(self.xy[e], u, dt, common._occupied_at, None)
+        if (remap != np.arange(len(remap))).any():
+            self.rec = remap[self.rec]
+            for e in np.flatnonzero(remap != np.arange(len(remap))).tolist():
+                self.navs.pop(e, None)

@@ -33,9 +33,10 @@ positive readings).  Candidate joint actions are all combinations of the robots'
 stay on the grid: 4 (N, S, E, W) or 8 (plus NE, NW, SW, SE).
 
 Episode.  For :math:`k = 1..E`: every robot observes its cell; the algorithm communicates
-(``enforce`` = ENFORCEAC, ``baseline1`` = every robot sends all its unshared observations to every other
-robot every step — with ``resend=False`` only the current step's reading, so a dropped message is never
-repaired — ``baseline2`` = never); then every robot selects a joint action from *its own* history
+(``enforce`` = ENFORCEAC, ``baseline1`` = every robot sends its new observation to every other robot every
+step — the paper's reading, the default: a message dropped on a restricted step is never repaired; with
+``resend=True`` (our variant) it sends all its unshared observations, so the backlog is re-sent on the next
+open step — ``baseline2`` = never); then every robot selects a joint action from *its own* history
 only and executes its own component.  ``Not-AC`` counts steps where the robots' selected joint actions
 differ.  ``comm_restr = m`` picks *m* random steps (from the seed, unknown to the algorithms) on which the
 channel is down: COMMs attempted then are dropped.
@@ -118,7 +119,7 @@ class SARConfig:
     policy: Literal["greedy", "oldest", "all"] = "all"
     tie_break: Literal["random", "index"] = "random"
     trigger: Literal["paper", "useful"] = "paper"
-    resend: bool = True
+    resend: bool = False  # Baseline-I re-sends a lost backlog: our variant, not the paper's
 
     def __post_init__(self) -> None:
         if self.width < 2 or self.height < 2:

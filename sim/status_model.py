@@ -1,20 +1,25 @@
 """The team's statuses as a delkit epistemic state (seed 000, §3.2 and §5.3.1).
 
 A world is the combination of every robot's status σ_i ∈ {exploring, gossiping, task, home}
-(proposition ``s<i>_<status>``, one-hot per robot; at most 4^N worlds). Robots are the agents ``r0 … r{N-1}``.
-The model is updated only by the actions of the paper's library A = {perceive, announce}:
+(proposition ``s<i>_<status>``, one-hot per robot). Robots are the agents ``r0 … r{N-1}``. The model is
+updated only by the actions of the paper's library A = {perceive, announce}, both built as one delkit event
+model, :func:`tell_event` (the mA* frame of ``delkit.events.action``): σ_k := s with one outcome per
+status, the observers (robot k's connected group) fully observant, every other robot *oblivious* — it
+believes nothing happened. Disconnected robots therefore keep their old belief and it becomes *false*
+when σ_k changes (B_j σ_k with σ_k untrue: the paper's Fig. 1, "robot 2 holds a false belief about robot
+1's state"; the relations are KD45, no longer S5). Announcing the status *again* to a robot that meets
+the group revises that belief (the post-condition sets σ_k to its actual value in every world the new
+observer considers, so an outdated belief is replaced, not contradicted — §5.3.1 "belief update is the
+process of accepting new information that may contradict initial beliefs").
 
-* :meth:`StatusModel.change` — robot i switches status (i: announce(x_i) to its connected group, eq. 17):
-  an ontic action with one outcome per possible new status; i and its connected group observe the outcome
-  (K_i σ_i), every disconnected robot is *partially* observant: it knows statuses may change while it is out
-  of range but not into what (§5.3.1: "each robot may not know when/if the information of the system becomes
-  outdated"). Knowledge therefore stays S5 (B = K, as the paper notes) and never becomes false.
-* :meth:`StatusModel.perceive` — robot i (and its group) sense a proposition (a task, another robot).
-* :meth:`StatusModel.announce_local` — the connected group G announces its members' statuses to each other
-  (a private announcement to G; robots outside G are oblivious of it). Afterwards eq. 18 holds:
-  B_i B_j σ_i ∧ B_i B_j B_i σ_i for (i, j) ∈ E, and the knowledge of robots outside G is unchanged.
-* :meth:`StatusModel.announce_global` — every status is publicly announced (eq. 14): afterwards
-  K_i σ_i ∧ K_i K_j σ_j ∧ K_i K_j K_k σ_k for all i, j, k.
+* :class:`FactoredStatusModel` — the model the simulator runs on (any N): one delkit Kripke model per
+  robot k over k's four status propositions. Every event of the library concerns one robot's status, so
+  the joint model is the product of these factors and every formula about σ_k (B_i B_j σ_k, eqs. 14, 18)
+  is evaluated on factor k; a factor has a handful of worlds instead of the joint model's ≤ 4^N.
+* :class:`StatusModel` — the joint model (small N only), kept as the reference the factored one is
+  tested against.
+* :meth:`announce_local` gives eq. 18: B_i B_j σ_i ∧ B_i B_j B_i σ_i for (i, j) in the group, outsiders'
+  beliefs unchanged; :meth:`announce_global` gives eq. 14: K_i σ_i ∧ K_i K_j σ_j ∧ K_i K_j K_k σ_k.
 
 Every update is ``delkit.update.product_update`` followed by bisimulation contraction (``delkit.bisim``).
 """
@@ -24,13 +29,15 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
+import numpy as np
+
 from delkit.bisim import contract
-from delkit.events import action, private_announcement, public_announcement, sensing
+from delkit.events import EventModel, action, sensing
 from delkit.formula import BOT, TOP, Formula, K, Prop, conj
 from delkit.kripke import KripkeModel
 from delkit.update import product_update
 
-__all__ = ["StatusModel", "status_prop", "agent", "eq14", "eq18", "STATUSES"]
+__all__ = ["StatusModel", "FactoredStatusModel", "tell_event", "status_prop", "agent", "eq14", "eq18", "STATUSES"]
 
 STATUSES = ("exploring", "gossiping", "task", "home")
 
@@ -66,6 +73,15 @@ def eq18(statuses: Sequence[str], group: Sequence[int]) -> Formula:
     return conj(parts)
 
 
+def tell_event(n: int, k: int, status: str, observers: Iterable[int], name: str = "announce") -> EventModel:
+    """announce(x_k) / perceive(σ_k) to ``observers``: σ_k := ``status``; the observers see which outcome
+    happened, everyone else is oblivious (see the module docstring)."""
+    agents = [agent(a) for a in range(n)]
+    outcomes = [(f"to_{s}", TOP, {f"s{k}_{t}": (TOP if t == s else BOT) for t in STATUSES}) for s in STATUSES]
+    return action(agents, outcomes, full=[agent(a) for a in sorted(set(observers))],
+                  designated=[f"to_{status}"], name=f"r{k}:{name}")
+
+
 @dataclass
 class StatusModel:
     """The pointed status model; ``model`` is always contracted."""
@@ -91,12 +107,7 @@ class StatusModel:
 
     def change(self, i: int, status: str, group: Iterable[int]) -> None:
         """Robot i's status becomes ``status``; ``group`` (connected to i) observes it, the others do not."""
-        group = set(group) | {i}
-        outcomes = [(f"to_{s}", TOP, {f"s{i}_{t}": (TOP if t == s else BOT) for t in STATUSES}) for s in STATUSES]
-        others = [agent(k) for k in range(self.n) if k not in group]
-        ev = action(self.agents, outcomes, full=[agent(k) for k in sorted(group)], partial=others,
-                    designated=[f"to_{status}"], name=f"r{i}:status")
-        self._apply(ev)
+        self._apply(tell_event(self.n, i, status, set(group) | {i}, "status"))
         self.statuses[i] = status
 
     def perceive(self, i: int, phi: Formula, group: Iterable[int] = ()) -> None:
@@ -109,13 +120,14 @@ class StatusModel:
         return conj([status_prop(k, self.statuses[k]) for k in robots])
 
     def announce_local(self, group: Sequence[int]) -> None:
-        """Private announcement of the group's statuses to the group (eq. 18)."""
-        self._apply(private_announcement(self.actual_statuses(group), [agent(k) for k in group], self.agents,
-                                         name="local_announce"))
+        """announce(x_k) of every member k of ``group`` to the group; outsiders are oblivious (eq. 18)."""
+        for k in group:
+            self._apply(tell_event(self.n, k, self.statuses[k], group, "local_announce"))
 
     def announce_global(self) -> None:
-        """Public announcement of every robot's status (eq. 14)."""
-        self._apply(public_announcement(self.actual_statuses(range(self.n)), self.agents, name="global_announce"))
+        """announce(x): every robot's status to everyone (eq. 14)."""
+        for k in range(self.n):
+            self._apply(tell_event(self.n, k, self.statuses[k], range(self.n), "global_announce"))
 
     def holds(self, f: Formula) -> bool:
         return bool(self.model.holds(f))
@@ -124,3 +136,82 @@ class StatusModel:
         """K_i σ_j for j's actual status."""
         return self.holds(K(agent(i), status_prop(j, self.statuses[j])))
 
+
+
+class FactoredStatusModel:
+    """The team's status model as N delkit models, factor k over robot k's status (see module docstring).
+
+    :meth:`tell` applies the announce/perceive event to factor k; :meth:`believed` gives the table
+    ``B[i, j, k]`` = index into :data:`STATUSES` of the status robot i believes robot j believes robot k has
+    (B_i B_j σ_k; i = j gives B_i σ_k), −1 when that belief is not a single status. It is read off the
+    accessibility relations of the delkit models; :meth:`holds` model-checks a formula about σ_k on factor k.
+    """
+
+    def __init__(self, n: int, status: str = "exploring") -> None:
+        self.n = n
+        self.agents = [agent(i) for i in range(n)]
+        self.statuses = [status] * n
+        self.factors: list[KripkeModel] = []
+        for k in range(n):
+            props = [f"s{k}_{s}" for s in STATUSES]
+            self.factors.append(KripkeModel.build([{f"s{k}_{status}"}], {a: [[0]] for a in self.agents}, [0],
+                                                  props=props))
+        self.updates = 0
+        self._table = np.full((n, n, n), STATUSES.index(status), dtype=np.int8)
+
+    def tell(self, k: int, status: str, observers: Iterable[int], name: str = "announce") -> None:
+        """announce(x_k)/perceive(σ_k) to ``observers`` (robot k's connected group, k included)."""
+        self.factors[k] = contract(product_update(self.factors[k], tell_event(self.n, k, status, observers, name)))
+        self.statuses[k] = status
+        self.updates += 1
+        self._table[:, :, k] = self._beliefs_about(k)
+
+    def _beliefs_about(self, k: int) -> np.ndarray:
+        m = self.factors[k]
+        rel = np.stack([m.relation_matrix(a).toarray() for a in self.agents]).astype(np.int32)  # N × W × W
+        first = rel[:, m.designated[0], :]  # worlds robot i considers
+        second = np.einsum("iw,jwv->ijv", first, rel) > 0  # worlds i thinks j considers
+        second[np.arange(self.n), np.arange(self.n)] = first > 0
+        cols = [m.prop_index(f"s{k}_{s}") for s in STATUSES]
+        val = m.valuation[:, cols].astype(np.int32)  # W × 4, columns in STATUSES order
+        have = (second.astype(np.int32) @ val) > 0  # N × N × 4: statuses present
+        out = np.argmax(have, axis=2).astype(np.int8)
+        out[have.sum(axis=2) != 1] = -1
+        return out
+
+    def believed(self) -> np.ndarray:
+        """``B[i, j, k]`` (see class docstring); a view, do not modify."""
+        return self._table
+
+    def holds(self, k: int, f: Formula) -> bool:
+        return bool(self.factors[k].holds(f))
+
+    def false_beliefs(self) -> int:
+        """Number of (i, k) with B_i σ_k a single status different from σ_k (false first-order beliefs)."""
+        actual = np.array([STATUSES.index(s) for s in self.statuses])
+        first = self._table[np.arange(self.n), np.arange(self.n), :]
+        return int(((first >= 0) & (first != actual[None, :])).sum())
+
+    def check_eq14(self, edges: Iterable[tuple[int, int]]) -> bool:
+        """Eq. 14 after a global announcement, factor by factor (each conjunct is about one σ_k)."""
+        edges = list(edges)
+        for k in range(self.n):
+            q = status_prop(k, self.statuses[k])
+            parts = [K(agent(k), q)] + [K(agent(i), K(agent(k), q)) for i in range(self.n)]
+            parts += [K(agent(i), K(agent(j), K(agent(k), q))) for i in range(self.n) for j, kk in edges if kk == k]
+            if not self.holds(k, conj(parts)):
+                return False
+        return True
+
+    def check_eq18(self, group: Sequence[int]) -> bool:
+        """Eq. 18 after a local announcement to ``group``: B_i B_j σ_i ∧ B_i B_j B_i σ_i for i ≠ j in it."""
+        for i in group:
+            q = status_prop(i, self.statuses[i])
+            parts = [f for j in group if j != i
+                     for f in (K(agent(i), K(agent(j), q)), K(agent(i), K(agent(j), K(agent(i), q))))]
+            if parts and not self.holds(i, conj(parts)):
+                return False
+        return True
+
+    def n_worlds(self) -> list[int]:
+        return [f.n_worlds for f in self.factors]

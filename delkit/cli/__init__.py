@@ -15,7 +15,7 @@ __all__ = ["main", "run"]
 def _build_app():
     import typer
 
-    from delkit.cli import arms_cmd, consistency_cmd, core_cmd, explore_cmd, model_cmd, plan_cmd, puzzle_cmd
+    from delkit.cli import arms_cmd, consistency_cmd, core_cmd, epico_cmd, explore_cmd, model_cmd, plan_cmd, puzzle_cmd
 
     app = typer.Typer(
         name="delkit",
@@ -36,47 +36,67 @@ def _build_app():
     consistency_cmd.register(app)
     explore_cmd.register(app)
     arms_cmd.register(app)
+    epico_cmd.register(app)
     return app
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI and return its exit status (0 ok, 1 a negative answer such as an invalid plan, 2 bad input)."""
-    import typer
+    args = list(sys.argv[1:] if argv is None else argv)
+    try:
+        fast = _fast_path(args)
+        if fast is not None:  # a plain `plan` / `check` line: run without importing typer (start-up time)
+            return fast()
+        application = _build_app()
+        result = application(args=args, prog_name="delkit", standalone_mode=False)
+    except BaseException as exc:  # noqa: BLE001 - each kind is mapped to its exit status below
+        return _exit_status(exc)
+    return result if isinstance(result, int) else 0
 
+
+def _fast_path(args: list[str]):
+    """The direct call for a plain ``plan``/``check`` command line, or None (see ``plan_cmd.fast_args``)."""
+    if not FAST_PATH:
+        return None
+    from delkit.cli.plan_cmd import fast_args
+
+    return fast_args(args)
+
+
+FAST_PATH = True  # tests switch it off to compare the two paths
+
+
+def _exit_status(exc: BaseException) -> int:
+    """Exit status for an exception that escaped a command (printing its one-line message), or re-raise it."""
     from delkit.errors import DelkitError
 
-    application = _build_app()
-    try:
-        result = application(args=list(sys.argv[1:] if argv is None else argv), prog_name="delkit",
-                             standalone_mode=False)
-    except DelkitError as exc:
+    typer = sys.modules.get("typer")
+    if isinstance(exc, DelkitError):
         print(f"delkit: error: {exc}", file=sys.stderr)
         return 2
-    except typer.Exit as exc:
+    if typer is not None and isinstance(exc, typer.Exit):
         return int(getattr(exc, "exit_code", 0) or 0)
-    except typer.Abort:
+    if typer is not None and isinstance(exc, typer.Abort):
         print("delkit: aborted", file=sys.stderr)
         return 1
-    except RecursionError:
+    if isinstance(exc, RecursionError):
         # formulas are evaluated recursively: some hundreds of nested operators exceed Python's stack
         print("delkit: error: the input is nested too deeply (more than a few hundred operators inside each "
               "other); split the formula or flatten chains with E{...} / C{...}", file=sys.stderr)
         return 2
-    except OSError as exc:
+    if isinstance(exc, OSError):
         # a file or directory the user named cannot be read or written (any command): bad input, one line
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"delkit: error: {where}{exc.strerror or exc}; check the path and its permissions", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
+    if isinstance(exc, KeyboardInterrupt):
         print("delkit: interrupted", file=sys.stderr)
         return 130
-    except Exception as exc:
+    if isinstance(exc, Exception) and hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
         # usage errors (unknown option, bad option value, ...) from the click that typer bundles: one line too
-        if hasattr(exc, "format_message") and hasattr(exc, "exit_code"):
-            print(_usage_line(exc), file=sys.stderr)
-            return int(exc.exit_code)
-        raise
-    return result if isinstance(result, int) else 0
+        print(_usage_line(exc), file=sys.stderr)
+        return int(exc.exit_code)  # type: ignore[attr-defined]
+    raise exc
 
 
 def _usage_line(exc: Exception) -> str:

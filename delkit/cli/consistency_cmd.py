@@ -22,7 +22,13 @@ def _config(**kw):
 
     if kw["epochs"] < 1:  # an episode without a planning step has no Not-AC rate and no mean J
         raise SimulationError(f"--epochs must be at least 1 (the paper uses 200), got {kw['epochs']}")
-    return SARConfig(**kw)
+    cfg = SARConfig(**kw)  # checks the ranges first
+    from delkit.resources import require, sar_bytes
+
+    require(sar_bytes(cfg.width, cfg.height, cfg.robots, cfg.epochs),
+            f"a {cfg.width}×{cfg.height} grid with {cfg.robots} robots over {cfg.epochs} epochs",
+            "use a smaller --width/--height or fewer --epochs")
+    return cfg
 
 
 def _progress():
@@ -56,19 +62,23 @@ def register(app: typer.Typer) -> None:
     @sub.command("table")
     def table(
         epochs: int = typer.Option(200, "--epochs", help="Planning steps per episode (E)."),
-        seed: int = typer.Option(0, "--seed", help="Seed of the world, the sensor noise and the comm failures."),
+        seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1,
+                                    help="Seed of the world, the sensor noise and the comm failures."),
         width: int = typer.Option(10, "--width", help="Grid width (cells)."),
         height: int = typer.Option(10, "--height", help="Grid height (cells)."),
         policy: str = typer.Option("all", "--policy", help="What a triggered robot sends: all|greedy|oldest."),
         trigger: str = typer.Option("paper", "--trigger", help="T1/T2 rules: paper|useful."),
         tie_break: str = typer.Option("random", "--tie-break", help="Ties in J: random (common seed)|index."),
+        resend: bool = typer.Option(False, "--resend/--no-resend",
+                                    help="Baseline-I re-sends a backlog lost on a restricted step (ours, not the "
+                                         "paper's; off by default)."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Reproduce every row of Table I (Input, Algorithm, Not-AC, COMM, Time) beside the paper's."""
         from sim.sar import ALGORITHM_NAMES, INIT_NAMES, PAPER_TABLE_I, table_i
 
         base = _config(epochs=epochs, seed=seed, width=width, height=height, policy=policy, trigger=trigger,
-                       tie_break=tie_break)
+                       tie_break=tie_break, resend=resend)
         total = len(PAPER_TABLE_I) * 3
         with _progress() as bar:
             task = bar.add_task("Table I episodes", total=total)
@@ -100,12 +110,15 @@ def register(app: typer.Typer) -> None:
         init: str = typer.Option("max-entropy", "--init", help="Prior: max-entropy|entropy."),
         comm_restr: int = typer.Option(0, "--comm-restr", help="Random steps on which the channel is down."),
         epochs: int = typer.Option(200, "--epochs", help="Planning steps (E)."),
-        seed: int = typer.Option(0, "--seed", help="Seed."),
+        seed: int = typer.Option(0, "--seed", min=0, max=2**63 - 1, help="Seed."),
         width: int = typer.Option(10, "--width", help="Grid width (cells)."),
         height: int = typer.Option(10, "--height", help="Grid height (cells)."),
         policy: str = typer.Option("all", "--policy", help="What a triggered robot sends: all|greedy|oldest."),
         trigger: str = typer.Option("paper", "--trigger", help="T1/T2 rules: paper|useful."),
         tie_break: str = typer.Option("random", "--tie-break", help="Ties in J: random|index."),
+        resend: bool = typer.Option(False, "--resend/--no-resend",
+                                    help="Baseline-I re-sends a backlog lost on a restricted step (ours, not the "
+                                         "paper's; off by default)."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Run one search-and-rescue episode and report Not-AC, COMMs and time."""
@@ -116,7 +129,7 @@ def register(app: typer.Typer) -> None:
             raise SimulationError(f"--algorithm {algorithm!r} is not one of {', '.join(ALGORITHM_CHOICES)}")
         cfg = _config(robots=robots, primitives=primitives, init=init, comm_restr=comm_restr, epochs=epochs,
                       seed=seed, width=width, height=height, policy=policy, trigger=trigger,
-                      tie_break=tie_break)
+                      tie_break=tie_break, resend=resend)
         algs = ALGORITHMS if algorithm == "all" else (algorithm,)
         results = []
         with _progress() as bar:

@@ -78,6 +78,12 @@ def _arms(out: Path) -> dict[str, Any]:
     return res
 
 
+def _epico(out: Path) -> dict[str, Any]:
+    from planners.hierarchy import run_demo as epico_demo
+
+    return epico_demo(out)
+
+
 SECTIONS: list[tuple[str, Callable[[Path], dict[str, Any]]]] = [
     ("DEL puzzles (literature answers)", _puzzles),
     ("z3 proofs and counter-models", _verify),
@@ -85,6 +91,7 @@ SECTIONS: list[tuple[str, Callable[[Path], dict[str, Any]]]] = [
     ("Action consistency (VERIFYAC/ENFORCEAC)", _consistency),
     ("Exploration with epistemic task allocation", _explore),
     ("Two Franka Pandas execute a plan", _arms),
+    ("e-PICO: epistemic plan to primitive arm actions", _epico),
 ]
 
 
@@ -94,6 +101,8 @@ def run_demo(out: Path, only: list[str] | None = None) -> list[dict[str, Any]]:
 
     from delkit.errors import DelkitError
 
+    if any(not o.strip() for o in only or ()):  # '' is in every title: it would run everything
+        raise DelkitError("--only needs a word of a section title, e.g. --only puzzles; it was empty")
     unmatched = [o for o in only or () if not any(o.lower() in title.lower() for title, _ in SECTIONS)]
     if unmatched:  # a typo would otherwise run nothing and report success
         raise DelkitError(f"--only {unmatched[0]!r} matches no demo section; sections: "

@@ -5,19 +5,154 @@ Exit statuses: ``plan`` — 0 plan found, 1 no plan exists (state space exhauste
 limits (the limit also covers reading, grounding and building the initial state); ``check`` — 0 valid,
 1 invalid; all — 2 bad input. A failure is never printed as an empty plan. The language of a file is
 decided by its content. Heavy imports stay inside the commands.
+
+Start-up: typer (with the click and pydantic it imports) costs about 0.1 s, half of the 0.2 s budget of a
+``delkit plan`` run on a small instance. :func:`fast_args` therefore parses the *plain* forms of a ``plan``
+/ ``check`` command line by hand (known options, well-formed values) and the commands run without typer;
+anything else (``--help``, an unknown option, a malformed value, a missing argument, ``--``) returns None
+and goes through typer as before, so help texts, usage errors and exit statuses stay typer's own. The
+command bodies (:func:`run_plan`, :func:`run_check`) are shared by both paths.
 """
 
 from __future__ import annotations
 
 import json
+import re
+import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
-import typer
+if TYPE_CHECKING:
+    import typer
+
+
+def _echo(text: str) -> None:
+    print(text, file=sys.stdout, flush=False)
+
+
+def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeout: float = 60.0,
+             max_nodes: int | None = None, max_memory: float = 8192.0, engine: str = "auto",
+             allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
+             strict: bool = False) -> int:
+    """The body of ``delkit plan``; returns the exit status."""
+    from delkit.errors import PlanningError
+    from planners.epistemic import Limits, SearchResult, best_first, bfs
+    from planners.lang import load_task
+    from planners.lang.initial import LoadTimeout
+
+    if search not in ("bfs", "gbfs", "astar"):
+        raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
+    Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
+    from delkit.resources import ResourceError, deadline
+
+    start = time.monotonic()
+    try:
+        # --timeout covers every phase: the readers check the deadline while grounding and building the initial
+        # state; the alarm (a little later) is the backstop for any phase that does not check it
+        with deadline(timeout + 2.0, "reading, grounding and building the initial state"):
+            task = load_task(spec, problem, list(library or ()), deadline=start + timeout, strict=strict)
+    except (LoadTimeout, ResourceError) as exc:
+        if isinstance(exc, ResourceError) and "--timeout" not in str(exc) and "time limit" not in str(exc):
+            raise
+        res = SearchResult(status="limit", plan=None, expanded=0, generated=0,
+                           seconds=time.monotonic() - start, search=search, reason=str(exc))
+        if as_json:
+            _echo(json.dumps({**res.to_json(), "task": str(problem or spec)}))
+        else:
+            _echo(f"NO PLAN (timeout): {exc} — {res.seconds:.3f} s")
+        return 3
+    limits = Limits(timeout=max(0.0, timeout - (time.monotonic() - start)), max_expanded=max_nodes,
+                    max_memory_mb=max_memory)
+    from planners.lang.epddl_run import space_for
+
+    try:
+        # the search checks its own limit; the alarm (a little later) is the backstop for every other phase
+        with deadline(limits.timeout + 2.0, "building the search space or searching"):
+            space = space_for(task, engine, allow_inconsistent)
+            res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
+    except ResourceError as exc:
+        if "--timeout" not in str(exc) and "time limit" not in str(exc):
+            raise
+        res = SearchResult("limit", None, 0, 0, time.monotonic() - start, search,
+                           reason=f"--timeout {timeout:g} s reached: {exc}")
+    out = res.to_json()
+    out["task"] = task.name
+    if as_json:
+        _echo(json.dumps(out))
+    else:
+        if res.solved:
+            _echo(f"plan of length {res.length} ({search}, {res.expanded} expanded, {res.generated} "
+                  f"generated, {res.seconds:.3f} s):")
+            for i, a in enumerate(res.plan or (), 1):
+                _echo(f"  {i}. {a}")
+            if not res.plan:
+                _echo("  (empty: the goal holds in the initial state)")
+        else:
+            _echo(f"NO PLAN ({res.status}): {res.reason} — {res.expanded} expanded, {res.generated} "
+                  f"generated, {res.seconds:.3f} s")
+    return 0 if res.solved else (1 if res.status == "unsolvable" else 3)
+
+
+def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path | None = None,
+              allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
+              strict: bool = False, timeout: float = 0.0) -> int:
+    """The body of ``delkit check``; returns the exit status (``timeout`` 0: no limit)."""
+    from delkit.resources import deadline
+
+    if timeout < 0 or timeout != timeout:
+        from delkit.errors import ParseError
+
+        raise ParseError(f"--timeout {timeout!r}: use a number of seconds ≥ 0 (0: no limit)", source="delkit check")
+    with deadline(timeout, "delkit check"):
+        return _run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict)
+
+
+def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | None, allow_inconsistent: bool,
+               as_json: bool, library: list[Path] | None, strict: bool) -> int:
+    from delkit.errors import ParseError, io_reason
+    from planners.lang import load_task
+    from planners.validate import check_plan, parse_property, read_plan
+
+    if len(files) not in (2, 3):
+        raise ParseError(f"expected SPEC PLAN_FILE or DOMAIN PROBLEM PLAN_FILE, got {len(files)} file(s)",
+                         source="delkit check")
+    task = load_task(files[0], files[1] if len(files) == 3 else None, list(library or ()), strict=strict)
+    steps = read_plan(files[-1])
+    from planners.lang.epddl_run import check_event_plan, has_event_actions
+
+    if has_event_actions(task) and (prop or props_file is not None):
+        raise ParseError("--property/--properties are not supported for EPDDL (2026) tasks yet",
+                         source="delkit check")
+    texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop or ()]   # (text, source, line)
+    if props_file is not None:
+        try:
+            lines = props_file.read_text().splitlines()
+        except (OSError, UnicodeDecodeError) as exc:
+            raise ParseError(f"cannot read: {io_reason(exc)}", source=str(props_file)) from None
+        texts += [(ln.strip(), str(props_file), i) for i, ln in enumerate(lines, 1)
+                  if ln.strip() and not ln.lstrip().startswith("#")]
+    properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
+    if has_event_actions(task):
+        res = check_event_plan(task, steps, plan_source=str(files[-1]))
+    else:
+        res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent,
+                         plan_source=str(files[-1]))
+    if as_json:
+        _echo(json.dumps(res.to_json()))
+    elif res.valid:
+        _echo(f"valid: {len(steps)} step(s), goal reached"
+              + (f", {len(properties)} propert{'y' if len(properties) == 1 else 'ies'} hold"
+                 if properties else ""))
+    else:
+        _echo(f"INVALID at step {res.step} ({res.action or 'initial state'}): {res.reason}")
+    return 0 if res.valid else 1
 
 
 def register(app: typer.Typer) -> None:
     """Attach ``plan`` and ``check`` to the top-level app."""
+    import typer
 
     @app.command("plan")
     def plan_command(
@@ -36,47 +171,8 @@ def register(app: typer.Typer) -> None:
         as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
         """Find a plan (BFS: of minimal length) for an mA*, E-PDDL (2021) or EPDDL (2026) problem."""
-        from delkit.errors import PlanningError
-        from planners.epistemic import Limits, SearchResult, best_first, bfs
-        from planners.lang import load_task
-        from planners.lang.initial import LoadTimeout
-
-        if search not in ("bfs", "gbfs", "astar"):
-            raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
-        Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
-        start = time.monotonic()
-        try:
-            task = load_task(spec, problem, library, deadline=start + timeout, strict=strict)
-        except LoadTimeout as exc:
-            res = SearchResult(status="limit", plan=None, expanded=0, generated=0,
-                               seconds=time.monotonic() - start, search=search, reason=str(exc))
-            if as_json:
-                typer.echo(json.dumps({**res.to_json(), "task": str(problem or spec)}))
-            else:
-                typer.echo(f"NO PLAN (timeout): {exc} — {res.seconds:.3f} s")
-            raise typer.Exit(3) from None
-        limits = Limits(timeout=max(0.0, timeout - (time.monotonic() - start)), max_expanded=max_nodes,
-                        max_memory_mb=max_memory)
-        from planners.lang.epddl_run import space_for
-
-        space = space_for(task, engine, allow_inconsistent)
-        res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
-        out = res.to_json()
-        out["task"] = task.name
-        if as_json:
-            typer.echo(json.dumps(out))
-        else:
-            if res.solved:
-                typer.echo(f"plan of length {res.length} ({search}, {res.expanded} expanded, {res.generated} "
-                           f"generated, {res.seconds:.3f} s):")
-                for i, a in enumerate(res.plan or (), 1):
-                    typer.echo(f"  {i}. {a}")
-                if not res.plan:
-                    typer.echo("  (empty: the goal holds in the initial state)")
-            else:
-                typer.echo(f"NO PLAN ({res.status}): {res.reason} — {res.expanded} expanded, {res.generated} "
-                           f"generated, {res.seconds:.3f} s")
-        raise typer.Exit(0 if res.solved else (1 if res.status == "unsolvable" else 3))
+        raise typer.Exit(run_plan(spec, problem, search, timeout, max_nodes, max_memory, engine,
+                                  allow_inconsistent, as_json, library, strict))
 
     @app.command("check")
     def check_command(
@@ -88,46 +184,11 @@ def register(app: typer.Typer) -> None:
         props_file: Path | None = typer.Option(None, "--properties", help="file with one property a line"),
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="do not fail when an agent comes to believe ⊥"),
+        timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="wall-clock limit in seconds (0: none)"),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
         """Replay a plan on a spec and check its executability, goal and properties."""
-        from delkit.errors import ParseError, io_reason
-        from planners.lang import load_task
-        from planners.validate import check_plan, parse_property, read_plan
-
-        if len(files) not in (2, 3):
-            raise ParseError(f"expected SPEC PLAN_FILE or DOMAIN PROBLEM PLAN_FILE, got {len(files)} file(s)",
-                             source="delkit check")
-        task = load_task(files[0], files[1] if len(files) == 3 else None, library, strict=strict)
-        steps = read_plan(files[-1])
-        from planners.lang.epddl_run import check_event_plan, has_event_actions
-
-        if has_event_actions(task) and (prop or props_file is not None):
-            raise ParseError("--property/--properties are not supported for EPDDL (2026) tasks yet",
-                             source="delkit check")
-        texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop]   # (text, source, line)
-        if props_file is not None:
-            try:
-                lines = props_file.read_text().splitlines()
-            except (OSError, UnicodeDecodeError) as exc:
-                raise ParseError(f"cannot read: {io_reason(exc)}", source=str(props_file)) from None
-            texts += [(ln.strip(), str(props_file), i) for i, ln in enumerate(lines, 1)
-                      if ln.strip() and not ln.lstrip().startswith("#")]
-        properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
-        if has_event_actions(task):
-            res = check_event_plan(task, steps, plan_source=str(files[-1]))
-        else:
-            res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent,
-                             plan_source=str(files[-1]))
-        if as_json:
-            typer.echo(json.dumps(res.to_json()))
-        elif res.valid:
-            typer.echo(f"valid: {len(steps)} step(s), goal reached"
-                       + (f", {len(properties)} propert{'y' if len(properties) == 1 else 'ies'} hold"
-                          if properties else ""))
-        else:
-            typer.echo(f"INVALID at step {res.step} ({res.action or 'initial state'}): {res.reason}")
-        raise typer.Exit(0 if res.valid else 1)
+        raise typer.Exit(run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict))
 
     @app.command("convert")
     def convert_command(
@@ -168,3 +229,83 @@ def register(app: typer.Typer) -> None:
         else:
             for kind, path in written.items():
                 typer.echo(f"{kind}: {path}")
+
+
+# ---------------------------------------------------------------------------------------------- fast path
+_NUM = re.compile(r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)\Z")
+_INT = re.compile(r"[0-9]+\Z")
+
+# option -> (keyword, kind); kind: flag, str, float, int, path, list
+_PLAN_OPTS = {"--search": ("search", "str"), "--timeout": ("timeout", "float"), "--max-nodes": ("max_nodes", "int"),
+              "--max-memory": ("max_memory", "float"), "--engine": ("engine", "str"),
+              "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),
+              "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag")}
+_CHECK_OPTS = {"--property": ("prop", "list"), "-p": ("prop", "list"), "--properties": ("props_file", "path"),
+               "--timeout": ("timeout", "float"),
+               "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),
+               "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag")}
+
+
+def _value(kind: str, text: str) -> Any:
+    """The option value, or raise ValueError for anything but its plain well-formed spelling."""
+    if kind in ("float", "int"):
+        if not (_INT if kind == "int" else _NUM).match(text):
+            raise ValueError(text)
+        return int(text) if kind == "int" else float(text)
+    if not text or text.startswith("-"):
+        raise ValueError(text)
+    return Path(text) if kind in ("path", "plist") else text
+
+
+def fast_args(argv: list[str]) -> Callable[[], int] | None:
+    """A call of :func:`run_plan` / :func:`run_check` for a plain ``plan`` / ``check`` command line, or None
+    (the caller then lets typer parse it: help, usage errors and every unusual spelling stay typer's)."""
+    if not argv or argv[0] not in ("plan", "check"):
+        return None
+    opts = _PLAN_OPTS if argv[0] == "plan" else _CHECK_OPTS
+    kw: dict[str, Any] = {}
+    pos: list[Path] = []
+    i = 1
+    try:
+        while i < len(argv):
+            arg = argv[i]
+            i += 1
+            if not arg.startswith("-"):
+                if not arg:
+                    return None
+                pos.append(Path(arg))
+                continue
+            # --opt=value splits at '='; a short option is only taken alone (click reads -pX as -p X)
+            name, eq, inline = arg.partition("=") if arg.startswith("--") else (arg, "", "")
+            spec = opts.get(name)
+            if spec is None:
+                return None  # --help, --, -x, unknown options: typer's business
+            key, kind = spec
+            if kind == "flag":
+                if eq:
+                    return None
+                kw[key] = True
+                continue
+            if eq:
+                text = inline
+            elif i < len(argv):
+                text = argv[i]
+                i += 1
+            else:
+                return None
+            value = _value(kind, text)
+            if kind in ("list", "plist"):
+                kw.setdefault(key, []).append(value)
+            elif key in kw:
+                return None  # repeated single-valued option: let typer decide
+            else:
+                kw[key] = value
+    except ValueError:
+        return None
+    if argv[0] == "plan":
+        if not 1 <= len(pos) <= 2:
+            return None
+        return lambda: run_plan(pos[0], pos[1] if len(pos) == 2 else None, **kw)
+    if not pos:
+        return None
+    return lambda: run_check(pos, **kw)

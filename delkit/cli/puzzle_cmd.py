@@ -37,33 +37,45 @@ def register(app: typer.Typer) -> None:
     def muddy(children: int = typer.Option(3, "--children", "-n", help="number of children N"),
               muddy: int = typer.Option(2, "--muddy", "-m", help="number of muddy children M (1..N)"),
               symbolic: bool = typer.Option(False, "--symbolic", help="use the BDD backend (large N)"),
+              timeout: float = typer.Option(0.0, "--timeout", min=0.0,
+                                            help="wall-clock limit in seconds (0: none)"),
               as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Muddy children: "nobody knows" is announced M-1 times, then the muddy children know."""
         from delkit.errors import ModelError
+        from delkit.resources import deadline
 
         if children < 1 or not 1 <= muddy <= children:
             raise ModelError(f"puzzle muddy: need 1 <= --muddy <= --children, got --children {children} "
                              f"--muddy {muddy}")
-        if symbolic:
-            from delkit.symbolic import muddy_symbolic
+        with deadline(timeout, f"puzzle muddy -n {children}"):
+            if symbolic:
+                from delkit.symbolic import muddy_symbolic
 
-            data = muddy_symbolic(children, muddy).as_dict()
-        else:
-            from delkit.puzzles.muddy import solve_muddy
+                data = muddy_symbolic(children, muddy).as_dict()
+            else:
+                from delkit.puzzles.muddy import solve_muddy
 
-            data = solve_muddy(children, muddy).as_dict()
+                data = solve_muddy(children, muddy).as_dict()
         _emit(data, as_json, f"muddy children N={children}, M={muddy}")
 
     @sub.command("sum-product")
     def sum_product(limit: int = typer.Option(100, "--limit", help="x + y <= LIMIT"),
+                    timeout: float = typer.Option(0.0, "--timeout", min=0.0,
+                                                  help="wall-clock limit in seconds (0: none)"),
                     as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Freudenthal's Sum and Product: the unique solution (4, 13) for 1 < x < y, x + y <= 100."""
         from delkit.errors import ModelError
         from delkit.puzzles.sum_product import solve_sum_product
+        from delkit.resources import deadline
 
         if limit < 5:
             raise ModelError(f"puzzle sum-product: --limit must be at least 5, got {limit}")
-        _emit(solve_sum_product(limit).as_dict(), as_json, "Sum and Product")
+        from delkit.resources import require, sum_product_bytes
+
+        require(sum_product_bytes(limit), f"puzzle sum-product --limit {limit}", "use a smaller --limit")
+        with deadline(timeout, f"puzzle sum-product --limit {limit}"):
+            data = solve_sum_product(limit).as_dict()
+        _emit(data, as_json, "Sum and Product")
 
     @sub.command("cheryl")
     def cheryl(as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:

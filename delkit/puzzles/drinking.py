@@ -11,28 +11,40 @@ public announcement of the true one of
 Literature answer: if everybody wants a drink, logicians 1…n−1 say "I don't know" and the last says
 "yes"; otherwise the first logician who does not want one says "no" (those before her "I don't know")
 and everyone after her knows the answer is "no".
+
+Symbolically (:func:`drinking_structure`, SMCDEL's ``thirstyScene``): V = {w_i}, θ = ⊤, O_i = {w_i}; the
+same protocol runs on it (``solve_drinking(…, symbolic=True)``), and :func:`thirsty_formula` is SMCDEL's
+single nested formula ``⋀_k ¬Kw_k all ∧ [!¬Kw_1 all]…[!¬Kw_{n−1} all] K_n all`` (true iff all want).
 """
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from delkit.formula import K, Kw, Not, Prop, conj
+from delkit.formula import Announce, Formula, K, Kw, Not, Prop, conj
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
-__all__ = ["DrinkingResult", "drinking_model", "solve_drinking"]
+__all__ = ["DrinkingResult", "drinking_model", "drinking_structure", "solve_drinking", "thirsty_formula",
+           "check_thirsty"]
 
 
 @dataclass(frozen=True)
 class DrinkingResult:
+    """The answers in turn; ``seconds``: CPU time of building the model/structure and running the protocol."""
+
     wants: tuple[bool, ...]
     answers: tuple[str, ...]
+    engine: str = "explicit"
+    seconds: float = 0.0
 
     def as_dict(self) -> dict:
-        return {"puzzle": "drinking", "wants": list(self.wants), "answers": list(self.answers)}
+        return {"puzzle": "drinking", "engine": self.engine, "wants": list(self.wants),
+                "answers": list(self.answers), "seconds": self.seconds}
 
 
 def drinking_model(wants: tuple[bool, ...]) -> KripkeModel:
@@ -46,15 +58,59 @@ def drinking_model(wants: tuple[bool, ...]) -> KripkeModel:
     return KripkeModel(tuple(f"w{i}" for i in range(n)), tuple(rels), val, rels, (actual,))
 
 
-def solve_drinking(wants: tuple[bool, ...]) -> DrinkingResult:
-    """Each logician in turn announces her truthful answer; returns the answers."""
-    model = drinking_model(wants)
-    everyone = conj(Prop(p) for p in model.props)
+def drinking_structure(wants: tuple[bool, ...]) -> Any:
+    """The knowledge structure: V = {w_i}, θ = ⊤, logician ``l<i>`` observes w_i; actual state ``wants``."""
+    from delkit.symbolic import KnowledgeStructure
+
+    props = [f"w{i}" for i in range(len(wants))]
+    return KnowledgeStructure.create(props, observed={f"l{i}": [p] for i, p in enumerate(props)},
+                                     actual=conj(Prop(p) if w else Not(Prop(p)) for p, w in zip(props, wants,
+                                                                                                 strict=True)))
+
+
+def solve_drinking(wants: tuple[bool, ...], *, symbolic: bool = False) -> DrinkingResult:
+    """Each logician in turn announces her truthful answer; returns the answers.
+
+    ``symbolic`` runs the same protocol on :func:`drinking_structure` (BDDs; hundreds of logicians).
+    """
+    if symbolic:
+        import delkit.symbolic  # noqa: F401 - imported before the clock starts
+    t0 = time.process_time()
+    model = drinking_structure(wants) if symbolic else drinking_model(wants)
+    agents = [f"l{i}" for i in range(len(wants))]
+    everyone = conj(Prop(f"w{i}") for i in range(len(wants)))
     answers = []
-    for agent in model.agents:
+    for agent in agents:
         options = (("yes", K(agent, everyone)), ("no", K(agent, Not(everyone))),
                    ("I don't know", Not(Kw(agent, everyone))))
         word, phi = next((word, phi) for word, phi in options if model.holds(phi))
         answers.append(word)
         model = model.announce(phi)
-    return DrinkingResult(tuple(wants), tuple(answers))
+    return DrinkingResult(tuple(wants), tuple(answers), "symbolic" if symbolic else "explicit",
+                          time.process_time() - t0)
+
+
+def thirsty_formula(n: int) -> Formula:
+    """SMCDEL's ``thirstyF n``: nobody knows whether all want, and after the first n−1 logicians announce
+    that they don't know, the last one knows that all want: true at the state where everybody wants."""
+    everyone = conj(Prop(f"w{i}") for i in range(n))
+
+    def does_not_know(i: int) -> Formula:
+        return Not(Kw(f"l{i}", everyone))
+
+    stack: Formula = K(f"l{n - 1}", everyone)
+    for i in reversed(range(n - 1)):
+        stack = Announce(does_not_know(i), stack)
+    return conj([conj(does_not_know(i) for i in range(n)), stack])
+
+
+def check_thirsty(n: int, *, symbolic: bool = True) -> tuple[bool, float]:
+    """Truth of :func:`thirsty_formula` at the state where all n want (SMCDEL's ``thirstyCheck``), and the
+    CPU seconds of building the structure and evaluating the formula (formula construction included)."""
+    if symbolic:
+        import delkit.symbolic  # noqa: F401 - imported before the clock starts
+    t0 = time.process_time()
+    wants = (True,) * n
+    model = drinking_structure(wants) if symbolic else drinking_model(wants)
+    ok = model.holds(thirsty_formula(n))
+    return bool(ok), time.process_time() - t0

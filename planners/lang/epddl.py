@@ -30,7 +30,11 @@ from delkit.formula import TOP, C, Formula, Implies, K, Not, Or, Prop, conj
 from planners.lang.initial import finitary_s5
 from planners.task import ActionSpec, Task, merge_observers
 
-__all__ = ["parse_epddl", "load_epddl", "SExp"]
+__all__ = ["parse_epddl", "load_epddl", "SExp", "EXTENSION_SECTIONS"]
+
+#: Domain sections that other delkit modules read and this reader skips (a strict reader must accept them):
+#: ``(:macro NAME :parameters (...) :steps ((action ?x ...) ...))`` — macro-actions, ``planners.macros``.
+EXTENSION_SECTIONS = frozenset({":macro"})
 
 
 @dataclass(frozen=True)
@@ -136,12 +140,24 @@ def _head(x: SExp) -> str | None:
     return None
 
 
-def _sections(x: SList, ctx: _Ctx, start: int) -> dict[str, SExp]:
+#: the sections this reader understands; anything else is an error, not ignored (``:macro``: macro actions)
+SECTIONS = {"domain": (":requirements", ":types", ":predicates", ":constants", ":action", ":macro"),
+            "problem": (":domain", ":requirements", ":agents", ":objects", ":depth", ":init", ":goal")}
+ACTION_FIELDS = (":act_type", ":parameters", ":precondition", ":effect", ":observers", ":p_observers")
+
+
+def _sections(x: SList, ctx: _Ctx, start: int, kind: str = "domain") -> dict[str, SExp]:
     out: dict[str, SExp] = {}
     for it in x.items[start:]:
         h = _head(it)
         if h is None or not h.startswith(":"):
             raise ctx.err("expected a section like (:predicates ...)", it)
+        if h not in SECTIONS[kind]:
+            raise ctx.err(f"unknown {kind} section {h!r}", it, expected=list(SECTIONS[kind]))
+        if h in out and h not in (":action", ":macro"):
+            prev = out[h]
+            raise ctx.err(f"second {h} section (the first is at line {prev.line}, column {prev.col}); merge them",
+                          it)
         out[h] = it
     return out
 
@@ -329,7 +345,7 @@ def _define(x: SExp, kind: str, ctx: _Ctx) -> tuple[str, dict[str, SExp], SList]
     if len(name_node.items) > 2 or len(name_node.items) == 2 and not isinstance(name_node.items[1], Atom):
         raise ctx.err(f"expected ({kind} NAME) with one plain name", name_node)
     name = name_node.items[1].text if len(name_node.items) > 1 else kind  # type: ignore[union-attr]
-    return name, _sections(x, ctx, 2), x
+    return name, _sections(x, ctx, 2, kind), x
 
 
 def parse_epddl(domain_text: str, problem_text: str | None = None, *, domain_source: str = "<domain>",
@@ -339,8 +355,11 @@ def parse_epddl(domain_text: str, problem_text: str | None = None, *, domain_sou
     dx = read_sexps(domain_text, domain_source)
     px: list[SExp]
     if problem_text is None:
-        dom = [d for d in dx if _head(d) == "define" and _head(d.items[1]) == "domain"]  # type: ignore[union-attr]
-        prob = [d for d in dx if _head(d) == "define" and _head(d.items[1]) == "problem"]  # type: ignore[union-attr]
+        def kind(d: SExp) -> str | None:  # ``(define (domain x) ...)`` → "domain"; ``(define)`` → None
+            return _head(d.items[1]) if _head(d) == "define" and len(d.items) > 1 else None  # type: ignore[union-attr]
+
+        dom = [d for d in dx if kind(d) == "domain"]
+        prob = [d for d in dx if kind(d) == "problem"]
         if not prob:
             raise ParseError("no (define (problem ...)) given: pass the problem file too", source=domain_source)
         dx, px, problem_source = dom, prob, domain_source
@@ -376,6 +395,9 @@ def parse_epddl(domain_text: str, problem_text: str | None = None, *, domain_sou
         if not isinstance(p, SList) or not p.items or not isinstance(p.items[0], Atom):
             raise ctx.err("expected (predicate ?x - type ...)", p)
         params = _typed_list(p.items[1:], ctx)
+        if p.items[0].text in ("true", "false", "top"):  # formulas (and --property) read them as constants
+            raise ctx.err(f"predicate name {p.items[0].text!r} clashes with a constant of the formula syntax; "
+                          f"rename it", p.items[0])
         ctx.predicates[p.items[0].text] = [t for _, t, _ in params]
         for combo in itertools.product(*[ctx.of_type(t, node) for _, t, node in params]):
             props.append("_".join([p.items[0].text, *combo]))
@@ -391,9 +413,18 @@ def parse_epddl(domain_text: str, problem_text: str | None = None, *, domain_sou
     common: list[tuple[Formula, str]] = []
     others: list[tuple[Formula, str]] = []
     init = psec.get(":init")
+    stated: dict[str, tuple[bool, SExp]] = {}  # fluent ↦ (value, statement) of the actual world's literals
     for it in (init.items[1:] if init is not None else ()):  # type: ignore[union-attr]
         where = f"{problem_source}:{it.line}:{it.col}"
         f = g.formula(it, {})
+        lit = (f.name, True) if isinstance(f, Prop) else (
+            (f.arg.name, False) if isinstance(f, Not) and isinstance(f.arg, Prop) else None)
+        if lit is not None and lit[0] in stated and stated[lit[0]][0] != lit[1]:
+            first = stated[lit[0]][1]
+            raise ctx.err(f":init says both {lit[0]} and not {lit[0]} (the other statement is at line "
+                          f"{first.line}, column {first.col}); the initial state is contradictory", it)
+        if lit is not None:
+            stated[lit[0]] = (lit[1], it)
         if isinstance(f, Prop):
             pointed[f.name] = True
         elif isinstance(f, Not) and isinstance(f.arg, Prop):
@@ -421,12 +452,17 @@ def _ground_action(sec: SList, g: _Grounder, ctx: _Ctx) -> list[ActionSpec]:
     while i < len(items):
         k = items[i]
         if not isinstance(k, Atom) or not k.text.startswith(":") or i + 1 >= len(items):
-            raise ctx.err("expected ':keyword value' in the action", k,
-                          expected=[":act_type", ":parameters", ":precondition", ":effect", ":observers",
-                                    ":p_observers"])
+            raise ctx.err("expected ':keyword value' in the action", k, expected=list(ACTION_FIELDS))
+        if k.text not in ACTION_FIELDS:  # a misspelt :precondition would silently drop the precondition
+            raise ctx.err(f"unknown keyword {k.text!r} in action {name!r}", k, expected=list(ACTION_FIELDS))
+        if k.text in fields:
+            raise ctx.err(f"{k.text} given twice in action {name!r}", k)
         fields[k.text] = items[i + 1]
         i += 2
     kind_node = fields.get(":act_type")
+    if kind_node is not None and not isinstance(kind_node, Atom):
+        raise ctx.err(f"write ':act_type ontic|sensing|announcement' without parentheses in action {name!r}",
+                      kind_node, expected=["ontic", "sensing", "announcement"])
     kind = kind_node.text if isinstance(kind_node, Atom) else "ontic"
     kinds = {"ontic": "ontic", "sensing": "sensing", "announcement": "announcement"}
     if kind not in kinds:

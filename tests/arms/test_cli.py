@@ -49,7 +49,7 @@ def test_arms_run_inapplicable_plan_is_rejected_before_simulating(tmp_path, caps
 
 
 def test_bench_ik_json(capsys):
-    rc = main(["arms", "bench-ik", "--targets", "15", "--budget-ms", "20", "--json"])
+    rc = main(["arms", "bench-ik", "--targets", "15", "--budget-ms", "20", "--clock", "cpu", "--json"])
     out = json.loads(capsys.readouterr().out)
     assert rc == 0 and out["targets"] == 15
     names = [s["solver"] for s in out["solvers"]]

@@ -22,6 +22,7 @@ from planners.allocation import (
     minimise_makespan,
     schedule,
     ssi_bundles,
+    team_utility,
 )
 
 COST = euclidean_cost(1.0)
@@ -40,10 +41,26 @@ def test_ssi_bids_are_equation_22_and_top_n_win():
     assert b.bids[(1, 1)] == pytest.approx(50 - (1 + 5))
 
 
+def _bid_on_behalf_ok(ssi) -> bool:
+    """Robot 0 bids for the disconnected robot 1 from 1's *believed* state (at 9 m), not from its own."""
+    robots = [Robot(0, (0.0, 0.0)), Robot(1, (9.0, 0.0))]
+    a = ssi(robots, [Task(0, (10.0, 0.0), 1, 50.0)], COST, informer={0: 0, 1: 0})
+    return a.bundles == {0: (), 1: (0,)} and a.bids[(1, 0)] == pytest.approx(50 - 1) and a.bid_by[1] == 0
+
+
 def test_ssi_bids_on_behalf_of_disconnected_robots():
-    robots = [Robot(0, (0.0, 0.0)), Robot(1, (5.0, 0.0))]
-    a = ssi_bundles(robots, [Task(0, (1.0, 0.0))], COST, informer={0: 0, 1: 0})
-    assert a.bid_by == {0: 0, 1: 0}
+    assert _bid_on_behalf_ok(ssi_bundles)
+
+
+def test_a_broken_ssi_is_caught():
+    """Mutation check: bidding from the informer's own position (not the belief) must fail the test above."""
+
+    def from_informer(robots, tasks, cost, informer=None, initial=None, context=()):
+        pos = {r.id: r.xy for r in robots}
+        moved = [Robot(r.id, pos[(informer or {}).get(r.id, r.id)]) for r in robots]
+        return ssi_bundles(moved, tasks, cost, informer, initial, context)
+
+    assert not _bid_on_behalf_ok(from_informer)
 
 
 def test_too_few_robots_is_an_error():
@@ -81,14 +98,35 @@ def test_makespan_minimisation_never_worsens_and_keeps_locked_order(seed, nr, nt
         assert sum(t.id in b for b in better.values()) == t.n_required
 
 
-def test_gossip_auction_informs_everyone_with_a_cascade():
+def _cascade_ok(auction) -> bool:
     pos = {0: (0.0, 0.0), 1: (10.0, 0.0), 2: (20.0, 0.0), 3: (30.0, 0.0)}
-    g = gossip_auction([0], [1, 2, 3], pos, COST)
-    told = [x for b in g.values() for x in b]
-    assert sorted(told) == [1, 2, 3]
-    # robot 0 tells robot 1 first (closest); robot 1, once told, takes part (the cascade)
-    assert g[0][0] == 1
-    assert len(g) >= 2
+    g = auction([0], [1, 2, 3], pos, COST)
+    told = sorted(x for b in g.values() for x in b)
+    # robot 0 tells robot 1 first (closest); robot 1, once told, takes part (the cascade) and tells 3
+    return told == [1, 2, 3] and g.get(0, ())[:1] == (1,) and g.get(1, ()) == (3,)
+
+
+def test_gossip_auction_informs_everyone_with_a_cascade():
+    assert _cascade_ok(gossip_auction)
+
+
+def test_a_gossip_auction_without_cascade_is_caught():
+    def no_cascade(informed, must_know, positions, cost, ready=None):
+        return {informed[0]: tuple(sorted(must_know, key=lambda g: cost(positions[informed[0]], positions[g])))}
+
+    assert not _cascade_ok(no_cascade)
+
+
+def test_makespan_minimisation_resolves_a_deadlock():
+    robots = [Robot(0, (0.0, 0.0)), Robot(1, (10.0, 0.0))]
+    tasks = [Task(0, (0.0, 5.0), 2), Task(1, (10.0, 5.0), 2)]
+    tmap = {t.id: t for t in tasks}
+    dead = {0: (0, 1), 1: (1, 0)}
+    assert makespan(robots, dead, tmap, COST) == float("inf")
+    fixed = minimise_makespan(robots, dead, tasks, COST)
+    assert np.isfinite(makespan(robots, fixed, tmap, COST))
+    # mutation check: a "minimiser" that returns its input leaves the deadlock
+    assert makespan(robots, dict(dead), tmap, COST) == float("inf")
 
 
 def test_allocate_chains_algorithms_1_to_3():
@@ -114,11 +152,41 @@ def _brute_force(robots, tasks):
 @pytest.mark.parametrize("seed", range(4))
 def test_milp_is_exact_on_tiny_instances(seed):
     robots, tasks = _instance(seed, 2, 3)
-    opt, bundles = milp_allocation(robots, tasks, COST)
+    opt, bundles = milp_allocation(robots, tasks, COST, objective="makespan")
     truth = _brute_force(robots, tasks)
     assert makespan(robots, bundles, {t.id: t for t in tasks}, COST) == pytest.approx(truth, rel=1e-6, abs=1e-6)
     heur = allocate(robots, tasks, COST, connected=[0]).makespan
     assert heur >= truth - 1e-6
+
+
+def _brute_force_utility(robots, tasks):
+    best = float("-inf")
+    tmap = {t.id: t for t in tasks}
+    choices = [list(itertools.combinations([r.id for r in robots], t.n_required)) for t in tasks]
+    for assign in itertools.product(*choices):
+        per = {r.id: [t.id for t, who in zip(tasks, assign, strict=True) if r.id in who] for r in robots}
+        for orders in itertools.product(*[list(itertools.permutations(per[r.id])) for r in robots]):
+            best = max(best, team_utility(robots, dict(zip([r.id for r in robots], orders, strict=True)), tmap,
+                                          COST))
+    return best
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_utility_milp_is_eq_20_on_tiny_instances(seed):
+    robots, tasks = _instance(seed, 2, 3)
+    tmap = {t.id: t for t in tasks}
+    value, bundles = milp_allocation(robots, tasks, COST, objective="utility")
+    truth = _brute_force_utility(robots, tasks)
+    assert team_utility(robots, bundles, tmap, COST) == pytest.approx(truth, rel=1e-6, abs=1e-3)
+    assert value == pytest.approx(truth, rel=1e-4, abs=0.05)  # the MILP's ε precedence margins
+    heur = allocate(robots, tasks, COST, connected=[0])
+    assert team_utility(robots, heur.bundles, tmap, COST) <= truth + 1e-6
+
+
+def test_unknown_milp_objective_is_an_error():
+    robots, tasks = _instance(0, 2, 2)
+    with pytest.raises(PlanningError, match="objective"):
+        milp_allocation(robots, tasks, COST, objective="speed")
 
 
 def test_bundle_cost_is_the_travel_time():

@@ -9,7 +9,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from delkit.formula import K
-from sim.status_model import STATUSES, StatusModel, agent, eq14, eq18, status_prop
+from sim.status_model import STATUSES, FactoredStatusModel, StatusModel, agent, eq14, eq18, status_prop
 
 
 def _all_edges(n):
@@ -28,8 +28,9 @@ def test_unobserved_change_breaks_eq14_and_global_announcement_restores_it():
     assert m.knows_status(0, 0) and m.knows_status(1, 0)  # eq. 17: K_0 σ_0, and the group perceives it
     assert not m.knows_status(2, 0)
     assert not m.holds(eq14(m.statuses, _all_edges(3)))
-    # knowledge, not false belief: robot 2 still considers the true status possible (S5, no B ⊥)
-    assert m.model.is_s5()
+    # a false belief (the paper's Fig. 1): robot 2 believes robot 0 still explores; KD45, not S5
+    assert m.holds(K(agent(2), status_prop(0, "exploring")))
+    assert not m.model.is_s5() and m.model.is_kd45()
     m.announce_global()
     assert m.holds(eq14(m.statuses, _all_edges(3)))
     assert m.model.n_worlds == 1
@@ -73,3 +74,53 @@ def test_sizes(n):
     m = StatusModel.initial(n)
     m.change(n - 1, "home", group=[n - 1])
     assert m.model.n_worlds <= 4 ** n
+
+
+events = st.lists(st.tuples(st.integers(0, 2), st.sampled_from(STATUSES), st.sets(st.integers(0, 2))),
+                  min_size=1, max_size=7)
+
+
+@settings(max_examples=30, deadline=None)
+@given(events)
+def test_factored_model_agrees_with_the_joint_model(changes):
+    """Every second-order belief B_i B_j σ_k of the factored model (one delkit model per robot) is the one
+    the joint model (all statuses in one model) gives."""
+    joint, fact = StatusModel.initial(3), FactoredStatusModel(3)
+    for k, s, g in changes:
+        joint.change(k, s, group=g)
+        fact.tell(k, s, set(g) | {k})
+    table = fact.believed()
+    for i, j, k in itertools.product(range(3), repeat=3):
+        for idx, s in enumerate(STATUSES):
+            q = status_prop(k, s)
+            f = K(agent(i), q) if i == j else K(agent(i), K(agent(j), q))
+            assert joint.holds(f) == fact.holds(k, f)
+            assert joint.holds(f) == (table[i, j, k] == idx), (i, j, k, s)
+
+
+@settings(max_examples=20, deadline=None)
+@given(events, st.sets(st.integers(0, 2), min_size=2, max_size=3))
+def test_factored_eq18_then_eq14(changes, group):
+    fact = FactoredStatusModel(3)
+    for k, s, g in changes:
+        fact.tell(k, s, set(g) | {k})
+    group = sorted(group)
+    for k in group:
+        fact.tell(k, fact.statuses[k], group)
+    assert fact.check_eq18(group)
+    for k in range(3):
+        fact.tell(k, fact.statuses[k], range(3))
+    assert fact.check_eq14(_all_edges(3))
+    assert fact.false_beliefs() == 0 and fact.n_worlds() == [1, 1, 1]
+
+
+def test_factored_false_belief_and_revision_with_eight_robots():
+    fact = FactoredStatusModel(8)
+    fact.tell(3, "task", [3, 4])
+    assert fact.believed()[0, 0, 3] == STATUSES.index("exploring")  # robot 0 was out of range: false belief
+    assert fact.believed()[4, 0, 3] == STATUSES.index("exploring")  # 4 believes 0 still believes σ_3 = exploring
+    assert fact.believed()[4, 4, 3] == STATUSES.index("task")
+    assert fact.false_beliefs() == 6
+    assert not fact.check_eq18([0, 3])
+    fact.tell(3, "task", [0, 3])  # robot 0 meets robot 3: its belief is revised, not contradicted
+    assert fact.believed()[0, 0, 3] == STATUSES.index("task") and fact.check_eq18([0, 3])

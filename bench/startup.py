@@ -1,0 +1,130 @@
+"""Start-up benchmark: whole-process time of each ``delkit`` command on a tiny input.
+
+Each row runs ``python -c "from delkit.cli import main; ..." ARGS`` as a fresh process ``--runs`` times
+(after one untimed warm-up run that also fills the parser cache) and reports the median wall seconds and the
+median CPU seconds (user + system of the child, from ``RUSAGE_CHILDREN``) — the timed region is the whole
+process: interpreter start, imports, parsing, the command itself, exit. Two baselines are the bare
+interpreter and ``import numpy``. The plan/check inputs are ``CB_simple__pl_2`` from
+``../shared/benchmarks/mastar`` (skipped if absent) and ``specs/coin_in_the_box``.
+
+    .venv/bin/python bench/startup.py [--runs 7] [--json out.json] [--only plan,check]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+_MAIN = "import sys; from delkit.cli import main; sys.exit(main())"
+
+_MODEL = {
+    "delkit": "kripke-model", "version": 1, "props": ["m1", "m2"], "agents": ["c1", "c2"],
+    "worlds": [{"name": "mm", "true": ["m1", "m2"]}, {"name": "mc", "true": ["m1"]},
+               {"name": "cm", "true": ["m2"]}, {"name": "cc", "true": []}],
+    "relations": {"c1": {"blocks": [["mm", "cm"], ["mc", "cc"]]}, "c2": {"blocks": [["mm", "mc"], ["cm", "cc"]]}},
+    "designated": ["mm"],
+}
+
+
+def cases(tmp: Path) -> list[tuple[str, list[str]]]:
+    """(label, argv) of every command, on tiny inputs written into ``tmp``."""
+    from planners.lang import shared_benchmarks
+
+    model = tmp / "muddy2.json"
+    model.write_text(json.dumps(_MODEL))
+    coin = ROOT / "specs" / "coin_in_the_box"
+    out: list[tuple[str, list[str]]] = [
+        ("python -c pass (baseline)", ["<python>", "pass"]),
+        ("python -c 'import numpy' (baseline)", ["<python>", "import numpy"]),
+        ("delkit --help", ["--help"]),
+        ("delkit version", ["version"]),
+        ("delkit plan --help", ["plan", "--help"]),
+    ]
+    bench = shared_benchmarks()
+    if bench is not None:
+        cb = bench / "mastar" / "CB_simple" / "CB_simple__pl_2.txt"
+        plan_file = tmp / "cb2.plan"
+        plan_file.write_text("peek_up_key_a\nopen_a\n")
+        out += [("delkit plan CB_simple__pl_2", ["plan", str(cb)]),
+                ("delkit plan CB_simple__pl_2 --json", ["plan", str(cb), "--json"]),
+                ("delkit plan CB_simple__pl_2 --search astar", ["plan", str(cb), "--search", "astar"]),
+                ("delkit check CB_simple__pl_2 PLAN", ["check", str(cb), str(plan_file)]),
+                ("delkit check CB_simple__pl_2 PLAN -p 'at end opened'",
+                 ["check", str(cb), str(plan_file), "-p", "at end opened"])]
+    out += [("delkit plan coin (E-PDDL)", ["plan", str(coin / "domain.epddl"), str(coin / "problem.epddl")]),
+            ("delkit check coin (E-PDDL) --properties",
+             ["check", str(coin / "domain.epddl"), str(coin / "problem.epddl"), str(coin / "problem.plan"),
+              "--properties", str(coin / "problem.props")]),
+            ("delkit model show", ["model", "show", str(model)]),
+            ("delkit model check", ["model", "check", str(model), "K_c1 m2"]),
+            ("delkit model dot", ["model", "dot", str(model)]),
+            ("delkit model contract", ["model", "contract", str(model)]),
+            ("delkit prove 'K_a p -> p' -k 2", ["prove", "K_a p -> p", "-k", "2"]),
+            ("delkit puzzle drinking", ["puzzle", "drinking"]),
+            ("delkit puzzle muddy", ["puzzle", "muddy"]),
+            ("delkit arms scene", ["arms", "scene", str(tmp / "scene.xml")])]
+    return out
+
+
+def _once(argv: list[str], env: dict[str, str]) -> tuple[float, float, int]:
+    cmd = [sys.executable, "-c", argv[1]] if argv and argv[0] == "<python>" else [sys.executable, "-c", _MAIN, *argv]
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    proc = subprocess.run(cmd, env=env, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
+    wall = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    return wall, cpu, proc.returncode
+
+
+def run(runs: int, only: list[str] | None = None) -> list[dict]:
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    rows = []
+    with tempfile.TemporaryDirectory() as d:
+        for label, argv in cases(Path(d)):
+            if only and not any(o in label for o in only):
+                continue
+            _once(argv, env)  # warm-up: page cache, parser cache
+            walls, cpus, codes = [], [], set()
+            for _ in range(runs):
+                w, c, rc = _once(argv, env)
+                walls.append(w)
+                cpus.append(c)
+                codes.add(rc)
+            rows.append({"command": label, "argv": argv, "runs": runs, "wall_median": statistics.median(walls),
+                         "wall_min": min(walls), "cpu_median": statistics.median(cpus), "exit": sorted(codes)})
+    return rows
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--runs", type=int, default=7)
+    ap.add_argument("--only", default="", help="comma-separated substrings of the command labels to run")
+    ap.add_argument("--json", type=Path, default=None)
+    args = ap.parse_args()
+    rows = run(args.runs, [s for s in args.only.split(",") if s] or None)
+    w = max(len(r["command"]) for r in rows)
+    print(f"whole-process time, median of {args.runs} runs (python {sys.version.split()[0]}, {os.cpu_count()} cores, "
+          f"load average {os.getloadavg()[0]:.1f})")
+    print(f"| {'command':<{w}} | wall s (median) | wall s (min) | CPU s (median) | exit |")
+    print(f"|{'-' * (w + 2)}|----------------:|-------------:|---------------:|-----:|")
+    for r in rows:
+        print(f"| {r['command']:<{w}} | {r['wall_median']:15.3f} | {r['wall_min']:12.3f} | {r['cpu_median']:14.3f} | "
+              f"{','.join(map(str, r['exit'])):>4} |")
+    if args.json:
+        args.json.write_text(json.dumps(rows, indent=2))
+
+
+if __name__ == "__main__":
+    main()

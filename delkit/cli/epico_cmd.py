@@ -1,0 +1,210 @@
+"""``delkit epico``: the e-PICO pipeline (seed 004) — generate an instance, solve it to a primitive plan,
+print Tables 1 and 2. Heavy imports stay inside the commands."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    """Attach the ``epico`` sub-app."""
+    sub = typer.Typer(help="e-PICO (seed 004): epistemic plan → macros flattened → classical breakdown → "
+                           "primitive plan for the arms.", no_args_is_help=True)
+    app.add_typer(sub, name="epico")
+    from delkit.cli import epico_run  # `delkit epico run`: the plan executed in closed loop on the arms
+
+    epico_run.register(sub)
+
+    @sub.command("generate")
+    def generate_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
+                     colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
+                     seed: int | None = typer.Option(None, "--seed", help="random layout (default: the seed's)"),
+                     symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
+                                                    "(either may learn the other's; 4^n worlds instead of 2^n)"),
+                     out: Path = typer.Option(Path("epico"), "--out", help="output directory"),
+                     as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
+        """Write domain.epddl, problem.epddl (epistemic level), classical.json and world.json (same layout)."""
+        from planners.epico import generate
+
+        inst = generate(goal, colors, seed, symmetric=symmetric)
+        out.mkdir(parents=True, exist_ok=True)
+        (out / "domain.epddl").write_text(inst.domain_text)
+        (out / "problem.epddl").write_text(inst.problem_text)
+        (out / "classical.json").write_text(json.dumps(inst.classical_init.to_json(), indent=2) + "\n")
+        (out / "world.json").write_text(json.dumps(inst.layout.to_world(), indent=2) + "\n")
+        files = [str(out / f) for f in ("domain.epddl", "problem.epddl", "classical.json", "world.json")]
+        if as_json:
+            typer.echo(json.dumps({"files": files, **inst.to_json()}))
+        else:
+            typer.echo(f"{inst.goal} with {colors} colour(s): " + ", ".join(files))
+
+    @sub.command("solve")
+    def solve_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
+                  colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
+                  seed: int | None = typer.Option(None, "--seed", help="random layout (default: the seed's)"),
+                  symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
+                                                 "(either may learn the other's; 4^n worlds instead of 2^n)"),
+                  macros: bool = typer.Option(True, "--macros/--no-macros", help="offer the macros to the planner"),
+                  timeout: float = typer.Option(110.0, "--timeout", help="epistemic search limit, seconds"),
+                  classical: str = typer.Option("bfs", "--classical", help="classical engine: bfs or clingo"),
+                  world: Path | None = typer.Option(None, "--world", help="start from this layout: a world JSON "
+                                                    "or a plan/1 JSON (its world), e.g. observed after a fault"),
+                  owner: list[str] = typer.Option([], "--owner", help="BLOCK=ROBOT: whose block lies on the "
+                                                  "shared table of --world (repeatable)"),
+                  known: list[str] = typer.Option([], "--known", help="ROBOT:COLOUR,COLOUR — colours whose "
+                                                  "presence the robot already knows (repeatable)"),
+                  out: Path | None = typer.Option(None, "--out", help="write the primitive plan (plan/1 JSON)"),
+                  as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
+        """Solve one instance: epistemic plan, flattened plan, primitive plan, times, classical calls."""
+        from planners.epico import EpicoError, Layout, generate
+        from planners.hierarchy import EpicoLimits, solve
+
+        if classical not in ("bfs", "clingo"):
+            raise EpicoError(f"--classical {classical!r}: use bfs or clingo")
+        layout = None
+        if world is not None:
+            try:
+                obj = json.loads(world.read_text())
+            except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+                raise EpicoError(f"{world}: cannot read a world JSON ({exc})") from None
+            obj = obj.get("world", obj) if isinstance(obj, dict) else obj
+            owners = dict(o.split("=", 1) for o in owner if "=" in o)
+            if len(owners) != len(owner):
+                raise EpicoError(f"--owner takes BLOCK=ROBOT, got {owner}")
+            layout = Layout.from_world(obj, owners)
+        knows: dict[str, list[str]] = {}
+        for k in known:
+            robot, sep, cols = k.partition(":")
+            if not sep or not cols:
+                raise EpicoError(f"--known takes ROBOT:COLOUR,COLOUR, got {k!r}")
+            knows.setdefault(robot, []).extend(c for c in cols.split(",") if c)
+        sol = solve(generate(goal, colors, seed, symmetric=symmetric, layout=layout), macros=macros,
+                    known=knows or None, limits=EpicoLimits(timeout=timeout, classical=classical))
+        if out is not None:
+            sol.write(out)
+        if as_json:
+            typer.echo(json.dumps(sol.to_json()))
+            return
+        t = sol.times
+        typer.echo(f"{sol.instance.goal}, {colors} colour(s), macros {'on' if macros else 'off'}: initial state "
+                   f"{t['initial']:.3f} s, epistemic search {t['epistemic']:.3f} s, classical {t['classical']:.4f} s "
+                   f"({sol.classical_calls} call(s))")
+        typer.echo("epistemic plan:  " + ", ".join(sol.epistemic_plan))
+        typer.echo("flattened plan:  " + ", ".join(sol.flat_plan))
+        typer.echo("primitive plan:")
+        for rec in sol.tasks:
+            typer.echo(f"  {rec.task}")
+            for a in rec.actions:
+                args = ", ".join(map(str, a.get("args", [])))
+                typer.echo(f"    {a['robot']}: {a['action']}({args})")
+        if out is not None:
+            typer.echo(f"wrote {out}")
+
+    @sub.command("macros")
+    def macros_cmd(colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
+                   handwritten: Path | None = typer.Option(None, "--handwritten", help="a hand-written macro "
+                                                           "(:action ...) to check (default: the seed's Listing 4)"),
+                   as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
+        """Prove every macro equal to its sequence (z3) and check a hand-written macro against the composition."""
+        from planners.hierarchy import macro_report
+
+        rep = macro_report(colors, str(handwritten) if handwritten else None)
+        if as_json:
+            typer.echo(json.dumps(rep))
+        else:
+            for p in rep["proofs"]:
+                verdict = "= its sequence (z3)" if p["equal"] else "DIFFERS: " + "; ".join(p["problems"])
+                typer.echo(f"{p['macro']}: {verdict}; {p['obligations']} obligations, {p['events']} events, "
+                           f"{p['state']}")
+            hw = rep["handwritten_check"]
+            if hw["consistent"]:
+                typer.echo(f"{rep['handwritten']}: no difference found in {hw['states_checked']} states")
+            else:
+                cex = hw["counterexample"]
+                typer.echo(f"{rep['handwritten']}: INCONSISTENT with the composition — after "
+                           f"{cex['plan'] or 'nothing'}: {cex['difference']}")
+                for line in hw["symbolic"]:
+                    typer.echo(f"  symbolic: {line}")
+        raise typer.Exit(0 if rep["all_equal"] else 1)
+
+    @sub.command("table")
+    def table_cmd(repeat: int = typer.Option(1, "--repeat", min=1, help="runs per cell (mean)"),
+                  colors: str = typer.Option("1,2,3,4", "--colors", help="comma-separated colour counts"),
+                  timeout: float = typer.Option(110.0, "--timeout", help="limit per run, seconds"),
+                  symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
+                                                 "(either may learn the other's; 4^n worlds instead of 2^n)"),
+                  as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
+        """Tables 1 and 2: every (goal, colours) cell, macros off and on, beside the seed's numbers."""
+        from planners.epico import GOALS, EpicoError
+        from planners.hierarchy import table_cell
+
+        try:
+            cols = [int(c) for c in colors.split(",") if c.strip()]
+        except ValueError:
+            raise EpicoError(f"--colors {colors!r}: a comma-separated list of numbers, e.g. 1,2,3,4") from None
+        from rich.progress import Progress
+
+        from planners.epico import generate
+        from planners.hierarchy import solve
+
+        solve(generate("alpha", 1))  # warm-up: imports and caches are not part of any cell's time
+        cells = []
+        with Progress(transient=True, disable=as_json) as prog:
+            job = prog.add_task("e-PICO table", total=len(GOALS) * len(cols))
+            for g in GOALS:
+                for n in cols:
+                    cells.append(table_cell(g, n, repeat=repeat, timeout=timeout, symmetric=symmetric))
+                    prog.advance(job)
+        if as_json:
+            typer.echo(json.dumps({"cells": cells, "repeat": repeat}))
+            return
+        typer.echo(format_tables(cells))
+
+
+def format_tables(cells: list[dict]) -> str:
+    """Tables 1 and 2 as text, delkit beside the seed (and the peer where measured)."""
+    from planners.hierarchy import PEER_TABLE1, SEED_INITIAL, SEED_TABLE1, SEED_TABLE2
+
+    def f(x):
+        return "TO" if x is None else f"{x:.3f}"
+
+    lines = ["Table 1: seconds to a plan (initial state + epistemic search + breakdown; wall, CPU in brackets), "
+             "macro no / yes",
+             f"{'goal':6} {'col':>3} | {'delkit no':>15} {'delkit yes':>15} {'no/yes':>6} | {'seed no':>8} "
+             f"{'seed yes':>8} | {'peer no':>7} {'peer yes':>8} | {'init s':>7}"]
+    for c in cells:
+        g, n = c["goal"], c["colors"]
+        if c["status"] == "ND":
+            lines.append(f"{g:6} {n:>3} | {'ND':>15} {'ND':>15} {'':>6} | {'ND':>8} {'ND':>8} |")
+            continue
+        off, on = c.get("off", {}), c.get("on", {})
+        sn, sy = SEED_TABLE1.get(g, {}).get(n, ("-", "-"))
+        pn, py = PEER_TABLE1.get(g, {}).get(n, ("-", "-"))
+        dn = f"{f(off['wall'])} ({f(off['cpu'])})" if off.get("status") == "ok" else "TO"
+        dy = f"{f(on['wall'])} ({f(on['cpu'])})" if on.get("status") == "ok" else "TO"
+        ratio = f"{c['ratio']:.2f}" if c.get("ratio") else "-"
+        init = f"{on['initial']:.4f}" if on.get("status") == "ok" else "-"
+        lines.append(f"{g:6} {n:>3} | {dn:>15} {dy:>15} {ratio:>6} | "
+                     f"{sn if isinstance(sn, str) else f(sn):>8} {sy if isinstance(sy, str) else f(sy):>8} | "
+                     f"{pn if isinstance(pn, str) else f(pn):>7} {py if isinstance(py, str) else f(py):>8} | {init:>7}")
+    lines += ["", "Table 2: classical breakdown (macros on): cumulative wall seconds, calls, slowest call (wall and "
+              "CPU ms); seed beside",
+              f"{'goal':6} {'col':>3} | {'seconds':>8} {'calls':>5} {'max ms':>7} {'cpu ms':>7} | {'seed s':>7} "
+              f"{'seed calls':>10}"]
+    for c in cells:
+        g, n = c["goal"], c["colors"]
+        on = c.get("on", {})
+        seed = SEED_TABLE2.get(g, {}).get(n, "ND" if c["status"] == "ND" else "-")
+        ss = seed if isinstance(seed, str) else ("TO", "TO") if seed is None else (f"{seed[0]:.3f}", seed[1])
+        if on.get("status") != "ok":
+            first = ss[0] if isinstance(ss, tuple) else ss
+            lines.append(f"{g:6} {n:>3} | {c['status']:>8} {'':>5} {'':>7} {'':>7} | {first:>7}")
+            continue
+        lines.append(f"{g:6} {n:>3} | {on['classical']:8.4f} {on['calls']:>5} {on['max_call'] * 1000:7.2f} "
+                     f"{on.get('max_call_cpu', 0.0) * 1000:7.2f} | "
+                     f"{ss[0] if isinstance(ss, tuple) else ss:>7} {ss[1] if isinstance(ss, tuple) else '':>10}")
+    lines += ["", "seed initial states: " + ", ".join(f"{k} colours {v} s" for k, v in SEED_INITIAL.items())]
+    return "\n".join(lines)

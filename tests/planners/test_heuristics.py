@@ -1,0 +1,256 @@
+"""The belief-content cover heuristic h_epi (A*'s default): admissible and consistent on random mA* tasks
+(checked against exact goal distances), A* optimal (= BFS's length), and it prunes Grapevine."""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from planners.epistemic import Limits, best_first, bfs, make_space, plan
+from planners.heuristics import content_conjuncts, h_cover, h_epi, safe_props
+from planners.lang import load_task, shared_benchmarks
+from planners.lang.mastar import parse_mastar
+from planners.validate import check_plan
+
+BENCH = shared_benchmarks()
+SPECS = __import__("planners.demo", fromlist=["specs_dir"]).specs_dir()
+G5 = SPECS / "grapevine5" / "Grapevine_5__pl_6.txt"
+
+PROPS = ("p", "q", "r")
+AGENTS = ("a", "b")
+
+
+@st.composite
+def _literal(draw, props=PROPS) -> str:
+    return ("-" if draw(st.booleans()) else "") + draw(st.sampled_from(props))
+
+
+@st.composite
+def _condition(draw) -> str:
+    kind = draw(st.sampled_from(["none", "none", "lit", "belief"]))
+    if kind == "lit":
+        return f" if {draw(_literal())}"
+    if kind == "belief":
+        return f" if B({draw(st.sampled_from(AGENTS))},{draw(_literal())})"
+    return ""
+
+
+@st.composite
+def _goal(draw) -> str:
+    x, y = draw(st.sampled_from(AGENTS)), draw(st.sampled_from(AGENTS))
+    lit = draw(_literal())
+    return draw(st.sampled_from([f"B({x},{lit})", f"(-B({x},{lit}))", lit, f"B({x},B({y},{lit}))",
+                                 f"B({x},({lit} | {draw(_literal())}))", f"(-B({x},(-B({y},{lit}))))"]))
+
+
+@st.composite
+def mastar_tasks(draw) -> str:
+    """A small random mA* task: ontic / sensing / announcement actions with literal or compound contents,
+    conditional effects and observers, an initial state with some common knowledge, a goal of belief
+    literals (first-order and nested)."""
+    n = draw(st.integers(2, 4))
+    lines = [f"fluent {', '.join(PROPS)};", f"action {', '.join(f'x{i}' for i in range(n))};",
+             f"agent {', '.join(AGENTS)};"]
+    for i in range(n):
+        a = f"x{i}"
+        kind = draw(st.sampled_from(["ontic", "ontic", "sensing", "announcement", "announcement"]))
+        exe = draw(st.sampled_from(["", "", f"executable {a} if {draw(_literal())};",
+                                    f"executable {a} if B({draw(st.sampled_from(AGENTS))},{draw(_literal())});"]))
+        if exe:
+            lines.append(exe)
+        if kind == "ontic":
+            for _ in range(draw(st.integers(1, 2))):
+                lines.append(f"{a} causes {draw(_literal())}{draw(_condition())};")
+        elif kind == "sensing":
+            lines.append(f"{a} determines {draw(st.sampled_from(PROPS))}{draw(_condition())};")
+        else:
+            content = draw(st.sampled_from([draw(_literal()), f"({draw(_literal())} | {draw(_literal())})",
+                                            f"{draw(_literal())}, {draw(_literal())}"]))
+            lines.append(f"{a} announces {content};")
+        for ag in AGENTS:
+            how = draw(st.sampled_from(["observes", "observes", "aware_of", "none"]))
+            if how == "aware_of" and kind == "ontic":
+                how = "observes"
+            if how != "none":
+                lines.append(f"{ag} {how} {a}{draw(_condition())};")
+    actual = [draw(_literal(props=(p,))) for p in PROPS]
+    lines.append(f"initially {', '.join(actual)};")
+    sign = {p: not lit.startswith("-") for p, lit in zip(PROPS, actual, strict=True)}
+    for p in PROPS:
+        what = draw(st.sampled_from(["none", "known", "ag_knows", "corr", "corr"]))
+        lit = actual[PROPS.index(p)]
+        if what == "known":
+            lines.append(f"initially C([a,b], {lit});")
+        elif what == "ag_knows":
+            ag = draw(st.sampled_from(AGENTS))
+            lines.append(f"initially C([a,b], (B({ag},{p}) | B({ag},(-{p}))));")
+        elif what == "corr" and p != "r":  # p and r correlated in everybody's view (true at the actual world)
+            same = sign[p] == sign["r"]
+            lines.append(f"initially C([a,b], (({p}, r) | (-{p}, -r)));" if same
+                         else f"initially C([a,b], (({p}, -r) | (-{p}, r)));")
+    goals = draw(st.lists(_goal(), min_size=1, max_size=3))
+    lines += [f"goal {g};" for g in goals]
+    return "\n".join(lines) + "\n"
+
+
+def _distances(space, limit: int = 4000) -> tuple[list, dict, dict] | None:
+    """All reachable states (None if more than ``limit``), their successor keys, exact goal distances."""
+    s0, k0 = space.initial()
+    states, succ = {k0: s0}, {}
+    todo = deque([k0])
+    while todo:
+        k = todo.popleft()
+        succ[k] = []
+        for _, nxt, nk in space.successors(states[k]):
+            succ[k].append(nk)
+            if nk not in states:
+                if len(states) >= limit:
+                    return None
+                states[nk] = nxt
+                todo.append(nk)
+    pred: dict = {k: [] for k in states}
+    for k, ks in succ.items():
+        for nk in ks:
+            pred[nk].append(k)
+    dist = {k: 0 for k, s in states.items() if space.is_goal(s)}
+    todo = deque(dist)
+    while todo:
+        k = todo.popleft()
+        for pk in pred[k]:
+            if pk not in dist:
+                dist[pk] = dist[k] + 1
+                todo.append(pk)
+    return list(states.items()), succ, dist
+
+
+def _variant(task, kind: str):
+    """The task itself, or with a macro of its first two actions, or with a general event-model action
+    (a public announcement of the first fluent) — the heuristic must stay admissible with both."""
+    import dataclasses
+
+    from delkit.events import public_announcement
+    from delkit.formula import Prop
+    from planners.task import EventAction, MacroSpec
+
+    acts = tuple(task.actions)
+    if kind == "macro":
+        acts += (MacroSpec(f"{acts[0].name}+{acts[1].name}", (acts[0], acts[1])),)
+    elif kind == "event":
+        p = task.props[0]
+        acts += (EventAction("shout", lambda bits: public_announcement(p, task.agents, name="shout"),
+                             executable=Prop(p)),)
+    return dataclasses.replace(task, actions=acts, _cache={})
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(mastar_tasks(), st.sampled_from(["plain", "plain", "macro", "event"]))
+def test_h_epi_admissible_consistent_and_astar_optimal_on_random_tasks(text: str, kind: str) -> None:
+    from delkit.errors import DelkitError
+
+    try:
+        task = _variant(parse_mastar(text, "random.txt"), kind)
+        space = make_space(task)
+        got = _distances(space)
+    except DelkitError:
+        return  # e.g. an initial statement the finitary-S5 construction cannot make true
+    if got is None:
+        return
+    states, succ, dist = got
+    h = h_epi(space)
+    by_key = dict(states)
+    for k, s in states:
+        hv = h(s)
+        d = dist.get(k, math.inf)
+        assert hv <= d, (text, hv, d)                        # admissible (∞ only on dead ends)
+        for nk in succ[k]:
+            assert hv <= 1 + h(by_key[nk]) or hv == math.inf, text      # consistent
+    a = plan(task, search="astar", limits=Limits(timeout=30))
+    b = plan(task, search="bfs", limits=Limits(timeout=30))
+    assert a.status == b.status and a.length == b.length, text
+
+
+def test_content_argument_applies_to_grapevine_and_prunes() -> None:
+    task = load_task(G5)
+    space = make_space(task)
+    s0, _ = space.initial()
+    content = content_conjuncts(space)
+    # B(a,sb), B(b,sc), B(c,sa), B(d,se), B(e,sd): five different announced secrets; -B(a,sc): only an
+    # ontic change of sc could undo a's belief in it, and there is none
+    assert {c[0] for c in content.values()} == {"pos", "neg"} and len(content) == 6
+    assert h_epi(space)(s0) == 5.0 and h_cover(space)(s0) == 1.0
+    after = space.step(s0, "share_c_sc_1")           # a hears sc: -B(a,sc) can never hold again
+    assert h_epi(space)(after) == math.inf
+    res = best_first(space, Limits(timeout=60), kind="astar")
+    assert res.length == 6 and res.expanded <= 100
+    assert check_plan(task, list(res.plan), []).valid
+
+
+def test_content_argument_refused_where_unsound() -> None:
+    # announcing q can make a believe p when p and q are correlated in a's view: no content argument
+    text = """fluent p, q; action tell; agent a, b;
+    tell announces q; a observes tell;
+    initially p, q; initially C([a,b], ((p, q) | (-p, -q)));
+    goal B(a, p);"""
+    task = parse_mastar(text, "corr.txt")
+    space = make_space(task)
+    assert content_conjuncts(space) == {}
+    assert plan(task, search="astar").length == 1
+    # a conditional effect on p breaks p's independence: p is not safe
+    task2 = parse_mastar("fluent p, q; action f; agent a; f causes p if q; a observes f; initially -p, q;"
+                         "goal B(a, p);", "cond.txt")
+    assert "p" not in safe_props(task2) and "q" not in safe_props(task2)
+
+
+def test_negative_belief_is_undone_only_by_an_observed_ontic_change() -> None:
+    text = """fluent p, q; action flip, tell, peek; agent a, b;
+    flip causes -p; a observes flip;
+    tell announces q; a observes tell; b observes tell;
+    peek causes -p; b observes peek;
+    initially p, q; initially C([a,b], p);
+    goal (-B(a, p)), B(b, q);"""
+    task = parse_mastar(text, "neg.txt")
+    space = make_space(task)
+    s0, _ = space.initial()
+    assert set(content_conjuncts(space)) == {0, 1}
+    assert h_epi(space)(s0) == 2.0          # flip (the only action a observes that changes p) and tell
+    assert plan(task, search="astar").length == 2 == plan(task).length
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+@pytest.mark.parametrize("name", ["Grapevine/Grapevine_4/Grapevine_4__pl_4.txt",
+                                  "Grapevine/Grapevine_3/Grapevine_3__pl_4.txt"])
+def test_astar_expands_a_fifth_of_bfs_on_grapevine(name: str) -> None:
+    task = load_task(BENCH / "mastar" / name)
+    b = bfs(make_space(task))
+    a = best_first(make_space(task), kind="astar")
+    assert a.length == b.length and a.expanded * 5 <= b.expanded
+
+
+@pytest.mark.slow
+def test_grapevine5_astar_matches_bfs() -> None:
+    task = load_task(G5)
+    assert plan(task, search="bfs", limits=Limits(timeout=1800)).length == 6 == plan(task, search="astar").length
+
+
+def test_macros_and_event_actions_stay_admissible() -> None:
+    base = parse_mastar("""fluent p, q; action tp, tq; agent a, b;
+    tp announces p; a observes tp;
+    tq announces q; b observes tq;
+    initially p, q; initially C([a,b], (B(a,q) | B(a,-q))); initially C([a,b], (B(b,p) | B(b,(-p))));
+    goal B(a, p), B(b, q);""", "two.txt")
+    s0 = make_space(base).initial()[0]
+    assert h_epi(make_space(base))(s0) == 2.0 == plan(base).length
+    macro = _variant(base, "macro")              # tp+tq does both in one step
+    assert h_epi(make_space(macro))(make_space(macro).initial()[0]) <= 1.0
+    assert plan(macro, search="astar").length == 1 == plan(macro).length
+    only_event = parse_mastar("""fluent p, q; action tq; agent a, b;
+    tq announces q; b observes tq;
+    initially p, q; goal B(a, p);""", "ev.txt")
+    ev = _variant(only_event, "event")           # only the general event-model action informs a
+    space = make_space(ev)
+    assert content_conjuncts(space) == {} and h_epi(space)(space.initial()[0]) == 1.0
+    assert plan(ev, search="astar").length == 1 == plan(ev).length
