@@ -225,8 +225,7 @@ class _Runner:
         self.calls.append((r.seconds, time.process_time() - c0))
         self.c_state = r.state
         _anchor(task, self.fs, self.s, self.c_state, i, name)
-        self.records.append(TaskRecord(name, "ontic", tuple({**_prim(a), "task": name} for a in r.actions),
-                                       r.seconds, macro=macro))
+        self.records.append(TaskRecord(name, "ontic", tuple(_prim(a) for a in r.actions), r.seconds, macro=macro))
 
 
 def _prim(a: CAction) -> dict[str, Any]:
@@ -253,14 +252,13 @@ def _epistemic_primitive(name: str, c_state: CState, task: Task) -> dict[str, An
     robot = next((r for r in task.agents if name.split("_").count(r)), ROBOTS[0])
     color = name.rsplit("_", 1)[-1]
     if name.startswith("sense_table_"):
-        return {"robot": robot, "action": "sense", "task": name}
+        return {"robot": robot, "action": "sense"}
     if name.startswith("announce_block_on_barrier_"):
         block = next((b for b in c_state.barrier if c_state.colors[b] == color), None)
         if block is None:
             raise EpicoError(f"{name}: no {color} block on the shared table to announce")
-        return {"robot": robot, "action": "announce", "args": [block], "color": color,
-                "to": [r for r in task.agents if r != robot], "task": name}
-    return {"robot": robot, "action": "announce", "task": name, "to": [r for r in task.agents if r != robot]}
+        return {"robot": robot, "action": "announce", "args": [block], "to": [r for r in task.agents if r != robot]}
+    raise EpicoError(f"{name}: no primitive action for this epistemic task")
 
 
 # ----------------------------------------------------------------------------- Tables 1 and 2

@@ -33,8 +33,7 @@ CASES = {
     "explore gap": ["explore", "gap", "--instances", "2", "--json"],
     # a generous budget: every solve ends by converging, not by the clock, so the successes are seeded
     "arms bench-ik": ["arms", "bench-ik", "--targets", "2", "--budget-ms", "5000", "--json"],
-    "epico generate": ["epico", "generate", "--goal", "beta", "--colors", "3", "--out", "{tmp}", "--json"],
-    "epico solve": ["epico", "solve", "--goal", "beta", "--colors", "3", "--json"],
+    "epico generate": ["epico", "generate", "--goal", "delta", "--colors", "4", "--out", "{tmp}", "--json"],
     # physics (two arms in MuJoCo): slow, so its case runs in `make test-slow`
     "epico run": ["epico", "run", "--goal", "alpha", "--colors", "1", "--json"],
 }
