@@ -95,7 +95,8 @@ def _action(obj: Any, i: int, world: World, source: str) -> Action:
     if not isinstance(robot, str) or robot not in world.robots:
         raise ArmsError(f"{where}: 'robot' must be one of {', '.join(world.robots)}, got {robot!r}")
     allowed = {*ACTIONS[name], "stack", "level"} if name == "sense" else set(ACTIONS[name])
-    allowed |= {"to"} if name == "announce" else set()
+    allowed |= {"to", "color"} if name == "announce" else set()
+    allowed |= {"task"}  # the planner's task this action belongs to (reports group by it)
     unknown = sorted(k for k in obj if k not in ("robot", "action", "args") and k not in allowed)
     if unknown:  # a misspelt field would silently be ignored
         raise ArmsError(f"{where}: unknown field {unknown[0]!r} for {name}; fields: robot, action, args, "
@@ -142,6 +143,12 @@ def _check_against_world(args: dict[str, Any], robot: str, name: str, world: Wor
     if "level" in args and not 0 <= args["level"] < max(1, len(blocks)):
         raise ArmsError(f"{where}: level {args['level']} is impossible with {len(blocks)} block(s) "
                         f"(levels are 0..{max(0, len(blocks) - 1)})")
+    if "task" in args and not isinstance(args["task"], str):
+        raise ArmsError(f"{where}: 'task' must be a string (the planner's task name), got "
+                        f"{json.dumps(args['task'])[:40]}")
+    if name == "announce" and "color" in args and not isinstance(args["color"], str):
+        raise ArmsError(f"{where}: 'color' must be a colour name (what is announced), got "
+                        f"{json.dumps(args['color'])[:40]}")
     if name == "announce":
         to = args.get("to", [])
         if not isinstance(to, list) or not all(isinstance(r, str) for r in to):
