@@ -24,12 +24,19 @@ def register(app: typer.Typer) -> None:
                      seed: int | None = typer.Option(None, "--seed", help="random layout (default: the seed's)"),
                      symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
                                                     "(either may learn the other's; 4^n worlds instead of 2^n)"),
-                     out: Path = typer.Option(Path("epico"), "--out", help="output directory"),
+                     out: Path | None = typer.Option(None, "--out", help="output directory (default: print "
+                                                     "the problem, or everything with --json)"),
                      as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Write domain.epddl, problem.epddl (epistemic level), classical.json and world.json (same layout)."""
         from planners.epico import generate
 
         inst = generate(goal, colors, seed, symmetric=symmetric)
+        if out is None:
+            if as_json:
+                typer.echo(json.dumps({**inst.to_json(), "problem": inst.problem_text}))
+            else:
+                typer.echo(inst.problem_text, nl=False)
+            return
         out.mkdir(parents=True, exist_ok=True)
         (out / "domain.epddl").write_text(inst.domain_text)
         (out / "problem.epddl").write_text(inst.problem_text)
@@ -44,14 +51,14 @@ def register(app: typer.Typer) -> None:
     @sub.command("solve")
     def solve_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
                   colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
-                  seed: int | None = typer.Option(None, "--seed", help="random layout (default: the seed's)"),
                   symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
                                                  "(either may learn the other's; 4^n worlds instead of 2^n)"),
                   macros: bool = typer.Option(True, "--macros/--no-macros", help="offer the macros to the planner"),
                   timeout: float = typer.Option(110.0, "--timeout", help="epistemic search limit, seconds"),
                   classical: str = typer.Option("bfs", "--classical", help="classical engine: bfs or clingo"),
                   world: Path | None = typer.Option(None, "--world", help="start from this layout: a world JSON "
-                                                    "or a plan/1 JSON (its world), e.g. observed after a fault"),
+                                                    "or a plan/1 JSON (its world), e.g. observed after a fault, "
+                                                    "or `epico generate --seed S --out DIR`'s DIR/world.json"),
                   owner: list[str] = typer.Option([], "--owner", help="BLOCK=ROBOT: whose block lies on the "
                                                   "shared table of --world (repeatable)"),
                   known: list[str] = typer.Option([], "--known", help="ROBOT:COLOUR,COLOUR — colours whose "
@@ -81,7 +88,7 @@ def register(app: typer.Typer) -> None:
             if not sep or not cols:
                 raise EpicoError(f"--known takes ROBOT:COLOUR,COLOUR, got {k!r}")
             knows.setdefault(robot, []).extend(c for c in cols.split(",") if c)
-        sol = solve(generate(goal, colors, seed, symmetric=symmetric, layout=layout), macros=macros,
+        sol = solve(generate(goal, colors, symmetric=symmetric, layout=layout), macros=macros,
                     known=knows or None, limits=EpicoLimits(timeout=timeout, classical=classical))
         if out is not None:
             sol.write(out)

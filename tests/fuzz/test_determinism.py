@@ -30,6 +30,7 @@ CASES = {
     "explore gap": ["explore", "gap", "--instances", "2", "--json"],
     # a generous budget: every solve ends by converging, not by the clock, so the successes are seeded
     "arms bench-ik": ["arms", "bench-ik", "--targets", "2", "--budget-ms", "5000", "--json"],
+    "epico generate": ["epico", "generate", "--goal", "delta", "--colors", "4", "--json"],
 }
 SWEEP = ["explore", "sweep", "--maps", "1", "--robots", "2", "--methods", "flock", "--case", "1",
          "--no-snapshots", "--workers", "1", "--json"]
