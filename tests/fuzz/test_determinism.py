@@ -31,6 +31,7 @@ CASES = {
     # a generous budget: every solve ends by converging, not by the clock, so the successes are seeded
     "arms bench-ik": ["arms", "bench-ik", "--targets", "2", "--budget-ms", "5000", "--json"],
     "epico generate": ["epico", "generate", "--goal", "delta", "--colors", "4", "--json"],
+    "epico run": ["epico", "run", "--goal", "alpha", "--colors", "1", "--json"],  # physics: ~1 s CPU each
 }
 SWEEP = ["explore", "sweep", "--maps", "1", "--robots", "2", "--methods", "flock", "--case", "1",
          "--no-snapshots", "--workers", "1", "--json"]
