@@ -19,7 +19,9 @@
 
 The positional ``args`` follow seed 004, Listing 5: ``pick(block, on, level, stack)``,
 ``place(block, onto, level, stack)``, ``put_on_barrier(block)``, ``take_from_barrier(block)``; keyword
-fields (``block``, ``on``/``onto``, ``level``, ``stack``) may be given instead. ``announce`` and
+fields (``block``, ``on``/``onto``, ``level``, ``stack``) may be given instead. Optional: ``task`` (any
+action; the epistemic task it belongs to, as the e-PICO hierarchy writes it) and ``color`` (``announce``:
+the colour announced). Any other field is an error. ``announce`` and
 ``sense`` are purely epistemic: they change no block. Stacks and levels are 0-based.
 """
 
@@ -96,7 +98,7 @@ def _action(obj: Any, i: int, world: World, source: str) -> Action:
         raise ArmsError(f"{where}: 'robot' must be one of {', '.join(world.robots)}, got {robot!r}")
     allowed = {*ACTIONS[name], "stack", "level"} if name == "sense" else set(ACTIONS[name])
     allowed |= {"to", "color"} if name == "announce" else set()
-    allowed |= {"task"}  # the planner's task this action belongs to (reports group by it)
+    allowed |= {"task"}  # the epistemic task the action belongs to (e-PICO's hierarchy writes it)
     unknown = sorted(k for k in obj if k not in ("robot", "action", "args") and k not in allowed)
     if unknown:  # a misspelt field would silently be ignored
         raise ArmsError(f"{where}: unknown field {unknown[0]!r} for {name}; fields: robot, action, args, "
@@ -121,6 +123,9 @@ def _action(obj: Any, i: int, world: World, source: str) -> Action:
                     val in (float("inf"), float("-inf")) or int(val) != val:
                 raise ArmsError(f"{where}: '{key}' must be an integer, got {json.dumps(val)[:40]}")
             args[key] = int(val)
+    for key in ("task", "color"):
+        if key in args and not isinstance(args[key], str):
+            raise ArmsError(f"{where}: '{key}' must be a string, got {json.dumps(args[key])[:40]}")
     for key in ("block", "on", "onto"):  # block names (or "table"): strings, e.g. "red"
         if key in args and not isinstance(args[key], str):
             raise ArmsError(f"{where}: '{key}' must be a block name (a string), got {json.dumps(args[key])[:40]}")
@@ -143,12 +148,6 @@ def _check_against_world(args: dict[str, Any], robot: str, name: str, world: Wor
     if "level" in args and not 0 <= args["level"] < max(1, len(blocks)):
         raise ArmsError(f"{where}: level {args['level']} is impossible with {len(blocks)} block(s) "
                         f"(levels are 0..{max(0, len(blocks) - 1)})")
-    if "task" in args and not isinstance(args["task"], str):
-        raise ArmsError(f"{where}: 'task' must be a string (the planner's task name), got "
-                        f"{json.dumps(args['task'])[:40]}")
-    if name == "announce" and "color" in args and not isinstance(args["color"], str):
-        raise ArmsError(f"{where}: 'color' must be a colour name (what is announced), got "
-                        f"{json.dumps(args['color'])[:40]}")
     if name == "announce":
         to = args.get("to", [])
         if not isinstance(to, list) or not all(isinstance(r, str) for r in to):

@@ -271,7 +271,9 @@ class CompactEngine:
         return self.holds_id(s, self.cid(f))
 
     def holds_id(self, s: CompactState, i: int) -> bool:
-        b = self.ev(s, i)
+        b = s.memo.get(i)
+        if b is None:
+            b = self.ev(s, i)
         for p in s.points:
             if not (b >> p) & 1:
                 return False
@@ -285,14 +287,14 @@ class CompactEngine:
             return out
         node = self._nodes[i]
         op = node[0]
-        n = s.n
+        n = len(s.val)
         full = (1 << n) - 1
         if op == _PROP:
-            j = node[1]
-            out = 0
-            for w, v in enumerate(s.val):
-                if (v >> j) & 1:
-                    out |= 1 << w
+            pm = memo.get(-1)  # the masks of every proposition, computed in one pass over the worlds
+            if pm is None:
+                pm = _prop_masks(s.val, len(self.props))
+                memo[-1] = pm
+            out = pm[node[1]]
         elif op == _K:
             out = _box(s.masks[node[1]], self.ev(s, node[2]))
         elif op == _AND:
@@ -370,14 +372,22 @@ class CompactEngine:
         w ⊨ pre(e). Postconditions are evaluated in s, all at once (delkit.update).
         """
         q, posts, pres, designated, k = self.compile(em)
-        pre = [self.ev(s, i) for i in pres]
-        postbits = [[(j, self.ev(s, f)) for j, f in posts[e]] for e in range(k)]
+        ev = self.ev
+        # preconditions are evaluated first for the designated events only (an inapplicable action costs
+        # just those), then for the others; postconditions only for the events that occur in the result
+        pre = [0] * k
+        for e in designated:
+            pre[e] = ev(s, pres[e])
         start = []
         for p in s.points:
             here = [(p, e) for e in designated if (pre[e] >> p) & 1]
             if not here:
                 return None
             start.extend(here)
+        des_set = set(designated)
+        for e in range(k):
+            if e not in des_set:
+                pre[e] = ev(s, pres[e])
         nag = len(q)
         ids: dict[int, int] = {}  # pair (w, e) coded as w*k + e  ->  new world
         order: list[int] = []
@@ -418,17 +428,33 @@ class CompactEngine:
                     dist[a].append(lst)
                     ma[mkey] = j
                 cls[a].append(j)
+        postbits: list[Any] = [None] * k
         val = []
         for code in order:
             w, e = divmod(code, k)
             v = s.val[w]
-            for pi, b in postbits[e]:
+            pb = postbits[e]
+            if pb is None:
+                pb = postbits[e] = [(j, ev(s, f)) for j, f in posts[e]]
+            for pi, b in pb:
                 if (b >> w) & 1:
                     v |= 1 << pi
                 else:
                     v &= ~(1 << pi)
             val.append(v)
         return refine_key(val, dist, cls, range(len(start)))
+
+
+def _prop_masks(val: Sequence[int], n_props: int) -> list[int]:
+    """Per proposition j, the bit mask of the worlds w with bit j of val[w] set."""
+    out = [0] * n_props
+    for w, v in enumerate(val):
+        bit = 1 << w
+        while v:
+            low = v & -v
+            out[low.bit_length() - 1] |= bit
+            v ^= low
+    return out
 
 
 def _box(masks: Sequence[int], t: int) -> int:

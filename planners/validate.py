@@ -211,6 +211,16 @@ def explain(m: KripkeModel, f: Formula, w: int, depth: int = 0) -> tuple[str, st
 
 # ----------------------------------------------------------------------------- replay
 
+def _failing_world(m: KripkeModel, f: Formula) -> int:
+    """The first designated world where ``f`` fails (a multi-pointed state fails where one of them fails)."""
+    vec = m.check(f)
+    return next((int(w) for w in m.designated if not vec[int(w)]), int(m.designated[0]))
+
+
+#: replayed models with more worlds than this are contracted after each step
+_CONTRACT_ABOVE = 64
+
+
 def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, model: KripkeModel,
                 allow_inconsistent: bool) -> CheckResult | KripkeModel:
     """One (non-macro) action at step ``i``: the new model, or the CheckResult saying why it fails."""
@@ -278,7 +288,7 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
         for j, pr in enumerate(properties):
             ok = m.holds(pr.formula)
             if pr.kind == "always" and not ok:
-                why, ag, wd = explain(m, pr.formula, m.designated[0])
+                why, ag, wd = explain(m, pr.formula, _failing_world(m, pr.formula))
                 when = "in the initial state" if step == 0 else f"after step {step}"
                 return CheckResult(False, n, step, act, "property", f"'{pr}' is violated {when}: {why}",
                                    ag, wd, {"property": str(pr)})
@@ -302,8 +312,9 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
             new = bad
         # bisimulation contraction keeps every formula's truth at the actual world (properties, goal,
         # preconditions) and keeps the replay small: without it a 15-step plan doubled to 2^15 worlds. Not
-        # for tasks that mention distributed knowledge of a group, which contraction does not preserve.
-        model = new if groups else contract(new)
+        # for tasks that mention distributed knowledge of a group, which contraction does not preserve; not
+        # for small models either (contraction needs scipy, whose import costs more than such a replay)
+        model = new if groups or new.n_worlds <= _CONTRACT_ABOVE else contract(new)
         bad = props_at(i, model, name)
         if bad:
             return bad
@@ -312,11 +323,11 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
             return CheckResult(False, n, n, plan[-1] if plan else None, "property",
                                f"'{pr}' never holds along the plan", details={"property": str(pr)})
         if pr.kind == "at end" and not model.holds(pr.formula):
-            why, ag, wd = explain(model, pr.formula, model.designated[0])
+            why, ag, wd = explain(model, pr.formula, _failing_world(model, pr.formula))
             return CheckResult(False, n, n, plan[-1] if plan else None, "property",
                                f"'{pr}' fails in the final state: {why}", ag, wd, {"property": str(pr)})
     if require_goal and not model.holds(task.goal):
-        why, ag, wd = explain(model, task.goal, model.designated[0])
+        why, ag, wd = explain(model, task.goal, _failing_world(model, task.goal))
         return CheckResult(False, n, n, plan[-1] if plan else None, "goal",
                            f"the goal {show(task.goal)} does not hold after the plan: {why}", ag, wd)
     return CheckResult(True, n)

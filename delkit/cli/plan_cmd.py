@@ -50,8 +50,8 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
     start = time.monotonic()
     try:
         # --timeout covers every phase: the readers check the deadline while grounding and building the initial
-        # state; the alarm (a little later) is the backstop for any phase that does not check it
-        with deadline(timeout + 2.0, "reading, grounding and building the initial state"):
+        # state; the alarm is the backstop for any reader that does not check it
+        with deadline(timeout, "reading, grounding and building the initial state"):
             task = load_task(spec, problem, list(library or ()), deadline=start + timeout, strict=strict)
     except (LoadTimeout, ResourceError) as exc:
         if isinstance(exc, ResourceError) and "--timeout" not in str(exc) and "time limit" not in str(exc):

@@ -21,6 +21,9 @@ from delkit.cli import _build_app, main
 TIMING_KEYS = ("time_s", "cpu_s", "wall_time", "heuristic_s", "milp_s", "median_ms", "p95_ms", "mean_ms",
                "us_per_iteration", "seconds", "wall_s")
 _TIMING = re.compile(r'("(?:' + "|".join(TIMING_KEYS) + r')": )-?[0-9.eE+-]+')
+#: e-PICO's ``times`` object (seconds per phase) and its per-call lists of classical-call times
+_EPICO_TIMES = re.compile(r'("times": )\{[^{}]*\}')
+_TIMING_LISTS = re.compile(r'("classical_call_(?:seconds|cpu)": )\[[^\]]*\]')
 
 #: command path ↦ small, fast arguments (without --seed)
 CASES = {
@@ -30,9 +33,11 @@ CASES = {
     "explore gap": ["explore", "gap", "--instances", "2", "--json"],
     # a generous budget: every solve ends by converging, not by the clock, so the successes are seeded
     "arms bench-ik": ["arms", "bench-ik", "--targets", "2", "--budget-ms", "5000", "--json"],
-    "epico generate": ["epico", "generate", "--goal", "delta", "--colors", "4", "--json"],
-    "epico run": ["epico", "run", "--goal", "alpha", "--colors", "1", "--json"],  # physics: ~1 s CPU each
+    "epico generate": ["epico", "generate", "--goal", "delta", "--colors", "4", "--out", "{tmp}", "--json"],
+    # physics (two arms in MuJoCo): slow, so its case runs in `make test-slow`
+    "epico run": ["epico", "run", "--goal", "alpha", "--colors", "1", "--json"],
 }
+SLOW = {"epico run"}
 SWEEP = ["explore", "sweep", "--maps", "1", "--robots", "2", "--methods", "flock", "--case", "1",
          "--no-snapshots", "--workers", "1", "--json"]
 
@@ -58,16 +63,18 @@ def _run(argv: list[str]) -> str:
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(io.StringIO()):
         rc = main(argv)
     assert rc in (0, 1), (argv, rc)
-    return _TIMING.sub(r"\g<1>0", out.getvalue())
+    text = _EPICO_TIMES.sub(r"\g<1>0", out.getvalue())
+    text = _TIMING_LISTS.sub(r"\g<1>0", text)
+    return _TIMING.sub(r"\g<1>0", text)
 
 
 def test_every_seeded_command_is_covered():
     assert _seeded_commands() == set(CASES)
 
 
-@pytest.mark.parametrize("name", sorted(CASES))
-def test_same_seed_same_bytes(name):
-    argv = CASES[name]
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW else n for n in sorted(CASES)])
+def test_same_seed_same_bytes(name, tmp_path):
+    argv = [a.replace("{tmp}", str(tmp_path / "out")) for a in CASES[name]]
     a, b = _run([*argv, "--seed", "7"]), _run([*argv, "--seed", "7"])
     assert a == b
     assert a.strip().startswith("{")

@@ -151,3 +151,11 @@ def test_group_d_goal_hand_checked(engine) -> None:
     assert plan(task("D{a,b} p"), engine=engine).plan == ()
     assert plan(task("D{a,b} p & ~K_a p"), engine=engine).plan == ()
     assert plan(task("K_a p & K_b p & D{a,b} p"), engine=engine).plan == ("tell",)
+
+
+def test_checker_explains_a_failed_goal_at_the_designated_world_where_it_fails() -> None:
+    """Multi-pointed: the goal p holds in designated world 0 and fails in 1; the explanation names world 1."""
+    task = _coin_task((0, 1), "p")
+    res = check_plan(task, [])
+    assert not res.valid and res.kind == "goal"
+    assert "w1" in res.reason and "w0" not in res.reason
