@@ -191,12 +191,12 @@ class MissionResult:
         return {"success": self.success, "goal": self.goal, "reason": self.reason,
                 "goal_in_world": self.goal_in_world, "goal_in_beliefs": self.goal_in_beliefs,
                 "max_block_error_m": self.max_block_error, "arm_contacts": self.arm_contacts,
-                "replans": self.replans, "plans": self.plans, "planning_seconds": self.planning_seconds,
+                "replans": self.replans, "plans": self.plans,
+                "planning": [{"seconds": t} for t in self.planning_seconds],  # wall time of each (re)plan
                 "tasks": self.tasks(), "steps": [s.to_json() for s in self.steps],
                 "belief_log": self.belief_log, "beliefs": self.beliefs, "lost_blocks": self.lost,
-                "faults": self.faults, "sim_seconds": self.sim_seconds, "wall_seconds": self.wall_seconds,
-                "cpu_seconds": self.cpu_seconds,
-                "realtime_factor": self.realtime_factor if math.isfinite(self.realtime_factor) else None,
+                "faults": self.faults, "sim_seconds": self.sim_seconds, "wall_s": self.wall_seconds,
+                "cpu_s": self.cpu_seconds,  # real-time factor: sim_seconds / wall_s or / cpu_s
                 "grasp": self.grasp, "files": self.files}
 
 

@@ -87,3 +87,11 @@ def test_injected_fault_is_detected_and_replanned_with_epico(fault):
     assert res.replans == 1 and len(res.planning_seconds) == 2 and res.faults
     assert sum(not s.ok for s in res.steps) == 1
     assert res.arm_contacts == 0 and res.max_block_error < 0.01
+
+
+def test_delkit_epico_run_is_registered_and_errors_are_one_line(capsys):
+    from delkit.cli import main
+
+    assert main(["epico", "run", "--goal", "alpha", "--colors", "1", "--fault", "melt@2"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("delkit: error:") and "unknown fault" in err and len(err.strip().splitlines()) == 1

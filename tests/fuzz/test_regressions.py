@@ -278,7 +278,8 @@ def test_plan_timeout_covers_initial_state_construction(tmp_path, capsys):
     took = time.monotonic() - t0
     out = json.loads(capsys.readouterr().out)
     assert rc == 3 and out["status"] == "limit" and "initial state" in out["reason"]
-    assert took < 1 + 2.0  # the stated margin: the alarm fires between two Python bytecodes
+    # the stated margin (2 s) plus slack for a loaded machine: the alarm fires between two Python bytecodes
+    assert took < 1 + 2.0 + 2.0
 
 
 def test_plan_timeout_still_finds_plans_and_bad_limits_are_errors(capsys):
