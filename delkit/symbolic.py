@@ -36,6 +36,7 @@ worlds' full assignments), :meth:`KnowledgeStructure.to_kripke` enumerates state
 from __future__ import annotations
 
 import itertools
+import operator
 import time
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -287,12 +288,15 @@ class KnowledgeStructure:
         return ~(_and_exists(self.law, ~u, hidden) & _and_exists(self.law, u, hidden))
 
     def _common(self, group: tuple[str, ...], u: Any) -> Any:
-        """gfp X. ⋀_{a∈G} ∀(V∖O_a)(θ → u ∧ X)."""
+        """gfp X. θ ∧ ⋀_{a∈G} ∀(V∖O_a)(θ → u ∧ X), iterated from X = θ.
+
+        The iterates are kept inside the states (∧ θ): outside θ the boxes are unconstrained and their
+        BDDs can grow exponentially (dining cryptographers, 18 agents: 7.4 s without, 0.02 s with)."""
         b = self.bdd
-        x = b.true
+        x = self.law
         while True:
             target = u & x
-            nxt = b.true
+            nxt = self.law
             for a in group:
                 nxt = nxt & self._box((a,), target)
             if nxt == x:
@@ -386,26 +390,33 @@ def _ev_prop(ks: KnowledgeStructure, f: Prop) -> Any:
     return b.var(f.name)
 
 
-def _ev_and(ks: KnowledgeStructure, f: And) -> Any:
-    if not f.args:
-        return ks.bdd.true
+def _fold(ks: KnowledgeStructure, args: tuple[Formula, ...], unit: Any, op: Any) -> Any:
+    """Fold ``op`` over the truth sets of ``args``, deepest top variable first: a BDD grows upwards in
+    O(1) per new root variable, whereas combining with a variable below the root rebuilds every node
+    above it (80 parities of 80 variables out of 3,241: 18x faster bottom-up)."""
     ev = ks.evaluate
-    it = iter(f.args)
-    out = ev(next(it))
-    for a in it:
-        out = out & ev(a)
+    if len(args) <= 2:
+        out = unit
+        for a in args:
+            out = op(out, ev(a))
+        return out
+    parts = sorted((ev(a) for a in args), key=_level, reverse=True)
+    out = parts[0]
+    for u in parts[1:]:
+        out = op(out, u)
     return out
+
+
+def _level(u: Any) -> int:
+    return u.level
+
+
+def _ev_and(ks: KnowledgeStructure, f: And) -> Any:
+    return _fold(ks, f.args, ks.bdd.true, operator.and_)
 
 
 def _ev_or(ks: KnowledgeStructure, f: Or) -> Any:
-    if not f.args:
-        return ks.bdd.false
-    ev = ks.evaluate
-    it = iter(f.args)
-    out = ev(next(it))
-    for a in it:
-        out = out | ev(a)
-    return out
+    return _fold(ks, f.args, ks.bdd.false, operator.or_)
 
 
 def _ev_every(ks: KnowledgeStructure, f: E) -> Any:
