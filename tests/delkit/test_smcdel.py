@@ -23,7 +23,7 @@ EXPECTED = {
     "muddy3": [True, True, [[1], [2], [3]], True],
     "drinking3": [True, True, True, True, [[1, 2, 3]]],
     "dining3": [True, True, True, True],
-    "private": [True, True, False, [[]], True, True],
+    "private": [True, True, False, [[]], True, True, True, True],
 }
 
 
