@@ -257,8 +257,16 @@ class KnowledgeStructure:
         hidden = self._unobserved(agents)
         if not hidden:
             return ~self.law | u
-        # ∀x(¬θ ∨ u) = ¬∃x(θ ∧ ¬u), one CUDD and-abstract pass
-        return ~_and_exists(self.law, ~u, hidden)
+        # ∀x(¬θ ∨ u) = ¬∃x(θ ∧ ¬u); the cube of x is built once per agent set (dd's and_exists rebuilds
+        # it from names on every call, a loop over all variables: SMCDEL's dining cryptographers have 3,241)
+        return ~self.bdd.apply("\\E", self._cube(hidden), self.law & ~u)
+
+    def _cube(self, hidden: frozenset[str]) -> Any:
+        key = ("__cube", hidden)
+        cube = self._hidden.get(key)
+        if cube is None:
+            cube = self._hidden[key] = self.bdd.cube(hidden)
+        return cube
 
     def _knows_whether(self, agent: str, u: Any) -> Any:
         """``||Kw_a φ|| = ||K_a φ|| ∨ ||K_a ¬φ||``.
@@ -285,7 +293,8 @@ class KnowledgeStructure:
                 return ~b.apply("\\A", node, base)  # the cube form skips dd's per-call cube building
         if not hidden:
             return b.true
-        return ~(_and_exists(self.law, ~u, hidden) & _and_exists(self.law, u, hidden))
+        cube, law = self._cube(hidden), self.law
+        return ~(b.apply("\\E", cube, law & ~u) & b.apply("\\E", cube, law & u))
 
     def _common(self, group: tuple[str, ...], u: Any) -> Any:
         """gfp X. θ ∧ ⋀_{a∈G} ∀(V∖O_a)(θ → u ∧ X), iterated from X = θ.
@@ -443,6 +452,24 @@ def _ev_knows(ks: KnowledgeStructure, f: K) -> Any:
     return ks._box((f.agent,), ks.evaluate(arg))
 
 
+def _ev_xor(ks: KnowledgeStructure, iff: Iff) -> Any:
+    """``¬(a ↔ b)`` = a ⊕ b. A nest of such exclusive ors (an n-ary XOR written with binary ones, as
+    SMCDEL's dining cryptographers' ``XOR`` of revealed bits) is flattened and folded bottom-up (XOR is
+    associative and commutative), instead of one rebuild of the whole parity per operand."""
+    leaves, stack = [], [iff.left, iff.right]
+    while stack:
+        g = stack.pop()
+        if type(g) is Not and type(g.arg) is Iff:
+            stack += (g.arg.left, g.arg.right)
+        else:
+            leaves.append(ks.evaluate(g))
+    leaves.sort(key=_level, reverse=True)
+    apply, out = ks.bdd.apply, leaves[0]
+    for u in leaves[1:]:
+        out = apply("xor", out, u)
+    return out
+
+
 def _ev_every(ks: KnowledgeStructure, f: E) -> Any:
     u = ks.evaluate(f.arg)
     out = ks.bdd.true
@@ -472,7 +499,7 @@ _DISPATCH: dict[type, Any] = {
     Prop: _ev_prop,
     Top: lambda ks, f: ks.bdd.true,
     Bot: lambda ks, f: ks.bdd.false,
-    Not: lambda ks, f: ~ks.evaluate(f.arg),
+    Not: lambda ks, f: _ev_xor(ks, f.arg) if type(f.arg) is Iff else ~ks.evaluate(f.arg),
     And: _ev_and,
     Or: _ev_or,
     Implies: lambda ks, f: ~ks.evaluate(f.left) | ks.evaluate(f.right),

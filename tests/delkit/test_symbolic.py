@@ -231,3 +231,13 @@ def test_cheryl_and_sum_product_announcements_agree_symbolically() -> None:
             assert ks.count_states() == model.n_worlds
         assert bisimilar(model.with_designated(range(model.n_worlds)),
                          KnowledgeStructure(ks.bdd, ks.vocabulary, ks.law, ks.observed, ks.law).to_kripke(model.props))
+
+
+@pytest.mark.slow
+@settings(max_examples=3000, deadline=None, suppress_health_check=list(HealthCheck))
+@given(s5_models(max_worlds=4), _formulas(3, dynamic=updates()))
+def test_symbolic_agrees_with_explicit_many(model: KripkeModel, formula: Formula) -> None:
+    """S5 knowledge structures (observational): 3,000 random (model, formula) cases with announcements and
+    S5 event models with factual change (with the 10,200 belief-structure cases of
+    test_symbolic_belief.py: 13,200 in the slow suite)."""
+    _agree(model, formula)
