@@ -72,6 +72,7 @@ from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
 __all__ = ["KnowledgeStructure", "Transformer", "from_kripke", "transformer_from_event_model", "new_manager",
+           "event_model_from_transformer",
            "muddy_symbolic", "SymbolicMuddyResult"]
 
 _FRESH = itertools.count()
@@ -632,3 +633,58 @@ def muddy_symbolic(children: int, muddy: int, *, max_rounds: int | None = None) 
                                                         max_rounds=max_rounds, size=KnowledgeStructure.node_size)
     return SymbolicMuddyResult(children, muddy, nobody, muddy_round, clean_round, max([f.node_size(), *sizes]),
                                time.process_time() - t0, time.perf_counter() - w0)
+
+
+def event_model_from_transformer(x: Transformer, structure: KnowledgeStructure, *, name: str = "E"):
+    """Translate a knowledge transformer with propositional law and post-conditions back into an event
+    model (SMCDEL translates both ways): one event per assignment of the event variables V⁺ whose
+    precondition ``θ⁺[V⁺ := assignment]`` holds at some state of ``structure``; post-conditions
+    ``θ₋(q)[V⁺ := assignment]``; agent a cannot tell two events apart iff they agree on O⁺_a; designated:
+    the events satisfying ``designated``. ``product_update(M, E')`` is then bisimilar to ``M × X``.
+    """
+    from delkit.events import EventModel
+    from delkit.formula import BOT, is_propositional, substitute
+
+    for f in (x.law, x.designated, *x.changes.values()):
+        if not is_propositional(f):
+            raise ModelError("event_model_from_transformer needs a propositional event law and post-conditions, "
+                             f"got {f}")
+    events, pres, posts, codes, designated = [], [], [], [], []
+    for bits in itertools.product((False, True), repeat=len(x.vocabulary)):
+        sub = {v: TOP if b else BOT for v, b in zip(x.vocabulary, bits, strict=True)}
+        pre = substitute(x.law, sub)
+        is_designated = _closed_truth(substitute(x.designated, sub))
+        if not is_designated and (structure.law & structure._propositional(pre)) == structure.bdd.false:
+            continue  # no state can host this event
+        code = dict(zip(x.vocabulary, bits, strict=True))
+        if is_designated:
+            designated.append(len(events))
+        events.append("e" + "".join("1" if b else "0" for b in bits))
+        pres.append(pre)
+        posts.append({q: substitute(f, sub) for q, f in x.changes.items()})
+        codes.append(code)
+    rels = {}
+    for a, obs in x.observed.items():
+        labels = [tuple(c[v] for v in obs) for c in codes]
+        index = {lab: i for i, lab in enumerate(dict.fromkeys(labels))}
+        rels[a] = Relation.from_labels(np.array([index[lab] for lab in labels], dtype=np.int64))
+    return EventModel(tuple(events), tuple(x.observed), tuple(pres), tuple(posts), rels, tuple(designated), name)
+
+
+def _closed_truth(f: Formula) -> bool:
+    """Truth of a formula without propositions (only ⊤, ⊥ and connectives)."""
+    if isinstance(f, Top):
+        return True
+    if isinstance(f, Bot):
+        return False
+    if isinstance(f, Not):
+        return not _closed_truth(f.arg)
+    if isinstance(f, And):
+        return all(_closed_truth(a) for a in f.args)
+    if isinstance(f, Or):
+        return any(_closed_truth(a) for a in f.args)
+    if isinstance(f, Implies):
+        return (not _closed_truth(f.left)) or _closed_truth(f.right)
+    if isinstance(f, Iff):
+        return _closed_truth(f.left) == _closed_truth(f.right)
+    raise ModelError(f"designated events must be given over the event variables only, got {f}")
