@@ -2,7 +2,8 @@
 
 Explicit engine (``delkit.puzzles.solve_muddy``: build the 2^N-world S5 model, the father's
 announcement, N−1 "nobody knows" announcements, the final round) and the symbolic BDD engine
-(``delkit.symbolic.muddy_symbolic``). Each time is the median of ``--repeat`` runs, in seconds.
+(``delkit.symbolic.muddy_symbolic``). Each time is the median of ``--repeat`` runs, in seconds (explicit:
+wall clock; symbolic: CPU time, imports excluded — see bench/symbolic.py for the comparison with SMCDEL).
 
     .venv/bin/python bench/muddy.py                 # explicit N = 2..16, symbolic N = 10..80
     .venv/bin/python bench/muddy.py --explicit 18 --symbolic 10,20,40,60,80,100

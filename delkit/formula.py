@@ -205,6 +205,13 @@ def _cached_hash(self: Formula) -> int:
         return self._hash
     except AttributeError:
         pass
+    try:  # subformulas usually have their hash already: one step
+        h = _FIELD_HASH[type(self)](self)
+    except RecursionError:  # a deep chain of fresh subformulas: bottom-up below
+        pass
+    else:
+        object.__setattr__(self, "_hash", h)
+        return h
     stack: list[tuple[Formula, bool]] = [(self, False)]
     while stack:
         f, ready = stack.pop()

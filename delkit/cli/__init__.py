@@ -15,7 +15,17 @@ __all__ = ["main", "run"]
 def _build_app():
     import typer
 
-    from delkit.cli import arms_cmd, consistency_cmd, core_cmd, epico_cmd, explore_cmd, model_cmd, plan_cmd, puzzle_cmd
+    from delkit.cli import (
+        arms_cmd,
+        consistency_cmd,
+        core_cmd,
+        epico_cmd,
+        explore_cmd,
+        model_cmd,
+        plan_cmd,
+        puzzle_cmd,
+        smcdel_cmd,
+    )
 
     app = typer.Typer(
         name="delkit",
@@ -37,6 +47,7 @@ def _build_app():
     explore_cmd.register(app)
     arms_cmd.register(app)
     epico_cmd.register(app)
+    smcdel_cmd.register(app)
     return app
 
 

@@ -1,7 +1,9 @@
 """``delkit puzzle …``: the epistemic puzzles of :mod:`delkit.puzzles` with their literature answers.
 
 Every command prints one JSON object with ``--json``, a rich table otherwise. Heavy imports stay inside
-the commands.
+the commands. ``--symbolic`` runs a puzzle on the BDD backend (:mod:`delkit.symbolic`); its ``seconds``
+field is then the CPU time of building the structure and running the protocol, imports excluded, and
+the ``timed`` field says so.
 """
 
 from __future__ import annotations
@@ -28,6 +30,10 @@ def _emit(data: dict[str, Any], as_json: bool, title: str) -> None:
     Console().print(table)
 
 
+_TIMED = ("CPU seconds (time.process_time) of building the knowledge structure and running the protocol; "
+          "imports excluded")
+
+
 def register(app: typer.Typer) -> None:
     """Attach the ``puzzle`` sub-app to the top-level app."""
     sub = typer.Typer(help="Epistemic puzzles solved with DEL (literature answers).", no_args_is_help=True)
@@ -51,7 +57,7 @@ def register(app: typer.Typer) -> None:
             if symbolic:
                 from delkit.symbolic import muddy_symbolic
 
-                data = muddy_symbolic(children, muddy).as_dict()
+                data = muddy_symbolic(children, muddy).as_dict() | {"timed": _TIMED}
             else:
                 from delkit.puzzles.muddy import solve_muddy
 
@@ -60,21 +66,33 @@ def register(app: typer.Typer) -> None:
 
     @sub.command("sum-product")
     def sum_product(limit: int = typer.Option(100, "--limit", help="x + y <= LIMIT"),
+                    symbolic: bool = typer.Option(False, "--symbolic", help="use the BDD backend (SMCDEL's "
+                                                  "encoding: bits of x, y, x+y, x*y)"),
+                    smcdel: bool = typer.Option(False, "--smcdel", help="with --symbolic: evaluate SMCDEL's own "
+                                                "protocol formula (knows = OR over pairs of K(x=a & y=b))"),
                     timeout: float = typer.Option(0.0, "--timeout", min=0.0,
                                                   help="wall-clock limit in seconds (0: none)"),
                     as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Freudenthal's Sum and Product: the unique solution (4, 13) for 1 < x < y, x + y <= 100."""
         from delkit.errors import ModelError
-        from delkit.puzzles.sum_product import solve_sum_product
-        from delkit.resources import deadline
+        from delkit.puzzles.sum_product import smcdel_sum_product, solve_sum_product
+        from delkit.resources import deadline, require, sum_product_bytes
 
         if limit < 5:
             raise ModelError(f"puzzle sum-product: --limit must be at least 5, got {limit}")
-        from delkit.resources import require, sum_product_bytes
-
-        require(sum_product_bytes(limit), f"puzzle sum-product --limit {limit}", "use a smaller --limit")
+        if smcdel and not symbolic:
+            raise ModelError("puzzle sum-product: --smcdel needs --symbolic")
+        if not symbolic:
+            require(sum_product_bytes(limit), f"puzzle sum-product --limit {limit}", "use a smaller --limit")
         with deadline(timeout, f"puzzle sum-product --limit {limit}"):
-            data = solve_sum_product(limit).as_dict()
+            if smcdel:
+                pairs, seconds = smcdel_sum_product(limit)
+                data = {"puzzle": "sum-product", "engine": "symbolic", "formula": "smcdel",
+                        "solutions": [list(p) for p in pairs], "seconds": seconds, "timed": _TIMED}
+            else:
+                data = solve_sum_product(limit, symbolic=symbolic).as_dict()
+                if symbolic:
+                    data["timed"] = _TIMED
         _emit(data, as_json, "Sum and Product")
 
     @sub.command("cheryl")
@@ -93,28 +111,64 @@ def register(app: typer.Typer) -> None:
 
     @sub.command("drinking")
     def drinking(wants: str = typer.Option("111", "--wants", help="one digit per logician: 1 wants a drink"),
+                 n: int = typer.Option(None, "--n", help="N logicians who all want a drink (instead of --wants)"),
+                 symbolic: bool = typer.Option(False, "--symbolic", help="use the BDD backend (hundreds of "
+                                               "logicians)"),
+                 formula: bool = typer.Option(False, "--formula", help="evaluate SMCDEL's single nested formula "
+                                              "(all want; answers: true) instead of the turn-by-turn protocol"),
                  as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Logicians in a bar: "Does everyone want a drink?"."""
         from delkit.errors import ModelError
-        from delkit.puzzles.drinking import solve_drinking
+        from delkit.puzzles.drinking import check_thirsty, solve_drinking
 
-        if not wants or set(wants) - {"0", "1"} or len(wants) > 16:
-            raise ModelError(f"puzzle drinking: --wants must be 1 to 16 digits 0/1, got {wants!r}")
-        _emit(solve_drinking(tuple(c == "1" for c in wants)).as_dict(), as_json, "drinking logicians")
+        if n is not None:
+            if n < 1:
+                raise ModelError(f"puzzle drinking: --n must be at least 1, got {n}")
+            wants = "1" * n
+        if not wants or set(wants) - {"0", "1"}:
+            raise ModelError(f"puzzle drinking: --wants must be digits 0/1, got {wants!r}")
+        if not symbolic and len(wants) > 16:
+            raise ModelError(f"puzzle drinking: {len(wants)} logicians means 2^{len(wants)} explicit worlds (at "
+                             "most 16 explicitly); add --symbolic for the BDD backend")
+        if formula:
+            if set(wants) != {"1"}:
+                raise ModelError("puzzle drinking: --formula is SMCDEL's check for the state where all want; "
+                                 "use --n N (or --wants 11…1)")
+            ok, seconds = check_thirsty(len(wants), symbolic=symbolic)
+            data = {"puzzle": "drinking", "engine": "symbolic" if symbolic else "explicit", "formula": "smcdel",
+                    "n": len(wants), "holds": ok, "seconds": seconds}
+        else:
+            data = solve_drinking(tuple(c == "1" for c in wants), symbolic=symbolic).as_dict()
+        data["timed"] = _TIMED.replace("knowledge structure", "model" if not symbolic else "knowledge structure")
+        _emit(data, as_json, "drinking logicians")
 
     @sub.command("dining")
     def dining(n: int = typer.Option(3, "--n", help="number of cryptographers"),
                payer: int = typer.Option(0, "--payer", help="who paid: 0..n-1, or -1 for the NSA"),
                coins: int = typer.Option(0, "--coins", help="the coins as a bitmask (bit i: coin i heads)"),
+               symbolic: bool = typer.Option(False, "--symbolic", help="use the BDD backend (large n)"),
+               smcdel: bool = typer.Option(False, "--smcdel", help="with --symbolic: check SMCDEL's benchmark "
+                                           "formula on SMCDEL's encoding (complete graph of shared bits)"),
                as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Dining cryptographers: everybody learns whether one of them paid, not who."""
         from delkit.errors import ModelError
-        from delkit.puzzles.dining import solve_dining
+        from delkit.puzzles.dining import smcdel_dining_check, solve_dining
 
-        if not 2 <= n <= 10 or not -1 <= payer < n or not 0 <= coins < (1 << n):
-            raise ModelError(f"puzzle dining: need 2 <= --n <= 10, -1 <= --payer < n, 0 <= --coins < 2^n; got "
+        cap = None if symbolic else 10
+        if n < 2 or (cap is not None and n > cap) or not -1 <= payer < n or not 0 <= coins < (1 << n):
+            limit = "" if cap is None else f" <= {cap} (explicit; add --symbolic for more)"
+            raise ModelError(f"puzzle dining: need 2 <= --n{limit}, -1 <= --payer < n, 0 <= --coins < 2^n; got "
                              f"--n {n} --payer {payer} --coins {coins}")
-        _emit(solve_dining(n, None if payer < 0 else payer, coins).as_dict(), as_json, "dining cryptographers")
+        if smcdel and not symbolic:
+            raise ModelError("puzzle dining: --smcdel needs --symbolic")
+        if smcdel:
+            ok, seconds = smcdel_dining_check(n)
+            data = {"puzzle": "dining", "engine": "symbolic", "formula": "smcdel", "n": n, "valid": ok,
+                    "seconds": seconds}
+        else:
+            data = solve_dining(n, None if payer < 0 else payer, coins, symbolic=symbolic).as_dict()
+        data["timed"] = _TIMED.replace("knowledge structure", "model" if not symbolic else "knowledge structure")
+        _emit(data, as_json, "dining cryptographers")
 
     @sub.command("all")
     def all_puzzles(as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:

@@ -9,19 +9,27 @@ public announcement of the true value of every s_i.
 Facts checked (Chaum; van Eijck & Orzan, *Epistemic verification of anonymity*, 2007): after the
 announcements it is common knowledge whether a cryptographer paid (the parity ⊕_i s_i = ⋁_i p_i), and
 if cryptographer k paid, no other cryptographer i knows who: ``¬K_i p_j`` for every j ≠ i.
+
+``solve_dining(…, symbolic=True)`` runs the same protocol on a knowledge structure (V = {p_i, c_i},
+θ = "at most one p_i", O_i = {p_i, c_{i−1}, c_i}). :func:`smcdel_dining_check` is SMCDEL's benchmark
+formula on SMCDEL's encoding (complete graph: a shared bit per pair of cryptographers, P0 = the NSA paid).
 """
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from delkit.formula import C, Formula, Iff, K, Kw, Not, Prop, conj, disj
+from delkit.formula import Announce, C, Formula, Iff, Implies, K, Kw, Not, Prop, conj, disj
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
-__all__ = ["DiningResult", "anonymity_formula", "dining_model", "xor", "said", "solve_dining"]
+__all__ = ["DiningResult", "anonymity_formula", "dining_model", "dining_structure", "xor", "xor_all", "said",
+           "solve_dining", "announce_whether", "smcdel_dining_structure", "smcdel_dining_formula",
+           "smcdel_dining_check"]
 
 
 @dataclass(frozen=True)
@@ -37,17 +45,31 @@ class DiningResult:
     someone_paid_known: bool
     learned_payer: tuple[bool, ...]
     anonymous: bool
+    engine: str = "explicit"
+    seconds: float = 0.0
 
     def as_dict(self) -> dict:
-        return {"puzzle": "dining", "n": self.n, "payer": self.payer,
+        return {"puzzle": "dining", "engine": self.engine, "n": self.n, "payer": self.payer,
                 "common_knows_whether_paid": self.common_knows_whether_paid,
                 "someone_paid_known": self.someone_paid_known, "learned_payer": list(self.learned_payer),
-                "anonymous": self.anonymous}
+                "anonymous": self.anonymous, "seconds": self.seconds}
 
 
 def xor(a: Formula, b: Formula) -> Formula:
     """a ⊕ b = ¬(a ↔ b)."""
     return Not(Iff(a, b))
+
+
+def xor_all(parts: list[Formula]) -> Formula:
+    """n-ary exclusive or (odd parity), as a left-nested chain of binary ⊕ (⊥ for no parts)."""
+    if not parts:
+        from delkit.formula import BOT
+
+        return BOT
+    out = parts[0]
+    for p in parts[1:]:
+        out = xor(out, p)
+    return out
 
 
 def said(i: int, n: int) -> Formula:
@@ -71,9 +93,26 @@ def dining_model(n: int = 3, payer: int | None = 0, coins: int = 0) -> KripkeMod
     return KripkeModel(props, tuple(rels), val, rels, (actual,))
 
 
-def solve_dining(n: int = 3, payer: int | None = 0, coins: int = 0) -> DiningResult:
-    """Announce every cryptographer's truthful s_i and check what became known."""
-    model = dining_model(n, payer, coins)
+def dining_structure(n: int = 3, payer: int | None = 0, coins: int = 0) -> Any:
+    """The knowledge structure of :func:`dining_model`: V = {p_i} ∪ {c_i}, θ = "no two paid",
+    cryptographer ``d<i>`` observes p_i, c_{i−1}, c_i; actual state: ``payer`` and ``coins``."""
+    from delkit.symbolic import KnowledgeStructure
+
+    props = [f"p{i}" for i in range(n)] + [f"c{i}" for i in range(n)]
+    law = conj(Not(Prop(f"p{i}") & Prop(f"p{j}")) for i in range(n) for j in range(i + 1, n))
+    observed = {f"d{i}": [f"p{i}", f"c{(i - 1) % n}", f"c{i}"] for i in range(n)}
+    actual = conj([Prop(f"p{i}") if i == payer else Not(Prop(f"p{i}")) for i in range(n)]
+                  + [Prop(f"c{i}") if (coins >> i) & 1 else Not(Prop(f"c{i}")) for i in range(n)])
+    return KnowledgeStructure.create(props, law, observed, actual)
+
+
+def solve_dining(n: int = 3, payer: int | None = 0, coins: int = 0, *, symbolic: bool = False) -> DiningResult:
+    """Announce every cryptographer's truthful s_i and check what became known (``symbolic``: on
+    :func:`dining_structure`; ``seconds`` is the CPU time of building it and running the protocol)."""
+    if symbolic:
+        import delkit.symbolic  # noqa: F401 - imported before the clock starts
+    t0 = time.process_time()
+    model = dining_structure(n, payer, coins) if symbolic else dining_model(n, payer, coins)
     for i in range(n):
         s = said(i, n)
         model = model.announce(s if model.holds(s) else Not(s))
@@ -84,7 +123,55 @@ def solve_dining(n: int = 3, payer: int | None = 0, coins: int = 0) -> DiningRes
     learned = tuple(
         model.holds(conj(Kw(a, Prop(f"p{j}")) for j in range(n))) for a in group)
     anonymous = all(model.holds(anonymity_formula(n, i)) for i in range(n))
-    return DiningResult(n, payer, ck_whether, everyone_knows, learned, anonymous)
+    return DiningResult(n, payer, ck_whether, everyone_knows, learned, anonymous,
+                        "symbolic" if symbolic else "explicit", time.process_time() - t0)
+
+
+def announce_whether(announced: Formula, arg: Formula) -> Formula:
+    """SMCDEL's ``[?!φ]ψ`` (announce whether φ): ``(φ → [!φ]ψ) ∧ (¬φ → [!¬φ]ψ)``."""
+    return conj([Implies(announced, Announce(announced, arg)),
+                 Implies(Not(announced), Announce(Not(announced), arg))])
+
+
+def _smcdel_bits(n: int) -> dict[tuple[int, int], str]:
+    return {(k, m): f"s{k}_{m}" for k in range(1, n + 1) for m in range(k + 1, n + 1)}
+
+
+def smcdel_dining_structure(n: int) -> Any:
+    """SMCDEL's ``genDcKnsInit n``: P0 (the NSA paid), P1…Pn (cryptographer i paid) and a shared bit for
+    every pair of cryptographers (complete graph, n(n−1)/2 bits); θ = exactly one of P0…Pn; agent ``i``
+    observes P_i and its n−1 shared bits. Variable order as SMCDEL's: payers, then bits pair by pair."""
+    from delkit.symbolic import KnowledgeStructure
+
+    bits = _smcdel_bits(n)
+    props = [f"P{i}" for i in range(n + 1)] + list(bits.values())
+    payers = [Prop(f"P{i}") for i in range(n + 1)]
+    law = conj([disj(payers)] + [Not(payers[i] & payers[j]) for i in range(n + 1) for j in range(i + 1, n + 1)])
+    observed = {str(i): [f"P{i}"] + [b for (k, m), b in bits.items() if i in (k, m)] for i in range(1, n + 1)}
+    return KnowledgeStructure.create(props, law, observed)
+
+
+def smcdel_dining_formula(n: int) -> Formula:
+    """SMCDEL's benchmark formula (``bench/diningcrypto``): if cryptographer 1 did not pay, after the
+    announcement whether the ⊕ of all revealed bits holds, 1 knows that nobody paid, or knows that one
+    of 2…n paid without knowing which."""
+    bits = _smcdel_bits(n)
+    reveal = [xor_all([Prop(f"P{i}")] + [Prop(b) for (k, m), b in bits.items() if i in (k, m)])
+              for i in range(1, n + 1)]
+    after = disj([K("1", conj(Not(Prop(f"P{k}")) for k in range(1, n + 1))),
+                  conj([K("1", disj(Prop(f"P{k}") for k in range(2, n + 1))),
+                        conj(Not(K("1", Prop(f"P{k}"))) for k in range(2, n + 1))])])
+    return Implies(Not(Prop("P1")), announce_whether(xor_all(reveal), after))
+
+
+def smcdel_dining_check(n: int) -> tuple[bool, float]:
+    """Validity of :func:`smcdel_dining_formula` on :func:`smcdel_dining_structure` (SMCDEL's
+    ``genDcValid``, literature answer: valid) and the CPU seconds of building both and checking."""
+    import delkit.symbolic  # noqa: F401 - imported before the clock starts
+
+    t0 = time.process_time()
+    ok = smcdel_dining_structure(n).valid(smcdel_dining_formula(n))
+    return bool(ok), time.process_time() - t0
 
 
 def anonymity_formula(n: int, observer: int) -> Formula:

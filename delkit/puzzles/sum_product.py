@@ -11,21 +11,28 @@ The dialogue (van Ditmarsch, Ruan, Verbrugge, *Sum and Product in Dynamic Episte
 3. S: "Now I know too"               — ``[!knows_S]``
 
 Literature answer: exactly one world survives, (x, y) = (4, 13).
+
+``solve_sum_product(…, symbolic=True)`` runs the same dialogue on SMCDEL's encoding as a knowledge
+structure (:func:`sum_product_structure`: bits of x, y, x + y and x·y; S observes the sum bits, P the
+product bits); :func:`smcdel_sum_product` evaluates SMCDEL's own protocol formula, whose "A knows the
+numbers" is the disjunction over all pairs of ``K_A(x = a ∧ y = b)``.
 """
 
 from __future__ import annotations
 
 import time
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
-from delkit.formula import K, Not
+from delkit.formula import Formula, K, Not, Prop, conj, disj
 from delkit.kripke import KripkeModel
 from delkit.puzzles._common import bit_props, encode_bits, knows_which, value_of
 from delkit.relation import Relation
 
-__all__ = ["SumProductResult", "sum_product_model", "solve_sum_product"]
+__all__ = ["SumProductResult", "sum_product_model", "sum_product_structure", "solve_sum_product",
+           "smcdel_sum_product"]
 
 
 @dataclass(frozen=True)
@@ -35,9 +42,10 @@ class SumProductResult:
     solutions: tuple[tuple[int, int], ...]
     worlds: tuple[int, ...]
     seconds: float
+    engine: str = "explicit"
 
     def as_dict(self) -> dict:
-        return {"puzzle": "sum-product", "solutions": [list(s) for s in self.solutions],
+        return {"puzzle": "sum-product", "engine": self.engine, "solutions": [list(s) for s in self.solutions],
                 "worlds": list(self.worlds), "seconds": self.seconds}
 
 
@@ -59,15 +67,90 @@ def _pairs(model: KripkeModel) -> list[tuple[int, int]]:
     return [(int(a), int(b)) for a, b in zip(xs, ys, strict=True)]
 
 
-def solve_sum_product(limit: int = 100) -> SumProductResult:
-    """Apply the three announcements; the surviving worlds are the solutions."""
-    t0 = time.perf_counter()
-    model = sum_product_model(limit)
-    xy = model.props
+def _pairs_of(limit: int) -> tuple[np.ndarray, np.ndarray]:
+    x, y = np.triu_indices(limit, k=1)
+    keep = (x > 1) & (x + y <= limit)
+    return x[keep].astype(np.int64), y[keep].astype(np.int64)
+
+
+def sum_product_structure(limit: int = 100) -> Any:
+    """SMCDEL's encoding as a knowledge structure: binary digits ``x* y* s* p*`` of x, y, x + y and x·y;
+    θ = the disjunction of the 2352 (for 100) full assignments; S observes ``s*``, P observes ``p*``."""
+    from delkit.symbolic import KnowledgeStructure, new_manager
+
+    x, y = _pairs_of(limit)
+    xp, yp, sp, pp = bit_props("x", x), bit_props("y", y), bit_props("s", x + y), bit_props("p", x * y)
+    voc = xp + yp + sp + pp
+    mgr = new_manager()
+    mgr.declare(*voc)
+    bits = np.concatenate([encode_bits(x, len(xp)), encode_bits(y, len(yp)), encode_bits(x + y, len(sp)),
+                           encode_bits(x * y, len(pp))], axis=1)
+    law = mgr.false
+    for row in bits[::-1]:  # any order gives the same BDD
+        law = law | mgr.cube(dict(zip(voc, (bool(b) for b in row), strict=True)))
+    ks = KnowledgeStructure.create(voc, observed={"S": sp, "P": pp}, bdd=mgr)
+    return KnowledgeStructure(mgr, ks.vocabulary, law, ks.observed, law, _props=ks._props)
+
+
+def _solutions(ks: Any, node: Any = None) -> list[tuple[int, int]]:
+    out = []
+    for st in ks.states(node):
+        xv = sum(1 << int(v[1:]) for v, b in st.items() if b and v.startswith("x"))
+        yv = sum(1 << int(v[1:]) for v, b in st.items() if b and v.startswith("y"))
+        out.append((xv, yv))
+    return sorted(out)
+
+
+def solve_sum_product(limit: int = 100, *, symbolic: bool = False) -> SumProductResult:
+    """Apply the three announcements; the surviving worlds (states) are the solutions.
+
+    ``seconds`` is the CPU time of building the model/structure and the three announcements."""
+    if symbolic:
+        import delkit.symbolic  # noqa: F401 - imported before the clock starts
+    t0 = time.process_time()
+    if symbolic:
+        model = sum_product_structure(limit)
+        xy = tuple(v for v in model.vocabulary if v[0] in "xy")
+        count = model.count_states
+    else:
+        model = sum_product_model(limit)
+        xy = model.props
+
+        def count() -> int:
+            return model.n_worlds
     knows_p = knows_which("P", xy)
     knows_s = knows_which("S", xy)
-    worlds = [model.n_worlds]
+    worlds = [count()]
     for phi in (K("S", Not(knows_p)), knows_p, knows_s):
         model = model.announce(phi)
-        worlds.append(model.n_worlds)
-    return SumProductResult(tuple(_pairs(model)), tuple(worlds), time.perf_counter() - t0)
+        worlds.append(model.count_states() if symbolic else model.n_worlds)
+    pairs = _solutions(model) if symbolic else _pairs(model)
+    return SumProductResult(tuple(pairs), tuple(worlds), time.process_time() - t0,
+                            "symbolic" if symbolic else "explicit")
+
+
+def _value_is(name: str, props: tuple[str, ...], value: int) -> Formula:
+    return conj(Prop(p) if (value >> int(p[len(name):])) & 1 else Not(Prop(p)) for p in props)
+
+
+def smcdel_sum_product(limit: int = 100) -> tuple[list[tuple[int, int]], float]:
+    """SMCDEL's ``sapSolutions``: the states where ``f1 ∧ [!f1]f2 ∧ [!f1][!f2]f3`` holds, with
+    f1 = K_S ¬knows_P, f2 = knows_P, f3 = knows_S and knows_A = ⋁_{(x,y)} K_A(x = a ∧ y = b); returns the
+    (x, y) of those states and the CPU seconds of building the structure and evaluating (formula included)."""
+    import delkit.symbolic  # noqa: F401 - imported before the clock starts
+
+    t0 = time.process_time()
+    ks = sum_product_structure(limit)
+    xp = tuple(v for v in ks.vocabulary if v[0] == "x")
+    yp = tuple(v for v in ks.vocabulary if v[0] == "y")
+    xs, ys = _pairs_of(limit)
+    are = [conj([_value_is("x", xp, int(a)), _value_is("y", yp, int(b))]) for a, b in zip(xs, ys, strict=True)]
+
+    def knows(agent: str) -> Formula:
+        return disj(K(agent, f) for f in are)
+
+    from delkit.formula import Announce
+
+    f1, f2, f3 = K("S", Not(knows("P"))), knows("P"), knows("S")
+    protocol = conj([f1, Announce(f1, f2), Announce(f1, Announce(f2, f3))])
+    return _solutions(ks, ks.evaluate(protocol)), time.process_time() - t0

@@ -231,3 +231,25 @@ def test_cheryl_and_sum_product_announcements_agree_symbolically() -> None:
             assert ks.count_states() == model.n_worlds
         assert bisimilar(model.with_designated(range(model.n_worlds)),
                          KnowledgeStructure(ks.bdd, ks.vocabulary, ks.law, ks.observed, ks.law).to_kripke(model.props))
+
+
+@pytest.mark.slow
+@settings(max_examples=3000, deadline=None, suppress_health_check=list(HealthCheck))
+@given(s5_models(max_worlds=4), _formulas(3, dynamic=updates()))
+def test_symbolic_agrees_with_explicit_many(model: KripkeModel, formula: Formula) -> None:
+    """S5 knowledge structures (observational): 3,000 random (model, formula) cases with announcements and
+    S5 event models with factual change (with the 10,200 belief-structure cases of
+    test_symbolic_belief.py: 13,200 in the slow suite)."""
+    _agree(model, formula)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=list(HealthCheck))
+@given(s5_models(max_worlds=4), s5_event_models())
+def test_transformer_back_to_event_model_round_trip(model: KripkeModel, events: EventModel) -> None:
+    """event model → transformer → event model: the product updates are bisimilar."""
+    from delkit.symbolic import event_model_from_transformer, transformer_from_event_model
+
+    ks, _ = from_kripke(model)
+    x, _ = transformer_from_event_model(events, ks)
+    back = event_model_from_transformer(x, ks)
+    assert bisimilar(product_update(model, events), product_update(model, back))

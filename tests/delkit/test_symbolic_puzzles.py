@@ -1,0 +1,70 @@
+"""The puzzles on the symbolic backend: the same answers as the explicit engine, and SMCDEL's formulas."""
+
+from __future__ import annotations
+
+import itertools
+import json
+
+import pytest
+
+from delkit.cli import main
+from delkit.formula import Not, Prop
+from delkit.puzzles.dining import smcdel_dining_check, solve_dining
+from delkit.puzzles.drinking import check_thirsty, drinking_structure, solve_drinking, thirsty_formula
+from delkit.puzzles.sum_product import smcdel_sum_product, solve_sum_product
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+def test_drinking_symbolic_answers_equal_explicit(n: int) -> None:
+    for wants in itertools.product((False, True), repeat=n):
+        assert solve_drinking(wants, symbolic=True).answers == solve_drinking(wants).answers
+
+
+@pytest.mark.parametrize("n", [2, 3, 5])
+def test_thirsty_formula_true_exactly_when_all_want(n: int) -> None:
+    assert check_thirsty(n, symbolic=True)[0] and check_thirsty(n, symbolic=False)[0]
+    for k in range(n):  # any logician without thirst makes it false (she knows not all want)
+        wants = tuple(i != k for i in range(n))
+        assert not drinking_structure(wants).holds(thirsty_formula(n))
+
+
+def test_thirsty_formula_deep_stack_symbolic() -> None:
+    """SMCDEL's formula for 300 logicians nests 299 announcements: no RecursionError, right answer."""
+    assert check_thirsty(300)[0]
+
+
+@pytest.mark.parametrize(("n", "payer", "coins"), [(3, 0, 5), (3, None, 2), (4, 2, 9), (5, 4, 17), (6, None, 33)])
+def test_dining_symbolic_equals_explicit(n: int, payer: int | None, coins: int) -> None:
+    e, s = solve_dining(n, payer, coins), solve_dining(n, payer, coins, symbolic=True)
+    keep = ("common_knows_whether_paid", "someone_paid_known", "learned_payer", "anonymous")
+    assert {k: e.as_dict()[k] for k in keep} == {k: s.as_dict()[k] for k in keep}
+    assert s.anonymous and s.common_knows_whether_paid
+
+
+@pytest.mark.parametrize("n", [3, 4, 7, 12])
+def test_smcdel_dining_formula_is_valid(n: int) -> None:
+    assert smcdel_dining_check(n)[0]
+
+
+def test_sum_product_symbolic_equals_explicit_and_smcdel_formula() -> None:
+    e, s = solve_sum_product(), solve_sum_product(symbolic=True)
+    assert s.solutions == e.solutions == ((4, 13),)
+    assert s.worlds == e.worlds
+    assert smcdel_sum_product()[0] == [(4, 13)]
+
+
+def test_cli_symbolic_puzzles_beyond_the_explicit_caps(capsys) -> None:
+    assert main(["puzzle", "drinking", "--n", "40", "--symbolic", "--formula", "--json"]) in (0, None)
+    out = json.loads(capsys.readouterr().out)
+    assert out["holds"] is True and "imports excluded" in out["timed"]
+    assert main(["puzzle", "dining", "--n", "14", "--payer", "3", "--symbolic", "--json"]) in (0, None)
+    out = json.loads(capsys.readouterr().out)
+    assert out["anonymous"] and out["common_knows_whether_paid"]
+    assert out["learned_payer"] == [i == 3 for i in range(14)]  # only the payer knows who paid
+    assert main(["puzzle", "drinking", "--n", "40", "--json"]) == 2
+    assert "--symbolic" in capsys.readouterr().err
+
+
+def test_not_all_thirsty_formula_is_false_at_actual() -> None:
+    ks = drinking_structure((True, False))
+    assert ks.holds(Not(Prop("w1")))
