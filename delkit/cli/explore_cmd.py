@@ -115,7 +115,7 @@ def register(app: typer.Typer) -> None:
         robots: str = typer.Option("2,3,5,8", "--robots", help="Team sizes, comma-separated."),
         maps: int = typer.Option(15, "--maps", help="Number of random maps (seeds 0..maps-1)."),
         methods: str = typer.Option("epistemic,flock,ideal", "--methods", help="Methods, comma-separated."),
-        workers: int | None = typer.Option(None, "--workers", min=1,
+        workers: int | None = typer.Option(None, "--workers", min=1, max=1024,
                                             help="Local worker processes (default: all cores)."),
         dask: str | None = typer.Option(None, "--dask", help="Address of a Dask scheduler, e.g. tcp://host:8786."),
         out: Path = typer.Option(Path("explore-sweep"), "--out", help="Output directory (CSV, PNGs, JSON)."),
@@ -136,6 +136,10 @@ def register(app: typer.Typer) -> None:
                          methods=names)
         spec.validate()
         total = len(spec.cases) * maps * len(spec.robots) * len(spec.methods)
+        from delkit.resources import require
+
+        require(4096.0 * total, f"a sweep of {total} missions (their configurations and result rows)",
+                "use fewer --maps, --robots, --methods or --case values")
         with _progress() as bar:
             task = bar.add_task("missions", total=total)
             rows = run_sweep(spec, workers=workers, dask=dask, progress=lambda d, _t: bar.update(task, completed=d))

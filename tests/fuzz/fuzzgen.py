@@ -538,8 +538,9 @@ def explore_cases(draw) -> Case:
         return Case("explore gap", ("explore", "gap", "--json", "--instances", draw(st.sampled_from(
             ["1", "2", "0", "-1", "abc"])), "--seed", draw(st.sampled_from(INTS))), oracle="json", budget=40.0)
     if sub == "sweep":
-        argv = ["explore", "sweep", "--json", "--no-snapshots", "--out", "{d}/sw", "--workers", "1",
-                "--maps", draw(st.sampled_from(["1", "0", "-1", "abc"])),
+        argv = ["explore", "sweep", "--json", "--no-snapshots", "--out", "{d}/sw",
+                "--workers", draw(st.sampled_from(["1", "1", "1", "0", "2147483648"])),
+                "--maps", draw(st.sampled_from(["1", "0", "-1", "abc", "2147483648"])),
                 "--methods", draw(st.sampled_from(["", ",", "flock", " , ", "zz", "flock,,ideal"])),
                 "--robots", draw(st.sampled_from(["2", "", "0", "-3", "2,2", "a", "1"])),
                 "--case", draw(st.sampled_from(["1", "3", "", "0", "-1", "1,2,x"]))]
@@ -582,7 +583,8 @@ def arms_cases(draw) -> Case:
     kind = draw(st.sampled_from(["json", "json", "field", "field", "layout", "bytes", "ik"]))
     if kind == "ik":
         opt = draw(st.sampled_from(["--targets", "--budget-ms", "--seed", "--clock"]))
-        pool = {"--targets": ["0", "-1", "1", "abc", "2"], "--budget-ms": FLOATS, "--seed": INTS,
+        pool = {"--targets": ["0", "-1", "1", "abc", "2", "2147483648", "9223372036854775808"],
+                "--budget-ms": FLOATS, "--seed": INTS,
                 "--clock": WORDS + ["cpu"]}[opt]
         argv = ["arms", "bench-ik", "--json", "--targets", "2", opt, draw(st.sampled_from(pool))]
         return Case("arms bench-ik", tuple(argv), oracle="json", budget=40.0)

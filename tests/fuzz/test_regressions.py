@@ -336,3 +336,15 @@ def test_explore_map_too_small_for_a_mission(tmp_path, capsys, size):
     f = tmp_path / "g.map"
     f.write_text(f"type octile\nheight {size}\nwidth {size}\nmap\n" + ("." * size + "\n") * size)
     one_line_error(capsys, ["explore", "run", "--map", str(f), "--t-max", "5"], "g.map", "more than 6 m")
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["explore", "sweep", "--workers", "2147483648", "--maps", "1"], "--workers"),
+    (["explore", "sweep", "--maps", "2147483648", "--methods", "flock", "--no-snapshots"], "fewer --maps"),
+    (["arms", "bench-ik", "--targets", "2147483648"], "fewer --targets"),
+    (["arms", "bench-ik", "--budget-ms", "inf"], "--budget-ms"),
+    (["consistency", "run", "--robots", "6", "--width", "2", "--height", "2"], "do not fit on a 2×2 grid"),
+])
+def test_options_out_of_range(tmp_path, capsys, argv, fragment):
+    extra = ["--out", str(tmp_path)] if argv[1] == "sweep" else []
+    one_line_error(capsys, [*argv, *extra], re.escape(fragment))
