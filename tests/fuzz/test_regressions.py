@@ -348,3 +348,11 @@ def test_explore_map_too_small_for_a_mission(tmp_path, capsys, size):
 def test_options_out_of_range(tmp_path, capsys, argv, fragment):
     extra = ["--out", str(tmp_path)] if argv[1] == "sweep" else []
     one_line_error(capsys, [*argv, *extra], re.escape(fragment))
+
+
+def test_model_macro_unknown_logic_is_refused(tmp_path, capsys):
+    ev = {"delkit": "event-model", "agents": ["a"], "events": [{"name": "e", "pre": "p"}],
+          "relations": {"a": {"blocks": [["e"]]}}, "designated": ["e"]}
+    f = tmp_path / "e.json"
+    f.write_text(json.dumps(ev))
+    one_line_error(capsys, ["model", "macro", str(f), str(f), "--logic", "XX"], "--logic 'XX'")
