@@ -385,13 +385,13 @@ def json_mutation(draw, obj):
             parent = parent[k]
         key = path[-1]
         op = draw(st.sampled_from(["odd", "odd", "delete", "unknown-key", "nest", "dup"]))
-        if op == "odd":
-            parent[key] = draw(st.sampled_from(JSON_ODD))
+        if op == "odd":  # a copy: the shared constants must never be edited by a later mutation
+            parent[key] = copy.deepcopy(draw(st.sampled_from(JSON_ODD)))
         elif op == "delete":
             del parent[key]
         elif op == "unknown-key" and isinstance(parent, dict):
-            parent[draw(st.sampled_from(["extra", "Worlds", "T", "true", "robots9", "to"]))] = draw(
-                st.sampled_from(JSON_ODD))
+            parent[draw(st.sampled_from(["extra", "Worlds", "T", "true", "robots9", "to"]))] = copy.deepcopy(
+                draw(st.sampled_from(JSON_ODD)))
         elif op == "nest":
             parent[key] = f"@@NEST{draw(st.sampled_from([5, 200, 20000]))}@@"  # spliced in by _dump
         elif op == "dup" and isinstance(parent, list):
