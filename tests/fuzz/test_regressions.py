@@ -356,3 +356,19 @@ def test_model_macro_unknown_logic_is_refused(tmp_path, capsys):
     f = tmp_path / "e.json"
     f.write_text(json.dumps(ev))
     one_line_error(capsys, ["model", "macro", str(f), str(f), "--logic", "XX"], "--logic 'XX'")
+
+
+def test_property_over_an_mastar_fluent_named_T_is_refused(tmp_path, capsys):
+    from planners.lang import shared_benchmarks
+
+    bench = shared_benchmarks()
+    if bench is None:
+        pytest.skip("../shared/benchmarks is not available")
+    text = (bench / "mastar" / "CB_simple" / "CB_simple__pl_2.txt").read_text()
+    text = text.replace("fluent has_key_a,", "fluent T, has_key_a,").replace(
+        "initially -has_key_a,", "initially -T, -has_key_a,")
+    spec = tmp_path / "t.txt"
+    spec.write_text(text)
+    plan = tmp_path / "p.plan"
+    plan.write_text("")
+    one_line_error(capsys, ["check", str(spec), str(plan), "--property", "always T"], "fluent named 'T'")
