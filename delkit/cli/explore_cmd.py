@@ -135,6 +135,12 @@ def register(app: typer.Typer) -> None:
         spec = SweepSpec(cases=_int_list(case, "--case"), robots=_int_list(robots, "--robots"), maps=maps,
                          methods=names)
         spec.validate()
+        from sim.explore import MissionConfig
+
+        for c in spec.cases:  # every combination is checked here, before any worker process starts
+            for n in spec.robots:
+                for m in spec.methods:
+                    MissionConfig(case=c, n_robots=n, method=m).validate()
         total = len(spec.cases) * maps * len(spec.robots) * len(spec.methods)
         from delkit.resources import require
 
