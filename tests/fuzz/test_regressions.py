@@ -372,3 +372,8 @@ def test_property_over_an_mastar_fluent_named_T_is_refused(tmp_path, capsys):
     plan = tmp_path / "p.plan"
     plan.write_text("")
     one_line_error(capsys, ["check", str(spec), str(plan), "--property", "always T"], "fluent named 'T'")
+
+
+def test_epddl_problem_for_another_domain_is_refused(tmp_path, capsys):
+    files = _coin(tmp_path, problem_edit=lambda t: t.replace("(:domain coin_in_the_box)", "(:domain grapevine)"))
+    one_line_error(capsys, ["plan", *files], r"p\.epddl:\d+:\d+", "for domain 'grapevine'")
