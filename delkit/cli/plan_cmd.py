@@ -39,7 +39,7 @@ def register(app: typer.Typer) -> None:
 
         if search not in ("bfs", "gbfs", "astar"):
             raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
-        limits = Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory)  # checks them first
+        Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory)  # refuse bad limits before work
         t0 = time.monotonic()
         name = str(spec)
         try:
@@ -60,7 +60,6 @@ def register(app: typer.Typer) -> None:
                 raise
             res = SearchResult("limit", None, 0, 0, time.monotonic() - t0, search,
                                reason=f"--timeout {timeout:g} s reached: {exc}")
-        del limits
         out = res.to_json()
         out["task"] = name
         if as_json:
