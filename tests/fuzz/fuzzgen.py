@@ -97,8 +97,10 @@ def _sexp_parse(text: str):
 def _sexp_show(x) -> str:
     if isinstance(x, str):
         return x
-    if len(x) == 3 and x[0] == "@@NEST":
-        return "(not " * int(x[1]) + _sexp_show(x[2]) + ")" * int(x[1])
+    if x and x[0] == "@@NEST":  # a later mutation may have edited the marker itself: then drop the nesting
+        if len(x) == 3 and isinstance(x[1], str) and x[1].isdigit():
+            return "(not " * int(x[1]) + _sexp_show(x[2]) + ")" * int(x[1])
+        x = x[1:]
     return "(" + " ".join(_sexp_show(i) for i in x) + ")"
 
 
