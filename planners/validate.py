@@ -141,6 +141,10 @@ def parse_formula(body: str, task: Task, *, source: str = "<formula>") -> Formul
     from delkit.formula import parse
     from planners.lang.mastar import parse_mastar_formula
 
+    clash = sorted({"T", "F", "true", "false"} & set(task.props))
+    if clash:  # 'always T' would silently mean the constant, not the fluent
+        raise ParseError(f"the task has a fluent named {clash[0]!r}, which formulas read as a constant; rename "
+                         f"the fluent to check properties about it", source=source)
     try:
         f = parse(body, source=source)
         task.initial.validate_symbols(f)

@@ -126,8 +126,12 @@ def register(app: typer.Typer) -> None:
             raise ArmsError(f"--clock must be wall or cpu, not {clock!r}")
         if protocol not in PROTOCOLS:
             raise ArmsError(f"--protocol must be one of {', '.join(PROTOCOLS)}, not {protocol!r}")
-        if not budget_ms > 0:
+        if not budget_ms > 0 or budget_ms == float("inf"):
             raise ArmsError(f"--budget-ms must be a positive time in milliseconds (e.g. 5), not {budget_ms!r}")
+        from delkit.resources import require
+
+        require(1024.0 * targets, f"--targets {targets} (the random poses and per-solve records)",
+                "use fewer --targets")
 
         cb, stop = _progress_cb(2 * targets, "IK")
         try:

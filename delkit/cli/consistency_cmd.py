@@ -22,6 +22,10 @@ def _config(**kw):
 
     if kw["epochs"] < 1:  # an episode without a planning step has no Not-AC rate and no mean J
         raise SimulationError(f"--epochs must be at least 1 (the paper uses 200), got {kw['epochs']}")
+    robots, cells = kw.get("robots", 2), kw["width"] * kw["height"]
+    if kw["width"] >= 2 and kw["height"] >= 2 and robots > cells:
+        raise SimulationError(f"--robots {robots} do not fit on a {kw['width']}×{kw['height']} grid "
+                              f"({cells} cells, one robot per cell); use a bigger grid or fewer robots")
     cfg = SARConfig(**kw)  # checks the ranges first
     from delkit.resources import require, sar_bytes
 

@@ -116,7 +116,7 @@ def register(app: typer.Typer) -> None:
         robots: str = typer.Option("2,3,5,8", "--robots", help="Team sizes, comma-separated."),
         maps: int = typer.Option(15, "--maps", help="Number of random maps (seeds 0..maps-1)."),
         methods: str = typer.Option("epistemic,flock,ideal", "--methods", help="Methods, comma-separated."),
-        workers: int | None = typer.Option(None, "--workers", min=1,
+        workers: int | None = typer.Option(None, "--workers", min=1, max=1024,
                                             help="Local worker processes (default: all cores)."),
         dask: str | None = typer.Option(None, "--dask", help="Address of a Dask scheduler, e.g. tcp://host:8786."),
         out: Path = typer.Option(Path("explore-sweep"), "--out", help="Output directory (CSV, PNGs, JSON)."),
@@ -136,7 +136,17 @@ def register(app: typer.Typer) -> None:
         spec = SweepSpec(cases=_int_list(case, "--case"), robots=_int_list(robots, "--robots"), maps=maps,
                          methods=names)
         spec.validate()
+        from sim.explore import MissionConfig
+
+        for c in spec.cases:  # every combination is checked here, before any worker process starts
+            for n in spec.robots:
+                for m in spec.methods:
+                    MissionConfig(case=c, n_robots=n, method=m).validate()
         total = len(spec.cases) * maps * len(spec.robots) * len(spec.methods)
+        from delkit.resources import require
+
+        require(4096.0 * total, f"a sweep of {total} missions (their configurations and result rows)",
+                "use fewer --maps, --robots, --methods or --case values")
         with _progress() as bar:
             task = bar.add_task("missions", total=total)
             rows = run_sweep(spec, workers=workers, dask=dask, progress=lambda d, _t: bar.update(task, completed=d))

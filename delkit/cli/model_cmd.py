@@ -173,8 +173,12 @@ def register(app: typer.Typer) -> None:
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Check (z3) that MACRO is the composition STEP1;STEP2;… (events matched by name)."""
+        from delkit.errors import DelkitError
         from delkit.io import load_event_model
-        from delkit.verify import check_macro
+        from delkit.verify import LOGICS, check_macro
+
+        if logic.upper() not in LOGICS:  # an unknown frame class was silently accepted
+            raise DelkitError(f"--logic {logic!r}: use one of {', '.join(LOGICS)}")
 
         res = check_macro(load_event_model(macro_file), [load_event_model(p) for p in steps], logic=logic,
                           worlds=worlds)

@@ -373,6 +373,11 @@ def parse_epddl(domain_text: str, problem_text: str | None = None, *, domain_sou
     pctx = dctx
     pname, psec, pnode = _define(px[0], "problem", _Ctx(problem_source))
     ctx = dctx
+    dom_ref = psec.get(":domain")  # (:domain NAME) must name the domain it is planned with
+    if isinstance(dom_ref, SList) and len(dom_ref.items) == 2 and isinstance(dom_ref.items[1], Atom) \
+            and dom_ref.items[1].text != dname:
+        raise ParseError(f"the problem is for domain {dom_ref.items[1].text!r}, but the domain given is {dname!r}",
+                         source=problem_source, line=dom_ref.line, column=dom_ref.col)
     # objects: problem agents/objects and domain constants
     agents_sec = psec.get(":agents")
     if agents_sec is None:

@@ -320,7 +320,8 @@ class Runner:
     def _start(self) -> None:
         ctx = mp.get_context("fork")
         parent, child = ctx.Pipe()
-        self._proc = ctx.Process(target=_worker, args=(child, self.mem_mb), daemon=True)
+        # not a daemon: commands such as ``explore sweep`` start their own worker processes
+        self._proc = ctx.Process(target=_worker, args=(child, self.mem_mb), daemon=False)
         self._proc.start()
         child.close()
         self._conn = parent

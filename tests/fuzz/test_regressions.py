@@ -337,3 +337,44 @@ def test_explore_map_too_small_for_a_mission(tmp_path, capsys, size):
     f = tmp_path / "g.map"
     f.write_text(f"type octile\nheight {size}\nwidth {size}\nmap\n" + ("." * size + "\n") * size)
     one_line_error(capsys, ["explore", "run", "--map", str(f), "--t-max", "5"], "g.map", "more than 6 m")
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["explore", "sweep", "--workers", "2147483648", "--maps", "1"], "--workers"),
+    (["explore", "sweep", "--maps", "2147483648", "--methods", "flock", "--no-snapshots"], "fewer --maps"),
+    (["arms", "bench-ik", "--targets", "2147483648"], "fewer --targets"),
+    (["arms", "bench-ik", "--budget-ms", "inf"], "--budget-ms"),
+    (["consistency", "run", "--robots", "6", "--width", "2", "--height", "2"], "do not fit on a 2×2 grid"),
+])
+def test_options_out_of_range(tmp_path, capsys, argv, fragment):
+    extra = ["--out", str(tmp_path)] if argv[1] == "sweep" else []
+    one_line_error(capsys, [*argv, *extra], re.escape(fragment))
+
+
+def test_model_macro_unknown_logic_is_refused(tmp_path, capsys):
+    ev = {"delkit": "event-model", "agents": ["a"], "events": [{"name": "e", "pre": "p"}],
+          "relations": {"a": {"blocks": [["e"]]}}, "designated": ["e"]}
+    f = tmp_path / "e.json"
+    f.write_text(json.dumps(ev))
+    one_line_error(capsys, ["model", "macro", str(f), str(f), "--logic", "XX"], "--logic 'XX'")
+
+
+def test_property_over_an_mastar_fluent_named_T_is_refused(tmp_path, capsys):
+    from planners.lang import shared_benchmarks
+
+    bench = shared_benchmarks()
+    if bench is None:
+        pytest.skip("../shared/benchmarks is not available")
+    text = (bench / "mastar" / "CB_simple" / "CB_simple__pl_2.txt").read_text()
+    text = text.replace("fluent has_key_a,", "fluent T, has_key_a,").replace(
+        "initially -has_key_a,", "initially -T, -has_key_a,")
+    spec = tmp_path / "t.txt"
+    spec.write_text(text)
+    plan = tmp_path / "p.plan"
+    plan.write_text("")
+    one_line_error(capsys, ["check", str(spec), str(plan), "--property", "always T"], "fluent named 'T'")
+
+
+def test_epddl_problem_for_another_domain_is_refused(tmp_path, capsys):
+    files = _coin(tmp_path, problem_edit=lambda t: t.replace("(:domain coin_in_the_box)", "(:domain grapevine)"))
+    one_line_error(capsys, ["plan", *files], r"p\.epddl:\d+:\d+", "for domain 'grapevine'")
