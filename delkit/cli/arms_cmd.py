@@ -73,11 +73,14 @@ def register(app: typer.Typer) -> None:
             as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
             video: bool = typer.Option(True, "--video/--no-video", help="also write run.mp4 / run.gif"),
             frames: bool = typer.Option(False, "--frames", help="also write every frame as PNG"),
-            tolerance: float = typer.Option(0.01, "--tolerance", help="max block error (m)")) -> None:
+            tolerance: float = typer.Option(0.01, "--tolerance", help="max block error (m)"),
+            timeout: float = typer.Option(0.0, "--timeout", min=0.0,
+                                          help="wall-clock limit in seconds for the whole run (0: none)")) -> None:
         """Execute a primitive plan in physics, check every block after every action, render."""
         from arms.demo import execute_and_render
         from arms.plan import load_plan, symbolic_trace
         from arms.world import ArmsError
+        from delkit.resources import deadline
 
         if grasp not in ("weld", "friction"):
             raise ArmsError(f"--grasp must be weld or friction, not {grasp!r}")
@@ -87,7 +90,8 @@ def register(app: typer.Typer) -> None:
         symbolic_trace(p)  # reject a plan that is wrong on paper before simulating it
         cb, stop = _progress_cb(len(p.actions), "executing")
         try:
-            result, note = _execute(execute_and_render, p, out, grasp, video, tolerance, cb, frames)
+            with deadline(timeout, f"arms run {plan}"):  # physics, IK and rendering: the limit holds throughout
+                result, note = _execute(execute_and_render, p, out, grasp, video, tolerance, cb, frames)
         finally:
             stop()
         raise typer.Exit(_report(result, note, as_json))

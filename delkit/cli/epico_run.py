@@ -125,11 +125,14 @@ def register(epico_app: typer.Typer) -> None:
             macros: bool = typer.Option(True, "--macros/--no-macros", help="plan with e-PICO's macros"),
             symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours (e-PICO "
                                                                      "default: robot2 learns robot1's)"),
+            timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="wall-clock limit in seconds for "
+                                          "planning, replanning, physics and rendering (0: none)"),
             as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Plan an e-PICO goal and execute it on the two simulated arms, re-sensing and replanning on
         divergences; report per task what was planned, done and observed."""
         from arms.mission import parse_fault
         from arms.world import ArmsError
+        from delkit.resources import deadline
 
         if grasp not in ("weld", "friction"):
             raise ArmsError(f"--grasp must be friction or weld, not {grasp!r}")
@@ -142,18 +145,19 @@ def register(epico_app: typer.Typer) -> None:
         from delkit.cli.arms_cmd import _progress_cb
 
         cb, stop = _progress_cb(0, "mission")
-        try:
-            inst, res, m = run_mission(goal, colors, seed, faults=faults, grasp=grasp, max_replans=max_replans,
-                                       macros=macros, symmetric=symmetric,
-                                       record_fps=10.0 if out is not None else 0.0,
-                                       progress=lambda msg: cb(0, msg))
-        finally:
-            stop()
-        note = "rendering not requested (--out DIR)"
-        if out is not None:
-            note = _render(m, res, out)
-            (out / "result.json").write_text(json.dumps(res.to_json(), indent=2))
-            res.files["result"] = str(out / "result.json")
+        with deadline(timeout, f"epico run --goal {goal} --colors {colors}"):
+            try:
+                inst, res, m = run_mission(goal, colors, seed, faults=faults, grasp=grasp, max_replans=max_replans,
+                                           macros=macros, symmetric=symmetric,
+                                           record_fps=10.0 if out is not None else 0.0,
+                                           progress=lambda msg: cb(0, msg))
+            finally:
+                stop()
+            note = "rendering not requested (--out DIR)"
+            if out is not None:
+                note = _render(m, res, out)
+                (out / "result.json").write_text(json.dumps(res.to_json(), indent=2))
+                res.files["result"] = str(out / "result.json")
         if as_json:
             obj = res.to_json()
             obj["instance"] = {"goal": inst.goal, "colors": inst.colors, "seed": seed,

@@ -378,3 +378,15 @@ def test_property_over_an_mastar_fluent_named_T_is_refused(tmp_path, capsys):
 def test_epddl_problem_for_another_domain_is_refused(tmp_path, capsys):
     files = _coin(tmp_path, problem_edit=lambda t: t.replace("(:domain coin_in_the_box)", "(:domain grapevine)"))
     one_line_error(capsys, ["plan", *files], r"p\.epddl:\d+:\d+", "for domain 'grapevine'")
+
+
+@pytest.mark.parametrize("argv", [["arms", "run", str(Path(__file__).resolve().parents[2] / "arms" / "demo_plan.json"),
+                                   "--no-video"],
+                                  ["epico", "run", "--goal", "alpha", "--colors", "2"]])
+def test_physics_timeout(capsys, argv):
+    """Limits hold in the physics phase too: a run that cannot finish in the limit is one clean error line."""
+    import time
+
+    t0 = time.monotonic()
+    one_line_error(capsys, [*argv, "--timeout", "0.5"], r"no answer within --timeout 0\.5 s")
+    assert time.monotonic() - t0 < 0.5 + 2.0 + 2.0
