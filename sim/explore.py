@@ -53,16 +53,47 @@ from sim.particles import (
     select_frontier,
 )
 
-__all__ = ["MissionConfig", "TaskSpec", "MissionResult", "MissionHistory", "Mission", "run_mission",
+__all__ = ["UNSPECIFIED_PARAMETERS", "MissionConfig", "TaskSpec", "MissionResult", "MissionHistory", "Mission",
+           "run_mission",
            "make_scenario", "METHODS", "STATUSES"]
 
 METHODS = ("epistemic", "flock", "ideal")
 STATUSES = ("exploring", "gossiping", "task", "home")
 
 
+#: Every parameter the paper (seed 000) does not give: name → (value, unit, why this value).
+UNSPECIFIED_PARAMETERS: dict[str, tuple[object, str, str]] = {
+    "dt": (0.5, "s", "integration step; one lidar scan and one decision per step"),
+    "resolution": (0.5, "m", "grid cell of the occupancy map and of A*; 100 × 100 cells on the 50 m map"),
+    "maps": ("seeded", "", "50 m × 50 m with U{10..20} 1 m × 1 m obstacles as §6; the paper's 15 maps are not "
+             "published, ours are random_map(seed 0..14)"),
+    "home/tasks": ("(3, 3) m", "", "home base corner; tasks ≥ 12 m from home, N_τ ~ U{2..N} (Case I) or "
+                   "U{1..min(3, N)} until Σ N_τ would exceed N (Case II, ≤ 4 tasks)"),
+    "lidar_rays": (90, "", "rays per 360° scan; no gaps at the 5 m range with 0.5 m cells"),
+    "task_radius r_t": (1.0, "m", "a task is done when N_τ robots are within r_t of it"),
+    "noise_std": (0.2, "m/s", "σ of the process noise v of eq. 1"),
+    "rho_o": (1.0, "m", "eq. 7 influence distance of obstacles and other robots (η_g = 1, η_o = 5 are the paper's)"),
+    "delta Δ": (20.0, "m", "eq. 10 penalty for a frontier outside the particle's Voronoi cell"),
+    "particle_speed": (0.85, "× v_max", "the common-belief particles move slower than the robots so that a "
+                       "robot can catch up with its empathy particle after detours around unknown obstacles"),
+    "linger": (10.0, "s", "a particle believed at a task stays there this long (assumed completion) before "
+               "rejoining its common-belief particle"),
+    "wait_timeout": (120.0, "s", "a robot at a task gives up waiting for the others after this long"),
+    "home radius": (3.5, "m", "a robot within this distance of home base counts as home"),
+    "lookahead": (3.0, "m", "path smoothing: farthest visible A* point within this path length; with η_g = 1, "
+                  "eq. 6 gives v_max = 3 m/s at that distance"),
+    "clearance_cost": (3.0, "×", "A* cost of cells next to an obstacle"),
+    "flock_radius": (3.0, "m", "flock formation slots (inside the r_c/2 disk the connectivity constraint allows; "
+                     "4 m and 4.5 m measured slower / stalling)"),
+    "flock leader speed": (1.0, "× v_max", "the virtual leader's speed limit"),
+    "t_max": (1500.0, "s", "give up a mission after this simulated time"),
+}
+
+
 @dataclass(frozen=True)
 class MissionConfig:
-    """All parameters of one mission (defaults: seed 000 §6)."""
+    """All parameters of one mission (defaults: seed 000 §6; what the paper does not give is listed with its
+    reason in :data:`UNSPECIFIED_PARAMETERS`)."""
 
     case: int = 2
     n_robots: int = 3
@@ -77,7 +108,7 @@ class MissionConfig:
     comm_range: float = 10.0
     task_radius: float = 1.0
     noise_std: float = 0.2
-    eta_g: float = 3.0  # [1/s]: eq. 6 reaches v_max = 3 m/s 1 m from the waypoint (paper gives no value)
+    eta_g: float = 1.0  # §6: "we set η_g at 1 and η_o at 5"
     eta_o: float = 5.0
     rho_o: float = 1.0
     delta: float = 20.0

@@ -151,20 +151,29 @@ class FactoredStatusModel:
         self.n = n
         self.agents = [agent(i) for i in range(n)]
         self.statuses = [status] * n
-        self.factors: list[KripkeModel] = []
-        for k in range(n):
-            props = [f"s{k}_{s}" for s in STATUSES]
-            self.factors.append(KripkeModel.build([{f"s{k}_{status}"}], {a: [[0]] for a in self.agents}, [0],
-                                                  props=props))
+        self.factors = [self._single(k, status) for k in range(n)]
         self.updates = 0
         self._table = np.full((n, n, n), STATUSES.index(status), dtype=np.int8)
 
     def tell(self, k: int, status: str, observers: Iterable[int], name: str = "announce") -> None:
-        """announce(x_k)/perceive(σ_k) to ``observers`` (robot k's connected group, k included)."""
-        self.factors[k] = contract(product_update(self.factors[k], tell_event(self.n, k, status, observers, name)))
+        """announce(x_k)/perceive(σ_k) to ``observers`` (robot k's connected group, k included).
+
+        Told to everyone, the contracted product is the one-world model where σ_k = ``status`` (every world
+        of the product has that valuation and every agent sees the same outcome, so all worlds are bisimilar);
+        that model is built directly (the property test checks it against the product update)."""
+        observers = set(observers)
+        if observers >= set(range(self.n)):
+            self.factors[k] = self._single(k, status)
+        else:
+            ev = tell_event(self.n, k, status, observers, name)
+            self.factors[k] = contract(product_update(self.factors[k], ev))
         self.statuses[k] = status
         self.updates += 1
         self._table[:, :, k] = self._beliefs_about(k)
+
+    def _single(self, k: int, status: str) -> KripkeModel:
+        return KripkeModel.build([{f"s{k}_{status}"}], {a: [[0]] for a in self.agents}, [0],
+                                 props=[f"s{k}_{s}" for s in STATUSES])
 
     def _beliefs_about(self, k: int) -> np.ndarray:
         m = self.factors[k]

@@ -171,18 +171,35 @@ def test_theorem_3_3_necessity(seed: int) -> None:
     assert a0 != a1
 
 
-def test_theorem_3_3_zero_violations_over_many_instances() -> None:
-    """The headline count: 0 violations of Theorem 3.3 over 3000 random instances (and many agree)."""
+def _count(agrees, instances: int = 3000) -> tuple[int, int]:
+    """(agreed, violations): how often ``agrees`` claims AC, and how often the robots then still differ."""
     agreed = violations = 0
-    for seed in range(3000):
+    for seed in range(instances):
         model, ledger, known = random_instance(seed)
-        ver = verify_pair(model, ledger, known, 0, 1)
-        if ver.agreed:
+        if agrees(model, ledger, known):
             agreed += 1
             a = own_actions(model, ledger, known)
             violations += a[0] != a[1]
+    return agreed, violations
+
+
+def test_theorem_3_3_zero_violations_over_many_instances() -> None:
+    """The headline count: 0 violations of Theorem 3.3 over 3000 random instances (and many agree)."""
+    agreed, violations = _count(lambda m, led, k: verify_pair(m, led, k, 0, 1).agreed)
     assert violations == 0
     assert 300 < agreed < 2900  # the test exercises both outcomes
+
+
+def test_a_verifyac_that_ignores_the_partners_possible_observations_is_caught() -> None:
+    """Mutation check: 'AC if my action equals the action on our common observations only' (no enumeration of
+    the partner's unshared realisations) makes the violation count above non-zero."""
+
+    def naive(model, ledger, known):
+        common = known[0] & known[1]
+        return own_actions(model, ledger, known)[0] == own_actions(model, ledger, np.stack([common, common]))[0]
+
+    _, violations = _count(naive, 1500)
+    assert violations > 0
 
 
 # ------------------------------------------------------------------------------------------ Theorem 3.4

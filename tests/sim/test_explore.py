@@ -76,9 +76,10 @@ def test_particles_only_while_disconnected(epistemic_case2):
     after = np.flatnonzero(connected[1:] & ~connected[:-1]) + 2
     after = after[after < len(connected)]
     assert len(after) and not has_particles[after].any()
-    # robots track their empathy particle closely while disconnected (median gap below the comm range)
+    # robots track their empathy particle while disconnected (median gap well inside r_c/2: with eq. 6 and
+    # η_g = 1 a robot chasing a particle that moves at 0.85 v_max trails it by about 2.5 m)
     gap = np.linalg.norm(h.positions - h.particles, axis=-1)[has_particles]
-    assert np.median(gap) < 3.0
+    assert np.median(gap) < cfg.comm_range / 2
 
 
 def test_delkit_status_model_checks_eqs_14_and_18():

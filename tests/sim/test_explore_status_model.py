@@ -88,7 +88,7 @@ def test_factored_model_agrees_with_the_joint_model(changes):
     joint, fact = StatusModel.initial(3), FactoredStatusModel(3)
     for k, s, g in changes:
         joint.change(k, s, group=g)
-        fact.tell(k, s, set(g) | {k})
+        fact.tell(k, s, set(g) | {k})  # g ∪ {k} = everyone takes the one-world shortcut
     table = fact.believed()
     for i, j, k in itertools.product(range(3), repeat=3):
         for idx, s in enumerate(STATUSES):
