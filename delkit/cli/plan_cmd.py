@@ -69,7 +69,7 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
 
     try:
         # the search checks its own limit; the alarm (a little later) is the backstop for every other phase
-        with deadline(limits.timeout + 2.0, "building the search space or searching"):
+        with deadline(limits.timeout + 2.0, "contracting the initial state for the search, or searching"):
             space = space_for(task, engine, allow_inconsistent)
             res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
     except ResourceError as exc:
