@@ -39,7 +39,7 @@ def test_runner_classifies_hang_and_memory_overrun(monkeypatch):
     with Runner(mem_mb=1024, grace=5) as runner:
         over = runner.run(Case("x", ("puzzle", "sum-product", "--limit", "30000"), budget=20.0))
         assert over.kind == "limit", over
-        hang = runner.run(Case("x", ("puzzle", "muddy", "-n", "150", "-m", "75", "--symbolic"), budget=1.0))
+        hang = runner.run(Case("x", ("puzzle", "muddy", "-n", "1000", "-m", "500", "--symbolic"), budget=1.0))
         assert hang.kind == "hang"
         ok = runner.run(Case("x", ("puzzle", "muddy", "--json"), oracle="json"))
         assert ok.kind == "ok", ok.detail

@@ -296,7 +296,7 @@ def test_check_timeout_covers_the_replay(tmp_path, capsys):
     one_line_error(capsys, ["check", *files, str(plan), "--timeout", "0.5"], "no answer within --timeout 0.5 s")
 
 
-@pytest.mark.parametrize("argv", [["puzzle", "muddy", "-n", "2000", "-m", "7", "--symbolic"],
+@pytest.mark.parametrize("argv", [["puzzle", "muddy", "-n", "2000", "-m", "1000", "--symbolic"],
                                   ["puzzle", "sum-product", "--limit", "3000"]])
 def test_puzzle_timeout(capsys, argv):
     one_line_error(capsys, [*argv, "--timeout", "1"], "no answer within --timeout 1 s")
