@@ -51,7 +51,10 @@ from delkit.formula import (
 )
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
-from delkit.symbolic import _bits_needed, _fold_bdds, _fresh, new_manager
+
+# the announcement-stack and everybody-knows rules use only ``evaluate``/``announce``/``_box``, which belief and
+# knowledge structures share: one implementation serves both
+from delkit.symbolic import _bits_needed, _ev_announce, _ev_every, _fold_bdds, _fresh, new_manager
 
 __all__ = ["BeliefStructure", "belief_from_kripke"]
 
@@ -345,27 +348,6 @@ def _ev_fold(op: Any, unit: str) -> Any:
             return getattr(bs.bdd, unit)
         return _fold_bdds([bs.evaluate(a) for a in f.args], op)
     return rule
-
-
-def _ev_announce(bs: BeliefStructure, f: Announce) -> Any:
-    pres = []
-    cur: Any = f
-    while isinstance(cur, Announce):
-        pres.append(bs.evaluate(cur.announced))
-        bs = bs.announce(cur.announced)
-        cur = cur.arg
-    out = bs.evaluate(cur)
-    for pre in reversed(pres):
-        out = ~pre | out
-    return out
-
-
-def _ev_every(bs: BeliefStructure, f: E) -> Any:
-    u = bs.evaluate(f.arg)
-    out = bs.bdd.true
-    for a in f.group:
-        out = out & bs._box((a,), u)
-    return out
 
 
 _DISPATCH: dict[type, Any] = {
