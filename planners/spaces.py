@@ -108,10 +108,13 @@ class CompactSpace:
 
     def _entry(self, act: ActionSpec | EventAction | MacroSpec) -> tuple:
         """Per action its conditions as node ids: ("spec", act, exe, full, partial, sensed) / ("event", act,
-        exe, conds) / ("macro", act, [entries of the steps])."""
+        exe, conds) / ("macro", act, [entries of the steps], [step's conditions all propositional])."""
         cid = self.engine.cid
         if isinstance(act, MacroSpec):
-            return ("macro", act, [self._entry(s) for s in act.steps])
+            steps = [self._entry(s) for s in act.steps]
+            # per step: are all its conditions propositional (decidable from one valuation)? — fixed per task
+            return ("macro", act, steps,
+                    [st[0] != "macro" and all(is_propositional(c) for c in self._conditions(st)) for st in steps])
         if isinstance(act, EventAction):
             return ("event", act, cid(act.executable), [cid(c) for c in act.conditions])
         return ("spec", act, cid(act.executable),
@@ -207,17 +210,14 @@ class CompactSpace:
                 self._ems[key] = nxt  # the parts stay alive in the event-model caches: their ids are stable
             comp = nxt
             if i + 1 < len(steps):
-                cur = self._after(s, comp, steps[i + 1])
+                cur = self._after(s, comp) if entry[3][i + 1] else None
         return comp
 
-    def _after(self, s: CompactState, comp: EventModel, nxt_entry: tuple) -> CompactState | None:
-        """The state to decide the next step's conditions in: ``s`` itself stands for it when they are
-        propositional and can be decided by substitution (returns a substituted view), else None (the caller
-        builds the intermediate state)."""
-        if nxt_entry[0] == "macro" or len(s.points) != 1:
-            return None
-        conds = self._conditions(nxt_entry)
-        if not all(is_propositional(c) for c in conds):
+    def _after(self, s: CompactState, comp: EventModel) -> CompactState | None:
+        """A one-world view of the pointed world after ``comp`` (its valuation post(e) evaluated in s), which
+        decides the next step's conditions when they are all propositional; None when ``s`` is multi-pointed
+        or not exactly one designated event is possible (the caller then builds the intermediate state)."""
+        if len(s.points) != 1:
             return None
         p = s.point
         ev, cid = self.engine.ev, self.engine.cid
