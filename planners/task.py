@@ -172,14 +172,19 @@ class Task:
         return em
 
 
-def applicable(em: EventModel, model: KripkeModel) -> bool:
-    """Every designated world of ``model`` satisfies the precondition of some designated event of ``em``."""
+def uncovered_worlds(em: EventModel, model: KripkeModel) -> list[int]:
+    """The designated worlds of ``model`` where no designated event of ``em`` has its precondition true."""
     import numpy as np
 
     ok = np.zeros(model.n_worlds, dtype=bool)
     for e in em.designated:
         ok |= model.check(em.pre[e])
-    return bool(ok[list(model.designated)].all())
+    return [int(w) for w in model.designated if not ok[int(w)]]
+
+
+def applicable(em: EventModel, model: KripkeModel) -> bool:
+    """Every designated world of ``model`` satisfies the precondition of some designated event of ``em``."""
+    return not uncovered_worlds(em, model)
 
 
 def apply_action(task: Task, act: ActionSpec | MacroSpec | EventAction, model: KripkeModel) -> KripkeModel | None:

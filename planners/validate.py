@@ -31,7 +31,7 @@ from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Or, Prop, show, su
 from delkit.kripke import KripkeModel
 from delkit.resources import product_update_bytes, require
 from delkit.update import product_update
-from planners.task import ActionSpec, EventAction, MacroSpec, Task, applicable, apply_action
+from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, uncovered_worlds
 
 __all__ = ["Property", "CheckResult", "check_plan", "parse_property", "read_plan", "parse_plan_text", "explain"]
 
@@ -238,11 +238,9 @@ def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, mod
     em = task.event_model(act, model)
     # estimate before allocating (the replayed states are contracted, so this only trips on huge actions)
     require(product_update_bytes(model, em), f"replaying step {i} ({label})", "check a shorter plan or a smaller task")
-    if isinstance(act, EventAction) and not applicable(em, model):
-        ok = np.zeros(model.n_worlds, dtype=bool)
-        for e in em.designated:
-            ok |= model.check(em.pre[e])
-        w = next(int(x) for x in model.designated if not ok[int(x)])
+    uncovered = uncovered_worlds(em, model) if isinstance(act, EventAction) else []
+    if uncovered:
+        w = uncovered[0]
         return CheckResult(False, n, i, name, "not-applicable",
                            f"step {i} ({label}): no designated event of the action has its precondition true at "
                            f"the designated world {_world_text(model, w)}", None, _world_text(model, w))

@@ -10,10 +10,8 @@ states may be K or KD45 and plank never prunes them.
 
 from __future__ import annotations
 
-import numpy as np
-
 from delkit.formula import show
-from planners.task import EventAction, Task, apply_action
+from planners.task import EventAction, Task, apply_action, uncovered_worlds
 
 __all__ = ["check_event_plan", "has_event_actions", "space_for"]
 
@@ -59,10 +57,7 @@ def check_event_plan(task: Task, plan: list[str], *, plan_source: str = "plan"):
                                    f"step {i} ({name}) is not executable: {show(act.executable)} fails — {why}",
                                    ag, wd)
             em = task.event_model(act, model)
-            ok = np.zeros(model.n_worlds, dtype=bool)
-            for e in em.designated:
-                ok |= model.check(em.pre[e])
-            bad_w = next(int(w) for w in model.designated if not ok[int(w)])
+            bad_w = uncovered_worlds(em, model)[0]
             whys = []
             for d in em.designated:
                 why, _ag, _wd = explain(model, em.pre[d], bad_w)
