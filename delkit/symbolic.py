@@ -302,15 +302,7 @@ class KnowledgeStructure:
 
         The iterates are kept inside the states (∧ θ): outside θ the boxes are unconstrained and their
         BDDs can grow exponentially (dining cryptographers, 18 agents: 7.4 s without, 0.02 s with)."""
-        x = self.law
-        while True:
-            target = u & x
-            nxt = self.law
-            for a in group:
-                nxt = nxt & self._box((a,), target)
-            if nxt == x:
-                return x
-            x = nxt
+        return _common_fixpoint(self, group, u)
 
     # ------------------------------------------------------------------ updates
     def announce(self, formula: Formula | str) -> KnowledgeStructure:
@@ -477,6 +469,20 @@ def _ev_every(ks: KnowledgeStructure, f: E) -> Any:
     for a in f.group:
         out = out & ks._box((a,), u)
     return out
+
+
+def _common_fixpoint(st: Any, group: tuple[str, ...], u: Any) -> Any:
+    """gfp X. law ∧ ⋀_{a∈G} □_a(u ∧ X), iterated from X = law — for any structure with ``law`` and ``_box``
+    (knowledge structures here, belief structures in ``delkit.symbolic_belief``)."""
+    x = st.law
+    while True:
+        target = u & x
+        nxt = st.law
+        for a in group:
+            nxt = nxt & st._box((a,), target)
+        if nxt == x:
+            return x
+        x = nxt
 
 
 def _ev_announce(ks: KnowledgeStructure, f: Announce) -> Any:

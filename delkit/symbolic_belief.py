@@ -52,9 +52,17 @@ from delkit.formula import (
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
-# the announcement-stack and everybody-knows rules use only ``evaluate``/``announce``/``_box``, which belief and
-# knowledge structures share: one implementation serves both
-from delkit.symbolic import _bits_needed, _ev_announce, _ev_every, _fold_bdds, _fresh, new_manager
+# the common-knowledge fixpoint and the announcement-stack and everybody-knows rules use only ``law``,
+# ``evaluate``, ``announce`` and ``_box``, which belief and knowledge structures share: one implementation serves both
+from delkit.symbolic import (
+    _bits_needed,
+    _common_fixpoint,
+    _ev_announce,
+    _ev_every,
+    _fold_bdds,
+    _fresh,
+    new_manager,
+)
 
 __all__ = ["BeliefStructure", "belief_from_kripke"]
 
@@ -162,15 +170,7 @@ class BeliefStructure:
         return ~dd.cudd.and_exists(self._seen(agents), ~self.prime(u), set(self.primes.values()))
 
     def _common(self, group: tuple[str, ...], u: Any) -> Any:
-        x = self.law
-        while True:
-            target = u & x
-            nxt = self.law
-            for a in group:
-                nxt = nxt & self._box((a,), target)
-            if nxt == x:
-                return x
-            x = nxt
+        return _common_fixpoint(self, group, u)
 
     # ------------------------------------------------------------------ updates
     def announce(self, formula: Formula | str) -> BeliefStructure:
