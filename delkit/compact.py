@@ -90,10 +90,6 @@ class CompactState:
         """The designated world of a single-pointed state (the first designated world otherwise)."""
         return self.points[0]
 
-    @property
-    def point_mask(self) -> int:
-        return _mask(self.points)
-
 
 def refine_key(val: list[int], dist: list[list[list[int]]], cls: list[list[int]],
                points: Sequence[int]) -> CompactState:
