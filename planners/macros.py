@@ -36,7 +36,7 @@ from delkit.events import EventModel
 from delkit.formula import TOP, Formula, Iff, Not, Prop, Update, is_propositional, show
 from delkit.kripke import KripkeModel
 from planners.lang.epddl import Atom, SList, _head, _typed_list, read_sexps
-from planners.task import ActionSpec, MacroSpec, Task
+from planners.task import ActionSpec, MacroSpec, Task, apply_steps
 
 __all__ = ["MacroDecl", "parse_macros", "ground_macros", "with_macros", "flatten", "macro_event_model",
            "prove_macro", "MacroProof", "check_handwritten", "HandwrittenCheck", "sequence_states"]
@@ -172,22 +172,8 @@ def flatten(plan: Sequence[str], macros: Sequence[MacroSpec]) -> list[str]:
 def sequence_states(task: Task, steps: Sequence[ActionSpec], model: KripkeModel
                     ) -> tuple[list[EventModel], list[KripkeModel]] | None:
     """The steps' event models (observers decided in the intermediate states) and the states M_0..M_n, or
-    None if some step is not applicable."""
-    from delkit.update import product_update
-
-    ems: list[EventModel] = []
-    states = [model]
-    for st in steps:
-        m = states[-1]
-        if not task.executable(st, m):
-            return None
-        em = task.event_model(st, m)
-        new = product_update(m, em)
-        if not new.designated:
-            return None
-        ems.append(em)
-        states.append(new)
-    return ems, states
+    None if some step is not applicable — :func:`planners.task.apply_steps`, the planner's own reference."""
+    return apply_steps(task, steps, model)
 
 
 def macro_event_model(task: Task, macro: MacroSpec, model: KripkeModel, *, prune: bool = False

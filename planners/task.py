@@ -22,7 +22,7 @@ Semantics (the mA* frames, as in EFP with its default ``EXE_POINTED__COND_WORLD`
 from __future__ import annotations
 
 import itertools
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -187,25 +187,36 @@ def applicable(em: EventModel, model: KripkeModel) -> bool:
     return not uncovered_worlds(em, model)
 
 
-def apply_action(task: Task, act: ActionSpec | MacroSpec | EventAction, model: KripkeModel) -> KripkeModel | None:
-    """The reference transition Φ(A, M) with delkit's product update (no contraction), or None when A is not
-    applicable: its executability fails, or some designated world has no designated event; a macro
-    applies its steps in sequence (Definition 4.1: Φ(j, Φ(i, s)))."""
+def apply_steps(task: Task, steps: Sequence[ActionSpec | EventAction], model: KripkeModel
+                ) -> tuple[list[EventModel], list[KripkeModel]] | None:
+    """The reference transitions of ``steps`` applied in sequence from ``model``: the event models used (each
+    decided in its own intermediate state) and the states M_0..M_n, or None as soon as a step is not
+    applicable (its executability fails, some designated world has no designated event, or nothing designated
+    survives). Macros' proofs and :func:`apply_action` share this one definition."""
     from delkit.update import product_update
 
-    if isinstance(act, MacroSpec):
-        for step in act.steps:
-            model = apply_action(task, step, model)
-            if model is None:
-                return None
-        return model
-    if not model.holds(act.executable):
-        return None
-    em = task.event_model(act, model)
-    if not applicable(em, model):
-        return None
-    new = product_update(model, em)
-    return new if new.designated else None
+    ems: list[EventModel] = []
+    states = [model]
+    for act in steps:
+        m = states[-1]
+        if not m.holds(act.executable):
+            return None
+        em = task.event_model(act, m)
+        if not applicable(em, m):
+            return None
+        new = product_update(m, em)
+        if not new.designated:
+            return None
+        ems.append(em)
+        states.append(new)
+    return ems, states
+
+
+def apply_action(task: Task, act: ActionSpec | MacroSpec | EventAction, model: KripkeModel) -> KripkeModel | None:
+    """The reference transition Φ(A, M) with delkit's product update (no contraction), or None when A is not
+    applicable (see :func:`apply_steps`); a macro applies its steps in sequence (Definition 4.1: Φ(j, Φ(i, s)))."""
+    seq = apply_steps(task, act.steps if isinstance(act, MacroSpec) else (act,), model)
+    return None if seq is None else seq[1][-1]
 
 
 def build_event_model(act: ActionSpec, agents: tuple[str, ...], full: frozenset[str], partial: frozenset[str],

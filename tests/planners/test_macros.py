@@ -112,3 +112,26 @@ def test_cli_macros(capsys):
     rep = json.loads(capsys.readouterr().out)
     assert rep["all_equal"] and len(rep["proofs"]) == 2
     assert not rep["handwritten_check"]["consistent"]
+
+
+def test_macro_reference_is_the_planners_transition():
+    """A macro's reference sequence (used by its z3 proof) and the planner's transition agree on applicability:
+    an announcement false in one of several designated worlds makes the step inapplicable in both (a copy that
+    only required *some* designated world to survive once accepted it)."""
+    from delkit.formula import Prop
+    from delkit.kripke import KripkeModel
+    from planners.task import ActionSpec, MacroSpec, Task, apply_action
+
+    agents = ("a", "b")
+    m = KripkeModel.build([{"p"}, set()], {ag: [[0, 1]] for ag in agents}, designated=[0, 1], props=["p"])
+    ann = ActionSpec("tell_p", "announcement", sensed=((Prop("p"), Prop("p") | ~Prop("p")),),
+                     full=(("a", Prop("p") | ~Prop("p")), ("b", Prop("p") | ~Prop("p"))))
+    task = Task("t", ("p",), agents, m, (ann, MacroSpec("twice", (ann, ann))), Prop("p"))
+    assert apply_action(task, ann, m) is None
+    assert sequence_states(task, [ann], m) is None
+    assert sequence_states(task, [ann, ann], m) is None and apply_action(task, task.action("twice"), m) is None
+    single = KripkeModel.build([{"p"}, set()], {ag: [[0, 1]] for ag in agents}, designated=[0], props=["p"])
+    seq = sequence_states(task, [ann, ann], single)
+    assert seq is not None and apply_action(task, task.action("twice"), single) is not None
+    end = seq[1][-1]
+    assert end.designated and all(end.valuation[w, end.props.index("p")] for w in end.designated)
