@@ -122,12 +122,23 @@ class Layout:
         """A layout from a ``world`` object (block colours must be e-PICO colour names)."""
         try:
             stacks = {r: tuple(tuple(s) for s in obj["stacks"][r]) for r in ROBOTS}
-            colors = {b: obj.get("colors", {}).get(b, b) for r in ROBOTS for s in stacks[r] for b in s}
             shared = tuple(obj.get("barrier", ()))
+            for what, names in (("stacks", [b for r in ROBOTS for s in stacks[r] for b in s]), ("barrier", shared)):
+                odd = [b for b in names if not isinstance(b, str)]
+                if odd:
+                    raise EpicoError(f"world object: {what} must list block names (strings), got {odd[0]!r}")
+            colors = {b: obj.get("colors", {}).get(b, b) for r in ROBOTS for s in stacks[r] for b in s}
             colors.update({b: obj.get("colors", {}).get(b, b) for b in shared})
         except (KeyError, TypeError, AttributeError) as exc:
             raise EpicoError(f"not an e-PICO world object ({exc})") from None
-        own = dict(owners or obj.get("owners", {}))
+        try:
+            own = dict(owners or obj.get("owners", {}))
+        except (TypeError, ValueError) as exc:
+            raise EpicoError(f"world object: 'owners' must map block names to robots ({exc})") from None
+        odd_c = [c for c in colors.values() if not isinstance(c, str)]
+        odd_o = [x for kv in own.items() for x in kv if not isinstance(x, str)]
+        if odd_c or odd_o:
+            raise EpicoError(f"world object: colours and owners must be names (strings), got {(odd_c + odd_o)[0]!r}")
         return Layout(MappingProxyType(stacks), MappingProxyType(colors), shared, MappingProxyType(own))
 
     def classical(self):

@@ -625,6 +625,141 @@ def misc_cases(draw) -> Case:
     return Case("misc", tuple(argv))
 
 
+# ----------------------------------------------------------------------------- EPDDL 2026, convert, smcdel, e-PICO
+
+@lru_cache(maxsize=1)
+def epddl2026_rows() -> tuple[tuple[Path, Path, Path | None], ...]:
+    """(domain, problem, library) of plank's suite (``expected.csv``), the quick ones only."""
+    import csv
+
+    b = _bench()
+    if b is None or not (b / "epddl2026" / "expected.csv").exists():
+        return ()
+    root = b / "epddl2026"
+    rows = []
+    with open(root / "expected.csv", newline="") as fh:
+        for r in csv.DictReader(fh):
+            if any(k in r["problem"] for k in ("Selective", "Tiger", "problem_5", "problem_6")):
+                continue  # long searches: a valid but slow input is not what this family looks for
+            rows.append((root / r["domain"], root / r["problem"], root / r["libraries"] if r["libraries"] else None))
+    return tuple(rows)
+
+
+@st.composite
+def epddl2026_cases(draw) -> Case:
+    """``delkit plan`` / ``delkit check`` on mutated EPDDL (2026) domains, problems and action-type libraries."""
+    rows = epddl2026_rows()
+    if not rows:
+        return Case("plan epddl2026", ("plan", "/nonexistent/domain.epddl", "/nonexistent/problem.epddl"))
+    dom, prob, lib = draw(st.sampled_from(rows))
+    which = draw(st.sampled_from(["domain", "problem", "library", "none"] if lib else ["domain", "problem"]))
+    texts = {"domain": dom.read_text(), "problem": prob.read_text(), "library": lib.read_text() if lib else ""}
+    if which != "none":
+        texts[which] = _mutate_epddl(draw, texts[which])
+    files = tuple((f"{k}.epddl", v if isinstance(v, bytes) else v.encode()) for k, v in texts.items()
+                  if k != "library" or lib)
+    libarg = ["--library", "{d}/library.epddl"] if lib else []
+    if draw(st.integers(0, 3)) == 0:
+        steps = draw(st.lists(st.sampled_from(["zz", "(zz)", "", "%", "x" * 300]), max_size=4))
+        return Case("check epddl2026", ("check", "{d}/domain.epddl", "{d}/problem.epddl", "{d}/p.plan", *libarg,
+                                        "--json"), (*files, ("p.plan", "\n".join(steps).encode())),
+                    oracle="json", note=f"mutated {which} of {prob.parent.parent.name}")
+    return Case("plan epddl2026", ("plan", "{d}/domain.epddl", "{d}/problem.epddl", *libarg, *PLAN_OPTS), files,
+                oracle="plan", note=f"mutated {which} of {prob.parent.parent.name}")
+
+
+@st.composite
+def convert_cases(draw) -> Case:
+    """``delkit convert`` of mutated mA* files to EPDDL (2026) and back to mA*."""
+    files_ = mastar_files()
+    if not files_:
+        return Case("convert", ("convert", "/nonexistent.txt"))
+    f = draw(st.sampled_from(files_))
+    to = draw(st.sampled_from(["epddl", "epddl", "mastar", "zz", ""]))
+    name = draw(st.sampled_from([[], ["--name", "x"], ["--name", ""], ["--name", "../../etc/x"], ["--name", "a/b"]]))
+    return Case("convert", ("convert", "{d}/spec.txt", "--to", to, "--out", "{d}/out", *name, "--json"),
+                (("spec.txt", draw(token_mutation(f.read_text()))),), oracle="json", note=f"mutated {f.name} → {to}")
+
+
+SMCDEL_WORDS = ["VARS", "LAW", "OBS", "VALID?", "WHERE?", "TRUE?", "AND", "OR", "XOR", "ONEOF", "Top", "Bot",
+                "knows", "whether", "that", "comknow", "[!", "[?!", "]", "(", ")", ":", ",", "~", "->", "<->",
+                "Forall", "Exists", "99999999999", "-1", "alice", "zz", "%%"]
+
+
+@st.composite
+def smcdel_cases(draw) -> Case:
+    """``delkit smcdel`` on mutated SMCDEL input files (tokens of its language, bytes)."""
+    f = draw(st.sampled_from(sorted((SPECS / "smcdel").glob("*.smcdel.txt"))))
+    toks = _TOKEN.findall(f.read_text())
+    if draw(st.integers(0, 7)) == 0:
+        data = draw(text_mutation("".join(toks)))
+    else:
+        for _ in range(draw(st.integers(1, 4))):
+            i = draw(st.integers(0, len(toks) - 1))
+            op = draw(st.sampled_from(["delete", "dup", "replace", "nest"]))
+            if op == "delete":
+                del toks[i]
+            elif op == "dup":
+                toks.insert(i, toks[i])
+            elif op == "replace":
+                toks[i] = draw(st.sampled_from(SMCDEL_WORDS))
+            else:
+                toks.insert(i, "(" * draw(st.sampled_from([3, 300, 5000])))
+        data = "".join(toks).encode()
+    return Case("smcdel", ("smcdel", "{d}/in.smcdel.txt", "--json"), (("in.smcdel.txt", data),), oracle="json",
+                budget=30.0, note=f"mutated {f.name}")
+
+
+@lru_cache(maxsize=1)
+def epico_world() -> dict:
+    from planners.epico import generate
+
+    return generate("alpha", 2).layout.to_world()
+
+
+@st.composite
+def epico_cases(draw) -> Case:
+    """``delkit epico generate|solve|macros`` with boundary options, odd owners/knowledge and mutated layouts."""
+    sub = draw(st.sampled_from(["generate", "solve", "solve", "macros"]))
+    if sub == "generate":
+        opt = draw(st.sampled_from(["--goal", "--colors", "--seed"]))
+        val = draw(st.sampled_from(INTS if opt != "--goal" else WORDS + ["alpha", "delta"]))
+        return Case("epico generate", ("epico", "generate", opt, val, "--out", "{d}/g", "--json"), oracle="json")
+    if sub == "macros":
+        text = (SPECS / "epico" / "listing4.txt").read_text()
+        data = draw(_mutate_sexp_or_bytes(text))
+        return Case("epico macros", ("epico", "macros", "--colors", draw(st.sampled_from(["1", "2", "0", "7", "x"])),
+                                     "--handwritten", "{d}/m.txt", "--json"), (("m.txt", data),), oracle="json",
+                    budget=40.0)
+    argv = ["epico", "solve", "--goal", "alpha", "--colors", "2", "--timeout", "10", "--json"]
+    files: list[tuple[str, bytes]] = []
+    kind = draw(st.sampled_from(["world", "world", "owner", "known", "options"]))
+    if kind == "world":
+        base = epico_world()
+        files.append(("world.json", _dump(draw(json_mutation(base)))))
+        argv += ["--world", "{d}/world.json"]
+    elif kind == "owner":
+        argv += ["--owner", draw(st.sampled_from(["b1=robot1", "b1=robot9", "=", "b99=robot1", "x", ""]))]
+    elif kind == "known":
+        argv += ["--known", draw(st.sampled_from(["robot1:red", "robot1:", "robot9:red", ":", "robot1:purple,red"]))]
+    else:
+        opt = draw(st.sampled_from(["--goal", "--colors", "--timeout", "--classical"]))
+        pool = {"--goal": WORDS + ["beta", "gamma"], "--colors": INTS, "--timeout": FLOATS,
+                "--classical": WORDS + ["clingo", "bfs"]}[opt]
+        argv += [opt, draw(st.sampled_from(pool))]
+    return Case("epico solve", tuple(argv), tuple(files), oracle="json", budget=60.0, note=kind)
+
+
+@st.composite
+def _mutate_sexp_or_bytes(draw, text: str) -> bytes:
+    try:
+        trees = _sexp_parse(text)
+    except Exception:  # noqa: BLE001 - not an s-expression file: byte-level only
+        return draw(text_mutation(text))
+    out = _mutate_epddl(draw, text) if trees else draw(text_mutation(text))
+    return out if isinstance(out, bytes) else out.encode()
+
+
 #: command family ↦ strategy; weights = how many of each the big run draws
 FAMILIES = {
     "plan": (plan_cases, 20),
@@ -635,6 +770,10 @@ FAMILIES = {
     "explore": (explore_cases, 8),
     "arms": (arms_cases, 10),
     "misc": (misc_cases, 3),
+    "epddl2026": (epddl2026_cases, 10),
+    "convert": (convert_cases, 5),
+    "smcdel": (smcdel_cases, 6),
+    "epico": (epico_cases, 6),
 }
 
 

@@ -155,11 +155,13 @@ def _oracle_plan(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
     res = json.loads(out)
     if res.get("status") != "solved" or not isinstance(res.get("plan"), list):
         return f"exit 0 but the JSON says {res.get('status')!r}"
+    libs = [argv[i + 1] for i in range(1, len(argv) - 1) if argv[i] in ("--library", "-l")]
     specs = [a for a in argv[1:] if not a.startswith("-") and Path(a).suffix in (".epddl", ".txt", ".pddl")
-             and Path(a).exists()]
+             and Path(a).exists() and a not in libs]
     plan_file = Path(d) / "found.plan"
     plan_file.write_text("\n".join(res["plan"]) + "\n")
-    rc2, out2, err2, exc, _ = _call(["check", *specs, str(plan_file), "--json"])
+    lib_args = [x for lib in libs for x in ("--library", lib)]
+    rc2, out2, err2, exc, _ = _call(["check", *specs, str(plan_file), *lib_args, "--json"])
     if rc2 != 0:
         return f"delkit check rejects the plan {res['plan']} (exit {rc2}): {(out2 or err2).strip()[:200]}"
     return ""

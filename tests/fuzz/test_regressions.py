@@ -390,3 +390,21 @@ def test_physics_timeout(capsys, argv):
     t0 = time.monotonic()
     one_line_error(capsys, [*argv, "--timeout", "0.5"], r"no answer within --timeout 0\.5 s")
     assert time.monotonic() - t0 < 0.5 + 2.0 + 2.0
+
+
+@pytest.mark.parametrize("edit,fragment", [
+    (lambda w: w["stacks"]["robot1"].__setitem__(0, [[1, 2]]), "block names"),
+    (lambda w: w["stacks"]["robot1"].__setitem__(0, [1.5]), "block names"),
+    (lambda w: w.__setitem__("owners", [1, 2]), "owners"),
+    (lambda w: w["colors"].__setitem__(next(iter(w["colors"])), 3), "names"),
+])
+def test_epico_world_with_non_string_entries(tmp_path, capsys, edit, fragment):
+    """Found by the e-PICO fuzz family: numbers or lists where block names belong made a TypeError."""
+    from planners.epico import generate
+
+    world = generate("alpha", 2).layout.to_world()
+    edit(world)
+    f = tmp_path / "world.json"
+    f.write_text(json.dumps(world))
+    one_line_error(capsys, ["epico", "solve", "--goal", "alpha", "--colors", "2", "--world", str(f), "--json"],
+                   fragment)
