@@ -24,8 +24,9 @@ has a bisimilar designated world in the other; otherwise the formula holds at ev
 one model and fails at a designated world of the other.
 
 Symbolic structures (:class:`~delkit.symbolic.KnowledgeStructure`,
-:class:`~delkit.symbolic_belief.BeliefStructure`) are compared through their explicit Kripke models
-(:func:`as_kripke`, refused above ``max_worlds`` states): the refinement itself is explicit.
+:class:`~delkit.symbolic_belief.BeliefStructure`) given to :func:`diff` are compared through their explicit
+Kripke models (:func:`as_kripke`, refused above ``max_worlds`` states); the same refinement on BDDs, without
+listing states, is :func:`delkit.bisimulation_symbolic.symbolic_diff`.
 """
 
 from __future__ import annotations

@@ -174,13 +174,15 @@ def register(app: typer.Typer) -> None:
         props: str | None = typer.Option(None, "--props", help="Compare on these propositions only (p,q)."),
         max_worlds: int = typer.Option(4096, "--max-worlds", min=1,
                                        help="Largest explicit model of a symbolic structure."),
+        engine: str = typer.Option("auto", "--engine", help="auto (symbolic for two .smcdel.txt files), symbolic "
+                                   "(BDD partition refinement) or explicit (Kripke models)."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Bisimilar (with the bisimulation) or a formula true in one and false in the other. Exit 0 = bisimilar,
         1 = told apart, 2 = bad input."""
         from delkit.cli.model_tools import run_diff
 
-        raise typer.Exit(run_diff(a, b, world_a, world_b, props, max_worlds, as_json))
+        raise typer.Exit(run_diff(a, b, world_a, world_b, props, max_worlds, as_json, engine))
 
     @model.command("draw")
     def draw_cmd(

@@ -165,4 +165,9 @@ def test_cli_diff_smcdel_files(capsys):
     assert json.loads(capsys.readouterr().out)["bisimilar"] is True
     assert main(["model", "diff", muddy, muddy, "--world-a", "1,2,3", "--world-b", "1,2", "--json"]) == 1
     out = json.loads(capsys.readouterr().out)
-    assert out["bisimilar"] is False and out["modal_depth"] == 0
+    assert out["bisimilar"] is False and out["modal_depth"] == 0 and "symbolic" in out["note"]
+    assert main(["model", "diff", muddy, muddy, "--world-a", "1,2,3", "--world-b", "1,2", "--engine", "explicit",
+                 "--json"]) == 1
+    assert "explicit Kripke models" in json.loads(capsys.readouterr().out)["note"]
+    assert main(["model", "diff", muddy, muddy, "--world-a", "1,7"]) == 2
+    assert "not in VARS" in capsys.readouterr().err
