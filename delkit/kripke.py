@@ -282,8 +282,10 @@ class KripkeModel:
     def relation_matrix(self, agent: str) -> sp.csr_matrix:
         return self.relation(agent).to_matrix()
 
-    def _repr_svg_(self) -> str:
-        """Inline picture in Jupyter (see :mod:`delkit.draw`)."""
+    def _repr_svg_(self) -> str | None:
+        """Inline picture in Jupyter (see :mod:`delkit.draw`); None (the text repr) above 200 worlds."""
+        if self.n_worlds > 200:
+            return None
         from delkit.draw import picture
 
         return picture(self).svg()

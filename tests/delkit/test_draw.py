@@ -110,3 +110,13 @@ def test_cli_draw_smcdel_and_errors(tmp_path, capsys):
     assert len(_svg_parts(out.read_text())[1]) == 8
     assert main(["model", "draw", str(SPECS / "muddy3.smcdel.txt"), "-o", str(tmp_path / "x.pdf")]) == 2
     assert "*.svg, *.png or *.tex" in capsys.readouterr().err
+
+
+def test_large_models_fall_back_to_text_in_jupyter():
+    import numpy as np
+
+    from delkit.relation import Relation
+
+    n = 201
+    m = KripkeModel(("p",), ("a",), np.zeros((n, 1), dtype=bool), {"a": Relation.identity(n)}, (0,))
+    assert m._repr_svg_() is None
