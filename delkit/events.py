@@ -131,6 +131,12 @@ class EventModel:
         """Propositions some event may change."""
         return {p for m in self.post for p, v in m.items() if v != Prop(p)}
 
+    def _repr_svg_(self) -> str:
+        """Inline picture in Jupyter (see :mod:`delkit.draw`)."""
+        from delkit.draw import picture
+
+        return picture(self).svg()
+
     def __repr__(self) -> str:
         return (f"EventModel({self.name!r}, events={list(self.events)}, agents={list(self.agents)}, "
                 f"designated={[self.events[d] for d in self.designated]})")

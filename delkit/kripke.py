@@ -282,6 +282,14 @@ class KripkeModel:
     def relation_matrix(self, agent: str) -> sp.csr_matrix:
         return self.relation(agent).to_matrix()
 
+    def _repr_svg_(self) -> str | None:
+        """Inline picture in Jupyter (see :mod:`delkit.draw`); None (the text repr) above 200 worlds."""
+        if self.n_worlds > 200:
+            return None
+        from delkit.draw import picture
+
+        return picture(self).svg()
+
     def summary(self) -> str:
         kinds = ",".join("S5" if r.is_partition else "rel" for r in self.relations.values())
         return (f"KripkeModel({self.n_worlds} worlds, props={list(self.props)}, agents={list(self.agents)}, "

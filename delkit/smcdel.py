@@ -19,8 +19,22 @@ duals ``<! φ> ψ`` and ``<?! φ> ψ``, group announcements ``[a,b ! φ] ψ`` / 
 φ / whether φ, the others learn that they did), Boolean quantifiers ``Forall 1,2 φ`` / ``Exists 1 φ``
 (on Boolean φ). Unary operators bind tighter than ``&``/``|``, which bind tighter than ``->``/``iff``.
 
+**delkit extension — belief structures.** SMCDEL's file language describes S5 knowledge structures only
+(its belief structures, ``SMCDEL.Symbolic.K``, are used from Haskell). delkit also reads a ``REL`` block in
+place of ``OBS``: one relation per agent, a Boolean formula over the variables and their primed copies
+(``1'`` = the value of 1 at the state the agent considers possible)::
+
+    VARS 1,2
+    LAW  Top
+    REL  alice: 1' iff 1        -- alice sees the states that agree on 1 (as OBS alice: 1)
+         bob:   ~2'             -- bob always believes ~2 (KD45 if some state has ~2)
+
+Then ``K a φ`` / ``a knows that φ`` (also ``a believes that φ``) is the box of that relation (belief on
+KD45 relations), and the file describes a :class:`delkit.symbolic_belief.BeliefStructure` (K, KD45 or
+S5, whatever the relations are). Primed variables are allowed in REL lines only.
+
 Parsing uses lark (like delkit's other grammars); errors carry the line and column. Queries are answered
-on :class:`delkit.symbolic.KnowledgeStructure`.
+on :class:`delkit.symbolic.KnowledgeStructure` (OBS) or :class:`delkit.symbolic_belief.BeliefStructure` (REL).
 """
 
 from __future__ import annotations
@@ -54,8 +68,9 @@ from delkit.formula import (
 __all__ = ["SmcdelFile", "Query", "parse_smcdel", "answer", "check_file"]
 
 _GRAMMAR = r"""
-start: "VARS" ints "LAW" form "OBS" obsline+ query*
+start: "VARS" ints "LAW" form (OBS obsline+ | REL relline+) query*
 obsline: NAME ":" ints?
+relline: NAME ":" form
 query: TRUEQ state form     -> true_q
      | VALIDQ form          -> valid_q
      | WHEREQ form          -> where_q
@@ -75,6 +90,7 @@ names: NAME ("," NAME)*
       | "Kw" NAME unary         -> knows_whether
       | NAME "knows" "that" unary      -> knows
       | NAME "knows" "whether" unary   -> knows_whether
+      | NAME "believes" "that" unary   -> knows
       | names "comknow" "that" unary   -> ck
       | names "comknow" "whether" unary -> ckw
       | "(" names ")" "comknow" "that" unary    -> ck
@@ -93,6 +109,7 @@ names: NAME ("," NAME)*
 ?atom: "Top"                    -> top
      | "Bot"                    -> bot
      | INT                      -> var
+     | PRIMED                   -> primed
      | "(" form ")"
      | "AND" "(" forms ")"      -> conj
      | "OR" "(" forms ")"       -> disj
@@ -100,6 +117,9 @@ names: NAME ("," NAME)*
      | "ONEOF" "(" forms ")"    -> oneof
 forms: form ("," form)*
 
+OBS.3: "OBS"
+REL.3: "REL"
+PRIMED.2: /[0-9]+'/
 TRUEQ.3: "TRUE?"
 VALIDQ.3: "VALID?"
 WHEREQ.3: "WHERE?"
@@ -134,10 +154,14 @@ class Query:
 
 @dataclass(frozen=True)
 class SmcdelFile:
+    """A parsed file. ``observed`` (OBS, a knowledge structure) or ``relations`` (REL, delkit's extension:
+    a belief structure, one formula over V and V' per agent) describes the agents."""
+
     variables: tuple[int, ...]
     law: Formula
     observed: dict[str, tuple[int, ...]]
     queries: tuple[Query, ...]
+    relations: dict[str, Formula] | None = None
 
 
 def _name(n: int | str) -> str:
@@ -172,7 +196,8 @@ def _end(text: str) -> tuple[int, int]:
     return len(lines), len(lines[-1]) + 1
 
 
-_READABLE = {"INT": "a variable number", "NAME": "an agent name", "NEG": "~", "FORALL": "Forall",
+_READABLE = {"INT": "a variable number", "PRIMED": "a primed variable", "OBS": "OBS", "REL": "REL",
+             "NAME": "an agent name", "NEG": "~", "FORALL": "Forall",
              "TRUEQ": "TRUE?", "VALIDQ": "VALID?", "WHEREQ": "WHERE?", "$END": "end of file"}
 
 
@@ -207,9 +232,20 @@ class _Build:
         self.variables = {_name(v) for v in variables}
         law = self.form(ch[1])
         observed: dict[str, tuple[int, ...]] = {}
+        relations: dict[str, Formula] | None = {} if str(ch[2]) == "REL" else None
         queries = []
-        for node in ch[2:]:
-            if node.data == "obsline":
+        for node in ch[3:]:
+            if node.data == "relline":
+                agent = str(node.children[0])
+                if agent in relations:
+                    raise self.error(f"REL names agent {agent!r} twice", node)
+                self.primes_allowed = True
+                try:
+                    relations[agent] = self.form(node.children[1])
+                finally:
+                    self.primes_allowed = False
+                observed[agent] = ()
+            elif node.data == "obsline":
                 agent = str(node.children[0])
                 if agent in observed:
                     raise self.error(f"OBS names agent {agent!r} twice", node)
@@ -220,7 +256,7 @@ class _Build:
                 observed[agent] = obs
             else:
                 queries.append(self.query(node, observed))
-        return SmcdelFile(variables, law, observed, tuple(queries))
+        return SmcdelFile(variables, law, observed, tuple(queries), relations)
 
     def query(self, node: Any, observed: dict[str, tuple[int, ...]]) -> Query:
         self.agents = set(observed)
@@ -262,6 +298,13 @@ class _Build:
             return BOT
         if d == "var":
             return self._var(ch[0])
+        if d == "primed":
+            tok = ch[0]
+            if not getattr(self, "primes_allowed", False):
+                raise self.error(f"primed variable {tok} outside a REL line (only relations talk about the "
+                                 "successor state)", tok)
+            base = self._var(tok.update("INT", str(tok)[:-1]))
+            return Prop(base.name + "'")
         if d == "neg":
             return Not(self.form(ch[1]))
         if d == "and2":
@@ -350,8 +393,14 @@ def announce_whether(what: Formula, arg: Formula) -> Formula:
 
 
 def structure(spec: SmcdelFile) -> Any:
-    """The knowledge structure of a parsed file (variables named by their numbers)."""
+    """The knowledge structure of a parsed file (variables named by their numbers); with REL lines, the
+    belief structure (:class:`delkit.symbolic_belief.BeliefStructure`, primed variables ``1'``)."""
     from delkit.symbolic import KnowledgeStructure
+
+    if spec.relations is not None:
+        from delkit.symbolic_belief import BeliefStructure
+
+        return BeliefStructure.create([_name(v) for v in spec.variables], spec.law, spec.relations)
 
     return KnowledgeStructure.create([_name(v) for v in spec.variables], spec.law,
                                      {a: [_name(v) for v in obs] for a, obs in spec.observed.items()})

@@ -198,6 +198,12 @@ class KnowledgeStructure:
         out.sort(key=lambda s: tuple(s[v] for v in self.vocabulary))
         return out
 
+    def _repr_html_(self) -> str:
+        """Inline picture in Jupyter: vocabulary, law, observations/relations and the Kripke model if small."""
+        from delkit.draw import picture
+
+        return picture(self).html()
+
     def node_size(self) -> int:
         """Number of BDD nodes of the state law."""
         return len(self.law)

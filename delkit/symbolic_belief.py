@@ -121,6 +121,12 @@ class BeliefStructure:
         out.sort(key=lambda s: tuple(s[v] for v in self.vocabulary))
         return out
 
+    def _repr_html_(self) -> str:
+        """Inline picture in Jupyter: vocabulary, law, observations/relations and the Kripke model if small."""
+        from delkit.draw import picture
+
+        return picture(self).html()
+
     def count_states(self) -> int:
         return len(self.states())
 

@@ -1,4 +1,4 @@
-"""CLI commands on model files and formulas: ``delkit model check|dot|contract|show|macro``, ``delkit prove``.
+"""CLI commands on model files and formulas: ``delkit model check|dot|contract|show|diff|draw|macro``, ``delkit prove``.
 
 Model files are JSON in the schema of :mod:`delkit.io` (or DOT written by ``delkit model dot``).
 Exit status: 0 = yes (holds / valid), 1 = no (fails / counter-model found), 2 = bad input.
@@ -163,6 +163,41 @@ def register(app: typer.Typer) -> None:
         print(repr(obj))
         if frames is not None:
             print(f"frame: {', '.join(frames)}")
+
+    @model.command("diff")
+    def diff_cmd(
+        a: str = typer.Argument(..., metavar="A", help="Kripke model (JSON/DOT) or structure (.smcdel.txt)."),
+        b: str = typer.Argument(..., metavar="B", help="Kripke model (JSON/DOT) or structure (.smcdel.txt)."),
+        world_a: str | None = typer.Option(None, "--world-a", help="Point A at this world (a state such as "
+                                           "'1,3' for .smcdel.txt); default: its designated worlds."),
+        world_b: str | None = typer.Option(None, "--world-b", help="Point B at this world (as --world-a)."),
+        props: str | None = typer.Option(None, "--props", help="Compare on these propositions only (p,q)."),
+        max_worlds: int = typer.Option(4096, "--max-worlds", min=1,
+                                       help="Largest explicit model of a symbolic structure."),
+        engine: str = typer.Option("auto", "--engine", help="auto (symbolic for two .smcdel.txt files), symbolic "
+                                   "(BDD partition refinement) or explicit (Kripke models)."),
+        as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
+    ) -> None:
+        """Bisimilar (with the bisimulation) or a formula true in one and false in the other. Exit 0 = bisimilar,
+        1 = told apart, 2 = bad input."""
+        from delkit.cli.model_tools import run_diff
+
+        raise typer.Exit(run_diff(a, b, world_a, world_b, props, max_worlds, as_json, engine))
+
+    @model.command("draw")
+    def draw_cmd(
+        model_file: str = typer.Argument(..., metavar="MODEL",
+                                         help="Kripke/event model (JSON/DOT) or structure (.smcdel.txt)."),
+        output: Path = typer.Option(..., "--output", "-o", help="out.svg, out.png or out.tex (TikZ)."),
+        max_worlds: int = typer.Option(64, "--max-worlds", min=0,
+                                       help="Draw a structure's Kripke model only up to this many states."),
+        layout: str = typer.Option("auto", "--layout", help="auto, circle, spring or kamada-kawai."),
+        seed: int = typer.Option(0, "--layout-seed", help="Seed of the spring layout."),
+    ) -> None:
+        """Picture of a model or structure (no Graphviz needed): SVG, PNG or LaTeX/TikZ by the output's suffix."""
+        from delkit.cli.model_tools import run_draw
+
+        run_draw(model_file, output, max_worlds, layout, seed)
 
     @model.command("macro")
     def macro_cmd(

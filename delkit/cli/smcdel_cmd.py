@@ -11,7 +11,8 @@ def register(app: typer.Typer) -> None:
     """Attach the ``smcdel`` command to the top-level app."""
 
     @app.command("smcdel")
-    def smcdel(path: str = typer.Argument(..., help="an SMCDEL .smcdel.txt file (VARS, LAW, OBS, queries)"),
+    def smcdel(path: str = typer.Argument(..., help="an SMCDEL .smcdel.txt file (VARS, LAW, OBS or delkit's REL "
+                                          "extension for belief structures, queries)"),
                as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Read SMCDEL's input language and answer its TRUE?/VALID?/WHERE? queries (as SMCDEL would)."""
         from delkit.smcdel import check_file

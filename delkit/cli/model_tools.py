@@ -1,0 +1,176 @@
+"""Bodies of ``delkit model diff`` and ``delkit model draw`` (registered in :mod:`delkit.cli.model_cmd`).
+
+Both read Kripke/event model files (JSON or DOT, schema of :mod:`delkit.io`) and SMCDEL files
+(``*.smcdel.txt``: knowledge structures, and belief structures with delkit's ``REL`` extension, see
+:mod:`delkit.smcdel`). Heavy imports stay inside the functions.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+__all__ = ["load_any", "run_diff", "run_draw"]
+
+
+def is_smcdel(path: str) -> bool:
+    return str(path).lower().endswith(".smcdel.txt")
+
+
+def load_any(path: str) -> Any:
+    """A KripkeModel or EventModel (JSON/DOT), or a knowledge/belief structure (``.smcdel.txt``)."""
+    if is_smcdel(path):
+        from delkit.errors import ParseError
+        from delkit.smcdel import parse_smcdel, structure
+
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except UnicodeDecodeError:
+            raise ParseError("not UTF-8 text; is it an SMCDEL file?", source=str(path)) from None
+        return structure(parse_smcdel(text, source=str(path)))
+    from delkit.io import load
+
+    return load(path)
+
+
+def _state_name(state: dict[str, bool], vocabulary) -> str:
+    return "{" + ",".join(v for v in vocabulary if state[v]) + "}"
+
+
+def structure_model(obj: Any, path: str, max_worlds: int):
+    """The explicit model of a symbolic structure, worlds named by their true variables, e.g. ``{1,3}``."""
+    from delkit.bisimulation import as_kripke
+    from delkit.errors import ModelError
+    from delkit.kripke import KripkeModel
+
+    try:
+        m = as_kripke(obj, max_worlds=max_worlds)
+    except ModelError as exc:
+        raise ModelError(f"{path}: {exc}") from None
+    names = tuple(_state_name(s, obj.vocabulary) for s in obj.states())
+    return KripkeModel(m.props, m.agents, m.valuation, m.relations, m.designated, names)
+
+
+def _pointed(path: str, world: str | None, max_worlds: int):
+    from delkit.errors import ModelError
+    from delkit.kripke import KripkeModel
+
+    obj = load_any(path)
+    if is_smcdel(path):
+        m = structure_model(obj, path, max_worlds)
+        if world is not None:
+            wanted = "{" + ",".join(x for x in world.strip().strip("{}").replace(" ", "").split(",") if x) + "}"
+            want_set = set(wanted.strip("{}").split(",")) - {""}
+            hits = [w for w in range(m.n_worlds) if set(m.world_name(w).strip("{}").split(",")) - {""} == want_set]
+            if not hits:
+                raise ModelError(f"{path}: no state {wanted} (a state lists its true variables, e.g. 1,3; the "
+                                 f"file's states are {', '.join(m.world_name(w) for w in range(m.n_worlds))})")
+            m = m.with_designated(hits)
+        return m
+    if not isinstance(obj, KripkeModel):
+        raise ModelError(f"{path}: holds an event model; model diff compares Kripke models or structures")
+    if world is not None:
+        names = [obj.world_name(w) for w in range(obj.n_worlds)]
+        if world not in names:
+            raise ModelError(f"{path}: no world {world!r}; the worlds are {', '.join(names)}")
+        obj = obj.with_designated([names.index(world)])
+    if not obj.designated:
+        raise ModelError(f"{path}: the model has no designated world; list the actual world(s) in \"designated\" "
+                         "or pick one with --world-a/--world-b")
+    return obj
+
+
+def _pointed_structure(path: str, world: str | None):
+    """The structure of an SMCDEL file, its actual states = all states or the state ``world`` (e.g. 1,3)."""
+    import dataclasses
+
+    from delkit.errors import ModelError
+
+    obj = load_any(path)
+    if world is None:
+        return obj
+    true = {x for x in world.strip().strip("{}").replace(" ", "").split(",") if x}
+    unknown = sorted(true - set(obj.vocabulary))
+    if unknown:
+        raise ModelError(f"{path}: state {{{world}}} names variable(s) {unknown} not in VARS")
+    state = obj.bdd.cube({v: v in true for v in obj.vocabulary}) & obj.law
+    if state == obj.bdd.false:
+        raise ModelError(f"{path}: {{{','.join(sorted(true))}}} is not a state (it does not satisfy the LAW)")
+    return dataclasses.replace(obj, actual=state)
+
+
+def run_diff(a_path: str, b_path: str, world_a: str | None, world_b: str | None, props: str | None,
+             max_worlds: int, as_json: bool, engine: str = "auto") -> int:
+    """``delkit model diff``: exit 0 bisimilar, 1 told apart (2, bad input, comes from the exception)."""
+    from delkit.bisimulation import diff
+    from delkit.errors import DelkitError
+    from delkit.formula import show
+
+    if engine not in ("auto", "symbolic", "explicit"):
+        raise DelkitError(f"--engine {engine!r}: use auto, symbolic or explicit")
+    both = is_smcdel(a_path) and is_smcdel(b_path)
+    if engine == "symbolic" and not both:
+        raise DelkitError("--engine symbolic compares two structures (.smcdel.txt files); use --engine explicit "
+                          "for Kripke model files")
+    prop_list = [p.strip() for p in props.split(",") if p.strip()] if props is not None else None
+    if both and engine != "explicit":
+        from delkit.bisimulation_symbolic import symbolic_diff
+
+        res = symbolic_diff(_pointed_structure(a_path, world_a), _pointed_structure(b_path, world_b),
+                            props=prop_list)
+        des_a, des_b = (world_a or "all states"), (world_b or "all states")
+        note = "structures compared by symbolic partition refinement on BDDs (delkit.bisimulation_symbolic)"
+    else:
+        a = _pointed(a_path, world_a, max_worlds)
+        b = _pointed(b_path, world_b, max_worlds)
+        res = diff(a, b, props=prop_list)
+        des_a = ", ".join(a.world_name(d) for d in a.designated)
+        des_b = ", ".join(b.world_name(d) for d in b.designated)
+        note = None
+        if is_smcdel(a_path) or is_smcdel(b_path):
+            note = ("symbolic structures compared through their explicit Kripke models (one world per state; "
+                    f"limit --max-worlds {max_worlds})")
+    out = res.as_dict()
+    if note:
+        out["note"] = note
+    explicit = bool(note)
+    if as_json:
+        print(json.dumps({"a": a_path, "b": b_path, **out}))
+        return 0 if res.bisimilar else 1
+    if res.bisimilar:
+        print(f"bisimilar: ({a_path}, {des_a}) and ({b_path}, {des_b})")
+        print("bisimulation (world of A ~ world of B, on the parts generated by the designated worlds):")
+        for x, y in out["relation"]:
+            print(f"  {x} ~ {y}")
+    else:
+        yes, no = (a_path, b_path) if res.true_in == "A" else (b_path, a_path)
+        print(f"NOT bisimilar: {show(res.formula)}")
+        print(f"  holds at every designated world of {yes}, fails at {out['fails_at']} of {no} "
+              f"(modal depth {out['modal_depth']}, size {out['size']})")
+    if explicit:
+        print(f"note: {out['note']}")
+    return 0 if res.bisimilar else 1
+
+
+def run_draw(path: str, output: Path, max_worlds: int, layout: str, seed: int) -> None:
+    """``delkit model draw``: the picture in the format of the output's suffix (.svg, .png, .tex)."""
+    from delkit import draw
+    from delkit.errors import DelkitError
+
+    suffix = output.suffix.lower()
+    if suffix not in (".svg", ".png", ".tex"):
+        raise DelkitError(f"{output}: cannot tell the picture format; name the output *.svg, *.png or *.tex")
+    obj = load_any(path)
+    pic = draw.picture(obj, max_worlds=max_worlds, layout=layout, seed=seed)
+    try:
+        if suffix == ".svg":
+            output.write_text(pic.svg(), encoding="utf-8")
+        elif suffix == ".tex":
+            output.write_text(pic.tikz(standalone=True), encoding="utf-8")
+        else:
+            pic.png(output)
+    except OSError as exc:
+        raise DelkitError(f"{output}: cannot write the picture ({exc.strerror}); check the directory") from None
+    print(f"wrote {output} ({pic.summary})", file=sys.stderr)
