@@ -408,9 +408,10 @@ def _dump(obj) -> bytes:
 
 @st.composite
 def model_cases(draw) -> Case:
-    """``model show|dot|contract|check``, ``prove`` on valid, mutated and renamed model files."""
-    sub = draw(st.sampled_from(["show", "dot", "contract", "check", "check", "prove", "macro", "dot-in"]))
-    event = draw(st.integers(0, 3)) == 0 and sub in ("show", "dot")
+    """``model show|dot|contract|check|diff|draw``, ``prove`` on valid, mutated and renamed model files."""
+    sub = draw(st.sampled_from(["show", "dot", "contract", "check", "check", "prove", "macro", "dot-in", "diff",
+                                "draw"]))
+    event = draw(st.integers(0, 3)) == 0 and sub in ("show", "dot", "draw")
     obj = _event_dict(draw) if event else _model_dict(draw)
     mode = draw(st.sampled_from(["valid", "valid", "mutated", "mutated", "renamed", "bytes"]))
     if mode == "mutated":
@@ -445,6 +446,16 @@ def model_cases(draw) -> Case:
                                     draw(st.sampled_from(["S5", "KD45", "K", "kd45", "XX", ""]))),
                     (("e1.json", data if event else _dump(_event_dict(draw))), ("e2.json", ev)), oracle="json",
                     budget=30.0)
+    if sub == "diff":  # the other side: a valid model or a mutated one (rc 1 → the formula is checked)
+        other = _dump(_model_dict(draw)) if draw(st.booleans()) else data
+        return Case("model diff", ("model", "diff", "{d}/a.json", "{d}/b.json", "--json"),
+                    (("a.json", data), ("b.json", other)), oracle="model-diff", note=mode)
+    if sub == "draw":
+        ext = draw(st.sampled_from(["svg", "png", "tex", "pdf", ""]))
+        lay = draw(st.sampled_from([[], ["--layout", "spring", "--layout-seed", draw(st.sampled_from(INTS))],
+                                    ["--layout", draw(st.sampled_from(WORDS))]]))
+        return Case("model draw", ("model", "draw", "{d}/m.json", "-o", f"{{d}}/out.{ext}", *lay),
+                    (("m.json", data),), note=mode, budget=30.0)
     if sub == "dot-in":  # a DOT file written by delkit, then its attributes mutated
         from delkit.io import from_dict, to_dot
 

@@ -233,6 +233,26 @@ def _oracle_model_check_event(case: Case, argv: list[str], rc: int, out: str, d:
     return ""
 
 
+def _oracle_model_diff(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
+    """``model diff``: a bisimulation must be one (same verdict as ``delkit.bisim``); a distinguishing formula
+    must hold in the side it names and fail in the other, as the model checker says."""
+    from delkit.bisim import bisimilar
+    from delkit.formula import parse as parse_formula
+    from delkit.io import load
+
+    res = json.loads(out)
+    a, b = (load(Path(d) / n) for n in ("a.json", "b.json"))
+    if res["bisimilar"] != bisimilar(a, b):
+        return f"model diff says bisimilar={res['bisimilar']}, delkit.bisim says the opposite"
+    if res["bisimilar"]:
+        return ""
+    f = parse_formula(res["formula"])
+    yes, no = (a, b) if res["true_in"] == "A" else (b, a)
+    if not yes.holds(f) or no.holds(f):
+        return f"the distinguishing formula {res['formula']} does not separate the models"
+    return ""
+
+
 def _oracle_prove(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
     """A counter-model printed by ``prove --json`` must falsify the formula at its world 0."""
     if rc != 1 or "--json" not in argv:
@@ -274,6 +294,7 @@ def _oracle_arms(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
 
 ORACLES = {
     "plan": _oracle_plan,
+    "model-diff": _oracle_model_diff,
     "model-roundtrip": _oracle_model_roundtrip,
     "model-check": _oracle_model_check,
     "model-check-event": _oracle_model_check_event,
