@@ -281,6 +281,8 @@ class _Robot:
         self.blacklist: set[int] = set()
         self.distance = 0.0
         self.target: tuple[float, float] | None = None
+        self.approach: tuple[tuple[int, int], object] | None = None  # cache of Mission._approach
+        self.seek: tuple[int, float, float] | None = None  # (gossip target, best distance, since when)
 
     def bundle(self) -> list[int]:
         mine = [t for t, k in self.tasks.items() if not k.completed and self.id in k.assigned
@@ -318,6 +320,7 @@ class Mission:
         self.cascade_assigned = 0  # gossip bundles given to robots outside the allocating group (Algorithm 3)
         self.cascade_delivered = 0  # ... that reached their informer (it was told and took the bundle on)
         self.cascade_pending: set[tuple[float, int]] = set()
+        self._alloc_t, self._alloc_count = -1.0, 0
         self.min_sep = float("inf")
         self.events: list[tuple[float, str, str]] = []
         self.cost = euclidean_cost(cfg.v_max)
@@ -527,7 +530,11 @@ class Mission:
             pos = {b.id: b.xy for b in bidders}
             alloc = replace(alloc, gossip=gossip_auction([m for m in members if m in avail] or [r.id], need,
                                                          pos, self.cost))
-        version = self.t + 1e-6 * (r.id + 1)
+        # the version orders allocations (most recent wins on merge); several in one step (re-auctions after
+        # ruleset 1) each get their own, so one round's gossip plans never mix with another's
+        self._alloc_count = self._alloc_count + 1 if self._alloc_t == self.t else 0
+        self._alloc_t = self.t
+        version = self.t + 1e-3 * self._alloc_count + 1e-6 * (r.id + 1)
         for tid in {t for b in alloc.bundles.values() for t in b}:
             k = r.tasks[tid]
             k.assigned = tuple(sorted(j for j, b in alloc.bundles.items() if tid in b))
@@ -583,6 +590,30 @@ class Mission:
             r.nav.path_xy[-1] = goal_xy
             r.nav.goal_xy = np.asarray(goal_xy, float)
 
+    def _approach(self, r: _Robot, xy: np.ndarray) -> np.ndarray | None:
+        """The point of r's map nearest to ``xy`` that r can reach: ``xy`` itself when reachable, else the centre
+        of the reachable cell nearest to it (a believed state may lie in an obstacle r has since mapped, or
+        behind one); None when r can reach no other cell. Cached per (target cell, map version): as r moves it
+        stays in the same free-space component, so the answer does not change."""
+        xy = np.asarray(xy, float)
+        key = (self._cell(xy), r.map.version)
+        if r.approach is None or r.approach[0] != key:
+            cell, src = key[0], self._cell(r.xy)
+            sp = self._graph(r).to_cell(src, cell)
+            if np.isfinite(sp.dist[cell]):
+                sub: np.ndarray | bool | None = True
+            else:
+                ok = np.flatnonzero(np.isfinite(sp.dist))
+                ok = ok[ok != src]
+                sub = None
+                if len(ok):
+                    centres = np.stack([(ok % self.shape[1] + 0.5) * self.res,
+                                        (ok // self.shape[1] + 0.5) * self.res], 1)
+                    sub = centres[int(np.argmin(np.hypot(*(centres - xy[None, :]).T)))]
+            r.approach = (key, sub)
+        sub = r.approach[1]
+        return xy if sub is True else (None if sub is None else sub.copy())
+
     def _explore_goal(self, r: _Robot, members: list[int]) -> bool:
         """Pick/keep a frontier goal for r (eqs. 9–12); False when nothing is left to explore.
 
@@ -629,13 +660,19 @@ class Mission:
             if j in members:
                 r.gossip.pop(0)
                 continue
-            bxy = self._believed_xy(r, j, members)
-            if np.hypot(*(bxy - r.xy)) < 2.0:
+            goal = self._approach(r, self._believed_xy(r, j, members))
+            d = np.inf if goal is None else float(np.hypot(*(goal - r.xy)))
+            if r.seek is None or r.seek[0] != j or d < r.seek[1] - 0.5:
+                r.seek = (j, d, self.t)  # progress towards j's believed state
+            if goal is None or d < 2.0 or self.t - r.seek[2] > 20.0:
+                # ruleset 1: r is at j's believed state (or as near to it as r's map lets it get, or can get no
+                # nearer for 20 s) and j is not in range — j is excluded and its untold tasks re-auctioned
+                r.seek = None
                 r.gossip.pop(0)
                 self._exclude(r, j)
                 continue
             r.status = "gossiping"
-            self._goto(r, bxy)
+            self._goto(r, goal)
             return
         bundle = r.bundle()
         if bundle:
