@@ -70,11 +70,11 @@ def test_gossiper_searches_a_believed_state_it_cannot_reach_then_excludes_the_ro
     m.beliefs.believed_xy = lambda i, k: target.copy() if (i, k) == (0, 2) else believed(i, k)
     r0.gossip = [2]
     closest = np.inf
-    while m.t < 90 and 2 not in r0.excluded:
+    while m.t < 90 and not m._suspected(r0, 2):
         m.step()
         assert m.components[0] != m.components[2], "robot 2 came into range: the scenario is inconclusive"
         closest = min(closest, float(np.hypot(*(r0.xy - target))))
-    assert 2 in r0.excluded, "robot 0 never gave up on robot 2's unreachable believed state (ruleset 1)"
+    assert m._suspected(r0, 2), "robot 0 never gave up on robot 2's unreachable believed state (ruleset 1)"
     assert closest < 3.0, "robot 0 excluded robot 2 without going to its believed state"
 
 
