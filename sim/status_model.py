@@ -167,6 +167,16 @@ class StatusModel:
 
 
 
+def _dense(rel: Relation, n: int) -> np.ndarray:
+    """A relation on a factor's handful of worlds as a dense boolean matrix (no scipy round trip)."""
+    if rel.is_partition:
+        return rel.labels[:, None] == rel.labels[None, :]
+    out = np.zeros((n, n), dtype=bool)
+    for w in range(n):
+        out[w, rel.successors(w)] = True
+    return out
+
+
 class FactoredStatusModel:
     """The team's status model as N delkit models, factor k over robot k's status (see module docstring).
 
@@ -216,7 +226,7 @@ class FactoredStatusModel:
 
     def _beliefs_about(self, k: int) -> tuple[np.ndarray, np.ndarray]:
         m = self.factors[k]
-        rel = np.stack([m.relation_matrix(a).toarray() for a in self.agents]).astype(np.int32)  # N × W × W
+        rel = np.stack([_dense(m.relation(a), m.n_worlds) for a in self.agents]).astype(np.int32)  # N × W × W
         first = rel[:, m.designated[0], :]  # worlds robot i considers
         second = np.einsum("iw,jwv->ijv", first, rel) > 0  # worlds i thinks j considers
         second[np.arange(self.n), np.arange(self.n)] = first > 0
