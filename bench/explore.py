@@ -69,9 +69,17 @@ def main() -> int:
         spec = SweepSpec(cases=(1, 2), robots=(2, 3, 5, 8), maps=args.maps)
         n = len(spec.cases) * spec.maps * len(spec.robots) * len(spec.methods)
         print(f"\n== full sweep: {n} missions, {args.workers} worker processes ==")
+        import resource
+
         t0 = time.perf_counter()
+        ru0 = resource.getrusage(resource.RUSAGE_CHILDREN)
         rows = run_sweep(spec, workers=args.workers)
         wall = time.perf_counter() - t0
+        ru1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        cpu = (ru1.ru_utime + ru1.ru_stime) - (ru0.ru_utime + ru0.ru_stime)
+        print(f"CPU time of the worker processes {cpu:.0f} s = {cpu / 60:.1f} min "
+              f"({cpu / max(wall, 1e-9):.2f} cores busy on average); load average now "
+              f"{' / '.join(f'{x:.1f}' for x in os.getloadavg())} (1 / 5 / 15 min)")
         print(f"wall time {wall:.1f} s = {wall / 60:.1f} min (target < 15 min); "
               f"failures {sum(not r['success'] for r in rows)}, collisions {sum(r['collisions'] for r in rows)}, "
               f"tasks done {sum(r['tasks_done'] for r in rows)}/{sum(r['n_tasks'] for r in rows)}, "

@@ -4,10 +4,15 @@ Three team methods share the map, sensing, motion and task model:
 
 * ``epistemic`` — the paper's method. Each robot keeps its own log-odds map and task knowledge, and its
   N × N belief/empathy particles p_ij,k (eq. 2, :class:`sim.particles.BeliefParticles`) with timestamps Q.
-  The statuses the particles are propagated with come from the delkit epistemic model
-  (:class:`sim.status_model.FactoredStatusModel`), updated by the announce/perceive events of §5.3.1:
-  a robot's status is announced to its connected group, robots out of range are oblivious and keep a
-  (possibly false) belief. While the whole team is connected every particle is the true state (eq. 15);
+  The statuses the robots act on live in the delkit epistemic model
+  (:class:`sim.status_model.FactoredStatusModel`): a robot's status change is an ontic event of that model
+  (σ_i := s, observed by its connected group; robots out of range are oblivious and keep a now false
+  belief), statuses are announced again to robots that join a group (perceive, §5.3.1), and the decisions
+  read the model: a robot's own status is K_i σ_i; the particles propagate with B_i B_j σ_k; ruleset 1 is a
+  belief revision (robot i, not finding j, comes to believe σ_j ∈ {gossiping, task} — possibly falsely —
+  and plans without j until j's status is announced to it again); a robot follows its empathy particle while
+  it believes the robots out of range believe it is exploring (B_i B_j σ_i). While the whole team is
+  connected every particle is the true state (eq. 15);
   when it breaks, the common belief set C (:class:`sim.particles.CommonBelief`) is propagated from the last
   global state and every robot follows its empathy particle's frontier goal (§5.2). Robots that meet
   exchange maps, tasks, allocations, gossip plans and particles (the local announcement, eq. 19:
@@ -52,6 +57,7 @@ from sim.particles import (
     obstacle_points,
     select_frontier,
 )
+from sim.status_model import BUSY
 
 __all__ = ["UNSPECIFIED_PARAMETERS", "MissionConfig", "TaskSpec", "MissionResult", "MissionHistory", "Mission",
            "run_mission",
@@ -261,7 +267,8 @@ class _Robot:
     def __init__(self, i: int, xy: np.ndarray, grid: OccupancyGrid, n: int) -> None:
         self.id = i
         self.xy = xy.astype(float)
-        self.status = "exploring"
+        self._status = "exploring"
+        self.model = None  # the delkit status model (epistemic method): the status is read from it
         self.nav = Navigator(grid.resolution)
         self.map = grid
         self.graph: GridGraph | None = None
@@ -281,6 +288,14 @@ class _Robot:
         self.blacklist: set[int] = set()
         self.distance = 0.0
         self.target: tuple[float, float] | None = None
+        self.approach: tuple[tuple[int, int], object] | None = None  # cache of Mission._approach
+        self.seek: tuple[int, float, float] | None = None  # (gossip target, best distance, since when)
+
+    @property
+    def status(self) -> str:
+        """The status the robot acts on: σ_i as robot i knows it in the delkit model (epistemic method; every
+        change is an ontic event of that model, :meth:`Mission._set_status`), else the simulator's."""
+        return self._status if self.model is None else self.model.own_status(self.id)
 
     def bundle(self) -> list[int]:
         mine = [t for t, k in self.tasks.items() if not k.completed and self.id in k.assigned
@@ -318,6 +333,7 @@ class Mission:
         self.cascade_assigned = 0  # gossip bundles given to robots outside the allocating group (Algorithm 3)
         self.cascade_delivered = 0  # ... that reached their informer (it was told and took the bundle on)
         self.cascade_pending: set[tuple[float, int]] = set()
+        self._alloc_t, self._alloc_count = -1.0, 0
         self.min_sep = float("inf")
         self.events: list[tuple[float, str, str]] = []
         self.cost = euclidean_cost(cfg.v_max)
@@ -331,12 +347,15 @@ class Mission:
         self._hist_p: list[np.ndarray] = []
         self.checks = {"eq14": [0, 0], "eq18": [0, 0], "outsiders_unchanged": [0, 0]}
         self.false_beliefs = 0  # robot-steps with a false first-order belief B_i σ_k (σ_k untrue)
+        self.false_suspicions = 0  # ruleset-1 exclusions of a robot that was in fact not busy (a false belief)
         self.del_model = None
         self.beliefs = None
         if cfg.method == "epistemic":
             from sim.status_model import FactoredStatusModel
 
             self.del_model = FactoredStatusModel(self.n)
+            for r in self.robots:
+                r.model = self.del_model
             self._told = [("exploring", frozenset(range(self.n)))] * self.n
             self.beliefs = BeliefParticles(starts, self.home, eta_g=cfg.eta_g, eta_o=cfg.eta_o, rho_o=cfg.rho_o,
                                            v_max=cfg.particle_speed * cfg.v_max, linger=cfg.linger,
@@ -494,7 +513,7 @@ class Mission:
         new = [k for k in r.tasks.values() if not k.completed and not k.assigned and k.assumed_by is None]
         if not new:
             return
-        avail = [j for j in range(self.n) if j not in r.excluded]
+        avail = [j for j in range(self.n) if not self._suspected(r, j)]
         new = [k for k in new if k.spec.n_required <= len(avail)]
         if not new:
             return
@@ -527,7 +546,11 @@ class Mission:
             pos = {b.id: b.xy for b in bidders}
             alloc = replace(alloc, gossip=gossip_auction([m for m in members if m in avail] or [r.id], need,
                                                          pos, self.cost))
-        version = self.t + 1e-6 * (r.id + 1)
+        # the version orders allocations (most recent wins on merge); several in one step (re-auctions after
+        # ruleset 1) each get their own, so one round's gossip plans never mix with another's
+        self._alloc_count = self._alloc_count + 1 if self._alloc_t == self.t else 0
+        self._alloc_t = self.t
+        version = self.t + 1e-3 * self._alloc_count + 1e-6 * (r.id + 1)
         for tid in {t for b in alloc.bundles.values() for t in b}:
             k = r.tasks[tid]
             k.assigned = tuple(sorted(j for j, b in alloc.bundles.items() if tid in b))
@@ -550,7 +573,11 @@ class Mission:
 
     def _exclude(self, r: _Robot, j: int) -> None:
         """Ruleset 1: robot j was not at its believed state — exclude it and re-auction its untold tasks."""
-        r.excluded.add(j)
+        if self.del_model is not None:
+            self.del_model.suspect(r.id, j)  # r now believes j is busy (possibly falsely)
+            self.false_suspicions += int(self.del_model.statuses[j] not in BUSY)
+        else:
+            r.excluded.add(j)
         self._event("exclude", f"robot {r.id} does not find robot {j}; excludes it")
         for k in r.tasks.values():
             if not k.completed and j in k.assigned:
@@ -582,6 +609,30 @@ class Mission:
         elif len(r.nav.path_xy):  # small move of the goal: retarget the end of the path, no new search
             r.nav.path_xy[-1] = goal_xy
             r.nav.goal_xy = np.asarray(goal_xy, float)
+
+    def _approach(self, r: _Robot, xy: np.ndarray) -> np.ndarray | None:
+        """The point of r's map nearest to ``xy`` that r can reach: ``xy`` itself when reachable, else the centre
+        of the reachable cell nearest to it (a believed state may lie in an obstacle r has since mapped, or
+        behind one); None when r can reach no other cell. Cached per (target cell, map version): as r moves it
+        stays in the same free-space component, so the answer does not change."""
+        xy = np.asarray(xy, float)
+        key = (self._cell(xy), r.map.version)
+        if r.approach is None or r.approach[0] != key:
+            cell, src = key[0], self._cell(r.xy)
+            sp = self._graph(r).to_cell(src, cell)
+            if np.isfinite(sp.dist[cell]):
+                sub: np.ndarray | bool | None = True
+            else:
+                ok = np.flatnonzero(np.isfinite(sp.dist))
+                ok = ok[ok != src]
+                sub = None
+                if len(ok):
+                    centres = np.stack([(ok % self.shape[1] + 0.5) * self.res,
+                                        (ok // self.shape[1] + 0.5) * self.res], 1)
+                    sub = centres[int(np.argmin(np.hypot(*(centres - xy[None, :]).T)))]
+            r.approach = (key, sub)
+        sub = r.approach[1]
+        return xy if sub is True else (None if sub is None else sub.copy())
 
     def _explore_goal(self, r: _Robot, members: list[int]) -> bool:
         """Pick/keep a frontier goal for r (eqs. 9–12); False when nothing is left to explore.
@@ -629,19 +680,25 @@ class Mission:
             if j in members:
                 r.gossip.pop(0)
                 continue
-            bxy = self._believed_xy(r, j, members)
-            if np.hypot(*(bxy - r.xy)) < 2.0:
+            goal = self._approach(r, self._believed_xy(r, j, members))
+            d = np.inf if goal is None else float(np.hypot(*(goal - r.xy)))
+            if r.seek is None or r.seek[0] != j or d < r.seek[1] - 0.5:
+                r.seek = (j, d, self.t)  # progress towards j's believed state
+            if goal is None or d < 2.0 or self.t - r.seek[2] > 20.0:
+                # ruleset 1: r is at j's believed state (or as near to it as r's map lets it get, or can get no
+                # nearer for 20 s) and j is not in range — j is excluded and its untold tasks re-auctioned
+                r.seek = None
                 r.gossip.pop(0)
                 self._exclude(r, j)
                 continue
-            r.status = "gossiping"
-            self._goto(r, bxy)
+            self._set_status(r, "gossiping")
+            self._goto(r, goal)
             return
         bundle = r.bundle()
         if bundle:
             k = r.tasks[bundle[0]]
             txy = np.array(k.spec.xy)
-            r.status = "task"
+            self._set_status(r, "task")
             r.target = k.spec.xy
             near = np.hypot(*(txy - r.xy))
             if near <= self.cfg.task_radius * 1.5:  # at the task (noise may push it in and out of r_t)
@@ -659,17 +716,18 @@ class Mission:
             return
         r.wait_since = None
         if not r.done_exploring and not self._mission_over_for(r):
-            if self.common is not None and self.common.particles[r.id].status == "exploring":
+            if self.common is not None and self.common.particles[r.id].status == "exploring" and \
+                    self._empathy_exploring(r, members):
                 # track the empathy particle c_ii = p_ij,i: be where the others believe r is (§5.1)
-                r.status = "exploring"
+                self._set_status(r, "exploring")
                 self._goto(r, self.common.particles[r.id].xy, tol=3.0)
                 return
             if self._explore_goal(r, members):
-                r.status = "exploring"
+                self._set_status(r, "exploring")
                 return
             r.done_exploring = True
             self._event("done", f"robot {r.id} sees nothing left to explore; heads home")
-        r.status = "home"
+        self._set_status(r, "home")
         r.target = (float(self.home[0]), float(self.home[1]))
         self._goto(r, self.home, tol=0.5)
 
@@ -743,7 +801,7 @@ class Mission:
             near_obstacle = obstacle_points(lead.map.occupied_mask(), self.res, slot, 0.7)
             if len(near_obstacle):
                 slot = self.anchor.copy()
-            r.status = "exploring" if not pending and not r.done_exploring else ("task" if pending else "home")
+            self._set_status(r, "task" if pending else ("home" if r.done_exploring else "exploring"))
             if task_here is not None and r.id in lead.tasks[task_here].assigned:
                 slot = np.array(lead.tasks[task_here].spec.xy)
             slots.append(slot)
@@ -861,6 +919,62 @@ class Mission:
         if self._finished():
             self.done = True
 
+    # ------------------------------------------------------------------ the DEL model in the decisions
+    def _set_status(self, r: _Robot, status: str) -> None:
+        """Robot r's decision rule changes its status: for the epistemic method an ontic event of the delkit
+        model (σ_r := status, observed by r's connected group, the others oblivious — they keep a belief that
+        is now false); r then reads its status back from the model (:attr:`_Robot.status`)."""
+        dm = self.del_model
+        if dm is None:
+            r._status = status
+            return
+        if dm.own_status(r.id) == status:
+            return
+        group = frozenset(int(m) for m in np.flatnonzero(self.components == self.components[r.id]))
+        before = dm.believed().copy() if self.cfg.status_model else None
+        dm.tell(r.id, status, group, "status")
+        self._told[r.id] = (status, group)
+        if before is not None:
+            self._check_model(len(set(self.components.tolist())), {0: sorted(group)}, {0}, before)
+
+    def _suspected(self, r: _Robot, j: int) -> bool:
+        """Ruleset 1: r does not plan with robot j — r believes j busy (B_r σ_j ∈ BUSY, the belief left by
+        not finding j where r believed it was; revised when j's status is announced to r again)."""
+        if self.del_model is None:
+            return j in r.excluded
+        return self.del_model.believes_busy(r.id, j)
+
+    def _empathy_exploring(self, r: _Robot, members: list[int]) -> bool:
+        """B_r B_j σ_r = exploring for every robot j out of r's range: the others (as r believes) believe r is
+        still exploring, so r follows the particle they propagate for it (its empathy particle, §5.1)."""
+        if self.del_model is None:
+            return True
+        table = self.del_model.believed()
+        return all(table[r.id, j, r.id] == 0 for j in range(self.n) if j not in members)
+
+    def _check_model(self, ncomp: int, groups: dict[int, list[int]], told: set[int], before: np.ndarray) -> None:
+        """Eq. 14 (team connected) or eq. 18 and "outsiders unchanged" (per told group) on the driving model."""
+        dm = self.del_model
+        if ncomp == 1:
+            edges = [(i, j) for i in range(self.n) for j in range(self.n) if i != j and self.prev_adj[i, j]]
+            ok = dm.check_eq14(edges)
+            self.checks["eq14"][0] += int(ok)
+            self.checks["eq14"][1] += 1
+            return
+        after = dm.believed()
+        for c in told:
+            g = groups[c]
+            if len(g) < 2:
+                continue
+            ok = dm.check_eq18(g)
+            self.checks["eq18"][0] += int(ok)
+            self.checks["eq18"][1] += 1
+            out = [m for m in range(self.n) if m not in g]
+            same = bool(np.array_equal(before[np.ix_(out, out)][..., g], after[np.ix_(out, out)][..., g])
+                        ) if out else True
+            self.checks["outsiders_unchanged"][0] += int(same)
+            self.checks["outsiders_unchanged"][1] += 1
+
     def _q(self, i: int, j: int) -> float:
         """q_ii,j: the time of robot i's most recent information about robot j (set Q)."""
         return float(self.beliefs.stamps(i)[i, j])
@@ -883,27 +997,8 @@ class Mission:
                 dm.tell(k, r.status, g)
                 told_groups.add(c)
             self._told[k] = (r.status, g)
-        check = self.cfg.status_model
-        if told_groups and check:
-            if ncomp == 1:
-                edges = [(i, j) for i in range(self.n) for j in range(self.n) if i != j and self.prev_adj[i, j]]
-                ok = dm.check_eq14(edges)
-                self.checks["eq14"][0] += int(ok)
-                self.checks["eq14"][1] += 1
-            else:
-                after = dm.believed()
-                for c in told_groups:
-                    g = groups[c]
-                    if len(g) < 2:
-                        continue
-                    ok = dm.check_eq18(g)
-                    self.checks["eq18"][0] += int(ok)
-                    self.checks["eq18"][1] += 1
-                    out = [m for m in range(self.n) if m not in g]
-                    same = bool(np.array_equal(before[np.ix_(out, out)][..., g], after[np.ix_(out, out)][..., g])
-                                ) if out else True
-                    self.checks["outsiders_unchanged"][0] += int(same)
-                    self.checks["outsiders_unchanged"][1] += 1
+        if told_groups and self.cfg.status_model:
+            self._check_model(ncomp, groups, told_groups, before)
         self.false_beliefs += dm.false_beliefs()
         targets = [r.target for r in self.robots]
         self.beliefs.update(self.t, labels, np.array([r.xy for r in self.robots]), targets, dm.believed(),

@@ -35,11 +35,16 @@ from delkit.bisim import contract
 from delkit.events import EventModel, action, sensing
 from delkit.formula import BOT, TOP, Formula, K, Prop, conj
 from delkit.kripke import KripkeModel
+from delkit.relation import Relation
 from delkit.update import product_update
 
-__all__ = ["StatusModel", "FactoredStatusModel", "tell_event", "status_prop", "agent", "eq14", "eq18", "STATUSES"]
+__all__ = ["StatusModel", "FactoredStatusModel", "tell_event", "suspect_event", "status_prop", "agent", "eq14", "eq18",
+           "STATUSES", "BUSY"]
 
 STATUSES = ("exploring", "gossiping", "task", "home")
+#: ruleset 1 (§5.3.2): a robot not found at its believed state "must be operating according to another status
+#: such as gossiping to another robot or completing another task"
+BUSY = ("gossiping", "task")
 
 
 def agent(i: int) -> str:
@@ -80,6 +85,30 @@ def tell_event(n: int, k: int, status: str, observers: Iterable[int], name: str 
     outcomes = [(f"to_{s}", TOP, {f"s{k}_{t}": (TOP if t == s else BOT) for t in STATUSES}) for s in STATUSES]
     return action(agents, outcomes, full=[agent(a) for a in sorted(set(observers))],
                   designated=[f"to_{status}"], name=f"r{k}:{name}")
+
+
+def suspect_event(n: int, k: int, believer: int, statuses: Sequence[str] = BUSY,
+                  name: str = "not_found") -> EventModel:
+    """Ruleset 1 as a belief revision: robot ``believer`` did not find robot k at its believed state and comes
+    to believe σ_k ∈ ``statuses`` (without knowing which). Nothing happens in the world — the designated event
+    ``none`` changes nothing — so the new belief may be false (k may still be exploring elsewhere). From
+    ``none`` the believer considers the ``to_s`` events; every other robot is oblivious (considers ε, where
+    nothing happened for anyone)."""
+    agents = [agent(a) for a in range(n)]
+    names = tuple([f"to_{s}" for s in statuses] + ["none", "eps"])
+    posts = [{f"s{k}_{t}": (TOP if t == s else BOT) for t in STATUSES} for s in statuses] + [{}, {}]
+    m = len(statuses)
+    none, eps = m, m + 1
+
+    def rel(a: str) -> Relation:
+        if a == agent(believer):
+            pairs = [(e, f) for e in range(none + 1) for f in range(m)] + [(eps, eps)]
+        else:
+            pairs = [(e, eps) for e in range(m + 2)]
+        return Relation.from_pairs(m + 2, pairs)
+
+    return EventModel(names, tuple(agents), tuple([TOP] * (m + 2)), tuple(posts), {a: rel(a) for a in agents},
+                      (none,), f"r{k}:{name}")
 
 
 @dataclass
@@ -138,6 +167,16 @@ class StatusModel:
 
 
 
+def _dense(rel: Relation, n: int) -> np.ndarray:
+    """A relation on a factor's handful of worlds as a dense boolean matrix (no scipy round trip)."""
+    if rel.is_partition:
+        return rel.labels[:, None] == rel.labels[None, :]
+    out = np.zeros((n, n), dtype=bool)
+    for w in range(n):
+        out[w, rel.successors(w)] = True
+    return out
+
+
 class FactoredStatusModel:
     """The team's status model as N delkit models, factor k over robot k's status (see module docstring).
 
@@ -154,6 +193,8 @@ class FactoredStatusModel:
         self.factors = [self._single(k, status) for k in range(n)]
         self.updates = 0
         self._table = np.full((n, n, n), STATUSES.index(status), dtype=np.int8)
+        self._considers = np.zeros((n, n, len(STATUSES)), dtype=bool)  # [i, k, s]: i considers σ_k = s possible
+        self._considers[:, :, STATUSES.index(status)] = True
 
     def tell(self, k: int, status: str, observers: Iterable[int], name: str = "announce") -> None:
         """announce(x_k)/perceive(σ_k) to ``observers`` (robot k's connected group, k included).
@@ -168,16 +209,24 @@ class FactoredStatusModel:
             ev = tell_event(self.n, k, status, observers, name)
             self.factors[k] = contract(product_update(self.factors[k], ev))
         self.statuses[k] = status
+        self._refresh(k)
+
+    def suspect(self, i: int, k: int, statuses: Sequence[str] = BUSY) -> None:
+        """Robot i revises its belief about σ_k to "one of ``statuses``" (:func:`suspect_event`)."""
+        self.factors[k] = contract(product_update(self.factors[k], suspect_event(self.n, k, i, statuses)))
+        self._refresh(k)
+
+    def _refresh(self, k: int) -> None:
         self.updates += 1
-        self._table[:, :, k] = self._beliefs_about(k)
+        self._table[:, :, k], self._considers[:, k, :] = self._beliefs_about(k)
 
     def _single(self, k: int, status: str) -> KripkeModel:
         return KripkeModel.build([{f"s{k}_{status}"}], {a: [[0]] for a in self.agents}, [0],
                                  props=[f"s{k}_{s}" for s in STATUSES])
 
-    def _beliefs_about(self, k: int) -> np.ndarray:
+    def _beliefs_about(self, k: int) -> tuple[np.ndarray, np.ndarray]:
         m = self.factors[k]
-        rel = np.stack([m.relation_matrix(a).toarray() for a in self.agents]).astype(np.int32)  # N × W × W
+        rel = np.stack([_dense(m.relation(a), m.n_worlds) for a in self.agents]).astype(np.int32)  # N × W × W
         first = rel[:, m.designated[0], :]  # worlds robot i considers
         second = np.einsum("iw,jwv->ijv", first, rel) > 0  # worlds i thinks j considers
         second[np.arange(self.n), np.arange(self.n)] = first > 0
@@ -186,20 +235,35 @@ class FactoredStatusModel:
         have = (second.astype(np.int32) @ val) > 0  # N × N × 4: statuses present
         out = np.argmax(have, axis=2).astype(np.int8)
         out[have.sum(axis=2) != 1] = -1
-        return out
+        return out, have[np.arange(self.n), np.arange(self.n)]
 
     def believed(self) -> np.ndarray:
         """``B[i, j, k]`` (see class docstring); a view, do not modify."""
         return self._table
 
+    def own_status(self, i: int) -> str:
+        """σ_i as robot i knows it (K_i σ_i: every status change of i is an event i observes)."""
+        return STATUSES[int(self._table[i, i, i])]
+
+    def considers(self, i: int, k: int) -> frozenset[str]:
+        """The statuses robot i considers possible for robot k (B_i σ_k is their disjunction)."""
+        return frozenset(s for s, c in zip(STATUSES, self._considers[i, k], strict=True) if c)
+
+    def believes_busy(self, i: int, k: int) -> bool:
+        """B_i (σ_k ∈ BUSY) without B_i knowing which: the belief ruleset 1 leaves (robot k is excluded from
+        i's planning until i hears k's status again)."""
+        c = self._considers[i, k]
+        busy = [STATUSES.index(s) for s in BUSY]
+        return bool(c[busy].all() and c.sum() == len(busy))
+
     def holds(self, k: int, f: Formula) -> bool:
         return bool(self.factors[k].holds(f))
 
     def false_beliefs(self) -> int:
-        """Number of (i, k) with B_i σ_k a single status different from σ_k (false first-order beliefs)."""
+        """Number of (i, k) with B_i σ_k false: robot i does not consider robot k's actual status possible
+        (a single wrong status, or ruleset 1's "busy" when k is not)."""
         actual = np.array([STATUSES.index(s) for s in self.statuses])
-        first = self._table[np.arange(self.n), np.arange(self.n), :]
-        return int(((first >= 0) & (first != actual[None, :])).sum())
+        return int((~self._considers[:, np.arange(self.n), actual]).sum())
 
     def check_eq14(self, edges: Iterable[tuple[int, int]]) -> bool:
         """Eq. 14 after a global announcement, factor by factor (each conjunct is about one σ_k)."""

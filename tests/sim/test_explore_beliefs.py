@@ -109,3 +109,37 @@ def test_eight_robot_case2_runs_on_n2_particles_and_del_statuses():
     assert checks["eq18"][1] > 0 and all(p == t for p, t in checks.values())
     # snapshot particles carry the DEL status they were frozen with
     assert m.beliefs.snapshots > 0
+
+
+def _allocate_at_believed(m: Mission, i: int, j: int) -> tuple[int, ...]:
+    """Robot i finds a one-robot task at the place where it believes robot j is; who does Algorithm 1 give it to?"""
+    from sim.explore import TaskSpec, _TaskKnowledge
+
+    xy = m.beliefs.believed_xy(i, j)
+    spec = TaskSpec(99, (float(xy[0]), float(xy[1])), 1)
+    r = m.robots[i]
+    r.tasks[99] = _TaskKnowledge(spec)
+    members = [int(x) for x in np.flatnonzero(m.components == m.components[i])]
+    m._allocate_pending(r, members)
+    return r.tasks[99].assigned
+
+
+def test_decisions_read_the_del_model_corrupting_a_belief_changes_the_allocation():
+    """Ruleset 1 lives in the DEL model: robot i plans without j exactly when B_i σ_j ∈ {gossiping, task}.
+    A corrupted model (i falsely believes j busy) must change i's allocation; the true model must not."""
+    import copy
+
+    m = Mission(MissionConfig(case=2, n_robots=8, method="epistemic", seed=0, record=False, status_model=False))
+    while len(set(m.components.tolist())) == 1 or m.t < 20:
+        m.step()
+        assert m.t < 200
+    i = 0
+    j = next(k for k in range(m.n) if m.components[k] != m.components[i])
+    honest = copy.deepcopy(m)
+    assert _allocate_at_believed(honest, i, j) == (j,)  # j's believed state is on the task: j wins the bid
+    corrupted = copy.deepcopy(m)
+    corrupted.del_model.suspect(i, j)  # i now (falsely) believes j is busy: the model says so, nothing else
+    assert corrupted.del_model.believes_busy(i, j) and corrupted.del_model.statuses[j] == m.del_model.statuses[j]
+    assert j not in _allocate_at_believed(corrupted, i, j)
+    # the robots act on the statuses of the model: each knows its own (K_i σ_i), outsiders may be wrong
+    assert [r.status for r in m.robots] == m.del_model.statuses

@@ -124,3 +124,23 @@ def test_factored_false_belief_and_revision_with_eight_robots():
     assert not fact.check_eq18([0, 3])
     fact.tell(3, "task", [0, 3])  # robot 0 meets robot 3: its belief is revised, not contradicted
     assert fact.believed()[0, 0, 3] == STATUSES.index("task") and fact.check_eq18([0, 3])
+
+
+def test_ruleset1_suspicion_is_a_private_possibly_false_belief_revised_on_meeting():
+    from delkit.formula import K, Or
+    from sim.status_model import BUSY, FactoredStatusModel, agent, status_prop
+
+    m = FactoredStatusModel(4)
+    m.tell(2, "task", {2, 3})  # robot 2 goes to a task; 3 sees it, 0 and 1 are oblivious
+    m.suspect(0, 2)  # robot 0 does not find 2 where it believed: "2 must be busy"
+    busy = Or(tuple(status_prop(2, s) for s in BUSY))
+    assert m.holds(2, K(agent(0), busy)) and not m.holds(2, K(agent(0), status_prop(2, "task")))
+    assert m.believes_busy(0, 2) and not m.believes_busy(1, 2) and not m.believes_busy(3, 2)
+    assert m.holds(2, K(agent(1), status_prop(2, "exploring")))  # 1 keeps its (now false) belief
+    assert m.holds(2, K(agent(0), K(agent(1), status_prop(2, "exploring"))))  # 0 knows 1 saw nothing
+    assert m.holds(2, status_prop(2, "task"))  # the world did not change
+    assert m.false_beliefs() == 1  # robot 1's "exploring"; robot 0's "busy" is true (2 is at a task)
+    m.tell(2, "exploring", {2, 3})  # 2 returns to exploring out of 0's range: 0's suspicion is now false
+    assert m.believes_busy(0, 2) and m.false_beliefs() == 1  # now robot 0's "busy" is the false one
+    m.tell(2, "exploring", {0, 2, 3})  # 0 meets 2: announce revises the belief
+    assert not m.believes_busy(0, 2) and m.considers(0, 2) == frozenset({"exploring"})
