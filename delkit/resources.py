@@ -150,7 +150,10 @@ def deadline(seconds: float | None, what: str, option: str = "--timeout") -> Ite
 
     t0 = time.monotonic()
     signal.signal(signal.SIGALRM, expired)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    # the timer re-fires every 0.25 s after expiry: an exception raised where Python swallows it (a C
+    # extension's finaliser, e.g. a BDD node freed by CUDD's wrapper, prints "Exception ignored") must not
+    # leave the body running without a limit
+    signal.setitimer(signal.ITIMER_REAL, seconds, 0.25)
     try:
         yield
     finally:

@@ -408,3 +408,24 @@ def test_epico_world_with_non_string_entries(tmp_path, capsys, edit, fragment):
     f.write_text(json.dumps(world))
     one_line_error(capsys, ["epico", "solve", "--goal", "alpha", "--colors", "2", "--world", str(f), "--json"],
                    fragment)
+
+
+def test_deadline_fires_again_when_its_exception_is_swallowed():
+    """Seen once under load: `puzzle muddy --symbolic --timeout 1` ran on for 20 minutes — the one alarm's
+    exception was raised where Python ignores exceptions (a finaliser). The timer keeps firing after expiry."""
+    import time
+
+    from delkit.resources import ResourceError, deadline
+
+    swallowed = 0
+    t0 = time.monotonic()
+    with pytest.raises(ResourceError), deadline(0.2, "body"):
+        while time.monotonic() - t0 < 5:
+            try:
+                while time.monotonic() - t0 < 5:
+                    pass
+            except ResourceError:
+                if swallowed:
+                    raise
+                swallowed += 1  # the first alarm is lost, as in a finaliser
+    assert swallowed == 1 and time.monotonic() - t0 < 2
