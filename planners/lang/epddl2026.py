@@ -1013,10 +1013,14 @@ def _relation(n: int, pairs: list[tuple[int, int]]):
     """A relation on n events; an equivalence is kept as a partition (products with S5 states stay cheap)."""
     from delkit.relation import Relation
 
-    r = Relation.from_pairs(n, pairs)
-    if r.is_reflexive() and r.is_symmetric() and r.is_transitive():
-        return r.as_partition()
-    return r
+    # decided on the pairs themselves (a handful of events): Relation's own tests would import scipy.sparse
+    succ: list[set[int]] = [set() for _ in range(n)]
+    for a, b in pairs:
+        succ[a].add(b)
+    if all(e in succ[e] and all(e in succ[f] and succ[f] == succ[e] for f in succ[e]) for e in range(n)):
+        # reflexive, symmetric, and every successor has the same successors (transitive): a partition
+        return Relation.from_labels([min(succ[e]) for e in range(n)])
+    return Relation.from_pairs(n, pairs)
 
 
 def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_node, env, agents, line,

@@ -298,7 +298,9 @@ def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: fl
                                                 len(f.args)))
                 others = [f for f in fs if f is not split]
                 got = [models(vars_, [d, *others], deadline=deadline, _depth=_depth + 1) for d in split.args]
-                rows = np.unique(np.concatenate(got, axis=0), axis=0) if got else np.zeros((0, len(vars_)), bool)
+                # (return_index: without it np.unique imports numpy.ma to test for a masked array)
+                rows = (np.unique(np.concatenate(got, axis=0), axis=0, return_index=True)[0] if got
+                        else np.zeros((0, len(vars_)), bool))
             else:
                 rows = _bdd_models(vars_, fs, deadline)
         if rows.shape[0] == 0:
