@@ -205,6 +205,13 @@ class _Ground:
         self._bc: dict[tuple, tuple] = {}
         self._ic: dict[int, tuple] = {}
         self._ec: dict[int, tuple] = {}
+        # per action type (by name: unique in a run), event and observability conditions
+        self.type_pairs: dict[str, dict[str, list[tuple[int, int]]]] = {}
+        self.type_relations: dict[str, dict] = {}
+        self.event_params: dict[str, list] = {}
+        self.ground_events: dict[tuple, tuple] = {}
+        self.node_vars: dict[int, tuple] = {}
+        self.obs_specs: dict[tuple, dict] = {}
 
     def err(self, msg: str, node) -> ParseError:
         return ParseError(msg, source=self.where, line=getattr(node, "line", None))
@@ -1057,27 +1064,29 @@ def _ground_event(g: _Ground, ref, events: dict[str, _Event], env) -> tuple[str,
     ev = events.get(name)
     if ev is None:
         raise g.err(f"unknown event {name!r}", ref)
-    typed, _ = g.typed_list(ev.params)
+    typed = g.event_params.get(name)
+    if typed is None:
+        typed = g.event_params[name] = g.typed_list(ev.params)[0]
     if len(typed) != len(args):
         raise g.err(f"event {name!r} takes {len(typed)} argument(s), got {len(args)}", ref)
-    eenv = {v: g.term(x, env) for (v, _), x in zip(typed, args, strict=True)}
-    pre = g.formula(ev.pre, eenv) if ev.pre is not None else TOP
-    post = _effects(g, ev.effects, eenv)
-    return atom_name(name, tuple(eenv.values())), pre, post
-
-
-_REL_CACHE: dict[tuple[int, str], dict[str, list[tuple[int, int]]]] = {}
+    vals = tuple(g.term(x, env) for x in args)
+    key = (name, vals)
+    got = g.ground_events.get(key)  # an event with the same arguments in another action: grounded once
+    if got is None:
+        eenv = {v: x for (v, _), x in zip(typed, vals, strict=True)}
+        pre = g.formula(ev.pre, eenv) if ev.pre is not None else TOP
+        post = _effects(g, ev.effects, eenv)
+        got = g.ground_events[key] = (atom_name(name, vals), pre, post)
+    return got
 
 
 def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]]:
-    """obs type -> event index pairs of an action type (ground once per type)."""
-    key = (id(at), at.name)
-    got = _REL_CACHE.get(key)
+    """obs type -> event index pairs of an action type (ground once per type and load)."""
+    got = g.type_pairs.get(at.name)
     if got is not None:
         return got
     if at.relations is None:  # basic
-        got = {"Fully": [(0, 0)]}
-        _REL_CACHE[key] = got
+        got = g.type_pairs[at.name] = {"Fully": [(0, 0)]}
         return got
     eidx = {e: j for j, e in enumerate(at.events)}
     saved = (dict(g.entities), g.where)
@@ -1103,12 +1112,24 @@ def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]
         g.items(rel[j + 1], {e: e for e in at.events}, pair)
     g.entities, g.where = saved
     g._by_type.clear()
-    _REL_CACHE[key] = got
+    g.type_pairs[at.name] = got
     return got
 
 
 def _obs_spec(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tuple[int, Formula]]]:
-    """agent -> [(obs type index, condition)] (plank's per-agent map, first statement per type wins)."""
+    """agent -> [(obs type index, condition)] (plank's per-agent map, first statement per type wins); computed
+    once per observability conditions, action type and values of the variables they mention."""
+    names = g.node_vars.get(id(node))
+    if names is None:
+        names = g.node_vars[id(node)] = (node, sorted(_vars_in(node)) if node is not None else [])
+    key = (id(node), at.name, tuple(env.get(v) for v in names[1]))
+    got = g.obs_specs.get(key)
+    if got is None:
+        got = g.obs_specs[key] = _obs_spec_of(g, node, env, at, agents)
+    return got
+
+
+def _obs_spec_of(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tuple[int, Formula]]]:
     tidx = {t: j for j, t in enumerate(at.obs_types)}
     spec: dict[str, dict[int, Formula]] = {a: {} for a in agents}
     if node is None:
@@ -1173,9 +1194,6 @@ def _obs_spec(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tup
     return {a: sorted(spec[a].items()) for a in agents}
 
 
-_TYPE_REL: dict[int, tuple] = {}  # id(action type) -> (type, obs type -> Relation); the type is kept alive
-
-
 def _relation(n: int, pairs: list[tuple[int, int]]):
     """A relation on n events; an equivalence is kept as a partition (products with S5 states stay cheap)."""
     from delkit.relation import Relation
@@ -1185,8 +1203,10 @@ def _relation(n: int, pairs: list[tuple[int, int]]):
     for a, b in pairs:
         succ[a].add(b)
     if all(e in succ[e] and all(e in succ[f] and succ[f] == succ[e] for f in succ[e]) for e in range(n)):
-        # reflexive, symmetric, and every successor has the same successors (transitive): a partition
-        return Relation.from_labels([min(succ[e]) for e in range(n)])
+        # reflexive, symmetric, and every successor has the same successors (transitive): a partition,
+        # labelled by class in order of least member (as Relation.from_labels would, without np.unique)
+        rank = {m: k for k, m in enumerate(sorted({min(succ[e]) for e in range(n)}))}
+        return Relation(n=n, labels=np.array([rank[min(succ[e])] for e in range(n)], dtype=np.int64))
     return Relation.from_pairs(n, pairs)
 
 
@@ -1215,10 +1235,9 @@ def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_nod
     post = tuple(e[2] for e in evs)
     des = tuple(at.events.index(d) for d in at.designated)
     n = len(slots)
-    type_rel = _TYPE_REL.get(id(at))
-    if type_rel is None or type_rel[0] is not at:
-        type_rel = _TYPE_REL[id(at)] = (at, {t: _relation(n, rels.get(t, [])) for t in at.obs_types})
-    type_rel = type_rel[1]
+    type_rel = g.type_relations.get(at.name)
+    if type_rel is None:
+        type_rel = g.type_relations[at.name] = {t: _relation(n, rels.get(t, [])) for t in at.obs_types}
 
     def build(bits: tuple[bool, ...]) -> EventModel:
         relations = {}

@@ -22,6 +22,7 @@ _CLOSE = {"(": ")", "[": "]", "<": ">"}
 class Sym(str):
     """An atom (identifier, ``?variable``, ``:keyword``, ``|``) with the line it is on."""
 
+    __slots__ = ("line",)
     line: int
 
     def __new__(cls, text: str, line: int) -> Sym:
@@ -32,6 +33,8 @@ class Sym(str):
 
 class Node(list):
     """A bracketed list; ``kind`` is its opening bracket, ``line`` the line it starts on."""
+
+    __slots__ = ("kind", "line")
 
     def __init__(self, kind: str, line: int) -> None:
         super().__init__()
