@@ -71,8 +71,9 @@ def _check_deadline(deadline: float | None) -> None:
         raise LoadTimeout("time limit reached while building the initial state")
 
 
-def _components(parts: list[Formula]) -> list[tuple[list[str], list[Formula]]]:
+def _components(parts: list[Formula], support: dict | None = None) -> list[tuple[list[str], list[Formula]]]:
     """Group conjuncts into components connected by shared fluents (union-find)."""
+    support = {} if support is None else support
     parent: dict[str, str] = {}
 
     def find(x: str) -> str:
@@ -83,7 +84,7 @@ def _components(parts: list[Formula]) -> list[tuple[list[str], list[Formula]]]:
 
     supports = []
     for f in parts:
-        ps = sorted(props_of(f))
+        ps = sorted(_support(f, support))
         supports.append(ps)
         for p in ps:
             parent.setdefault(p, p)
@@ -296,34 +297,67 @@ def _support(f: Formula, cache: dict[int, tuple[Formula, frozenset[str]]]) -> fr
     return got[1]
 
 
-def _propagate(parts: list[Formula], fixed: dict[str, bool]) -> list[Formula] | None:
+def _propagate(parts: list[Formula], fixed: dict[str, bool],
+               support: dict[int, tuple[Formula, frozenset[str]]] | None = None) -> list[Formula] | None:
     """Unit propagation: fix the literal conjuncts, substitute and fold until nothing changes (None if ⊥).
-    Only the formulas that mention a newly fixed fluent are rewritten."""
-    support: dict[int, tuple[Formula, frozenset[str]]] = {}
-    while True:
-        rest: list[Formula] = []
-        new: dict[str, bool] = {}
-        for f in parts:
-            for part in _conjuncts(f):
-                u = _unit(part)
-                if u is not None:
-                    if fixed.get(u[0], u[1]) != u[1] or new.get(u[0], u[1]) != u[1]:
-                        return None
-                    if u[0] not in fixed:
-                        new[u[0]] = u[1]
-                elif part == BOT:
-                    return None
-                elif part != TOP:
-                    rest.append(part)
-        if not new:
-            return rest
+
+    A worklist: each round rewrites only the formulas that mention a fluent fixed in the previous round
+    (found through an index fluent -> cells); a rewritten formula's conjuncts take its place, so the result
+    keeps the order of a full re-simplification of every formula in every round."""
+    support = {} if support is None else support
+    new: dict[str, bool] = {}
+
+    def absorb(f: Formula, cell: list) -> bool:
+        """Split ``f`` into conjuncts: units into ``new``, the others into child cells of ``cell``."""
+        for part in _conjuncts(f):
+            u = _unit(part)
+            if u is not None:
+                if fixed.get(u[0], u[1]) != u[1] or new.get(u[0], u[1]) != u[1]:
+                    return False
+                if u[0] not in fixed:
+                    new[u[0]] = u[1]
+            elif type(part) is Bot:
+                return False
+            elif type(part) is not Top:
+                child = [part]
+                cell.append(child)
+                for p in _support(part, support):
+                    index.setdefault(p, []).append(child)
+        return True
+
+    index: dict[str, list[list]] = {}
+    root: list = [None]
+    for f in parts:
+        if not absorb(f, root):
+            return None
+    while new:
         fixed.update(new)
-        keys = new.keys()
-        parts = [_assign(f, new) if not keys.isdisjoint(_support(f, support)) else f for f in rest]
+        done, new = new, {}
+        seen: set[int] = set()
+        for p in done:
+            for cell in index.pop(p, ()):
+                if cell[0] is None or id(cell) in seen:
+                    continue
+                seen.add(id(cell))
+                g = _assign(cell[0], done)
+                if g is cell[0]:
+                    continue
+                cell[0] = None   # replaced by the conjuncts of g, in its place
+                if not absorb(g, cell):
+                    return None
+    out: list[Formula] = []
+    stack = [root]
+    while stack:   # depth-first, children in order
+        cell = stack.pop()
+        if cell[0] is not None:
+            out.append(cell[0])
+        stack.extend(reversed(cell[1:]))
+    return out
 
 
 def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: float | None = None,
-           fixed: dict[str, bool] | None = None, _depth: int = 0, _folded: bool = False) -> np.ndarray:
+           fixed: dict[str, bool] | None = None, _depth: int = 0, _folded: bool = False,
+           _support_cache: dict | None = None) -> np.ndarray:
     """Every valuation of ``props`` (a worlds × props boolean array) satisfying all ``constraints``
     (propositional) and the ``fixed`` fluent values, without enumerating the unconstrained product.
 
@@ -338,14 +372,15 @@ def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: fl
     if fixed:
         sub = {p: (TOP if v else BOT) for p, v in fixed.items()}
         constraints = [_simplify(substitute(f, sub)) for f in constraints]
-    parts = _propagate(list(constraints) if _folded else [_simplify(f) for f in constraints], fixed)
+    support: dict[int, tuple[Formula, frozenset[str]]] = {} if _support_cache is None else _support_cache
+    parts = _propagate(list(constraints) if _folded else [_simplify(f) for f in constraints], fixed, support)
     if parts is None:
         return empty
     unknown = [p for p in fixed if p not in pidx]
     if unknown:
         raise ParseError(f"the initial state mentions unknown fluent(s) {unknown}")
     blocks: list[tuple[list[int], np.ndarray]] = []
-    for vars_, fs in _components(parts):
+    for vars_, fs in _components(parts, support):
         _check_deadline(deadline)
         unknown = [p for p in vars_ if p not in pidx]
         if unknown:
@@ -363,8 +398,8 @@ def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: fl
         else:
             if split is not None:
                 others = [f for f in fs if f is not split]
-                got = [models(vars_, [d, *others], deadline=deadline, _depth=_depth + 1, _folded=True)
-                       for d in split.args]  # (the parts are folded already)
+                got = [models(vars_, [d, *others], deadline=deadline, _depth=_depth + 1, _folded=True,
+                              _support_cache=support) for d in split.args]  # (the parts are folded already)
                 # (return_index: without it np.unique imports numpy.ma to test for a masked array)
                 rows = (np.unique(np.concatenate(got, axis=0), axis=0, return_index=True)[0] if got
                         else np.zeros((0, len(vars_)), bool))
