@@ -196,7 +196,6 @@ class _Ground:
         self._by_type: dict[str, list[str]] = {}
         self.where = "<epddl>"
         self.counter = 0
-        self._order: dict[Node, list] = {}
         self.groups: dict[str, tuple[str, ...]] = {}
         self._is_static: dict[Node, bool] = {}
         self._props: dict[str, Prop] = {}
@@ -284,11 +283,11 @@ class _Ground:
     # that is wrong compiles into a closure raising its error, so an error is still reported only when (and
     # where) the construct is grounded, as when it was interpreted. Caches are keyed by id() of the node and
     # keep the node alive (an id is never reused while its entry exists).
-    def _cached(self, cache: dict, key, node, build: Callable[[], Callable]) -> Callable:
+    def _cached(self, cache: dict, key, node, build: Callable[..., Callable], *args) -> Callable:
         got = cache.get(key)
         if got is None:
             try:
-                fn = build()
+                fn = build(*args)
             except ParseError as exc:
                 def fn(*_args, exc=exc):
                     raise exc
@@ -364,8 +363,7 @@ class _Ground:
         """Every extension of ``env`` by the typed variables of ``params`` that passes its ``|`` filter. The
         filter's top-level conjuncts are tested as soon as their variables are bound. The yielded dictionary
         is reused for the next binding: use it before asking for the next one, never keep it."""
-        return self._cached(self._bc, (id(params), default), params,
-                            lambda: self._binder(params, default))(env)
+        return self._cached(self._bc, (id(params), default), params, self._binder, params, default)(env)
 
     def _binder(self, params, default: str) -> Callable[[dict[str, str]], Iterator[dict[str, str]]]:
         typed, filt = self.typed_list(params, default)
@@ -432,7 +430,12 @@ class _Ground:
 
     # formulas -------------------------------------------------------------
     def atom(self, node: Node, env) -> Formula:
-        return self._cached(self._ac, id(node), node, lambda: self._atom(node))(env)
+        return self.atom_of(node)(env)
+
+    def atom_of(self, node) -> Callable[[dict[str, str]], Formula]:
+        """The atom ``node`` compiled (a fact gives ⊤/⊥, a fluent its Prop)."""
+        got = self._ac.get(id(node))
+        return got[1] if got is not None else self._cached(self._ac, id(node), node, self._atom, node)
 
     def _atom(self, node: Node) -> Callable[[dict[str, str]], Formula]:
         pred = node[0]
@@ -464,7 +467,8 @@ class _Ground:
 
     def compile(self, f) -> Callable[[dict[str, str]], Formula]:
         """The formula ``f`` compiled: env -> ground formula (see "compiled nodes")."""
-        return self._cached(self._fc, id(f), f, lambda: self._formula(f))
+        got = self._fc.get(id(f))
+        return got[1] if got is not None else self._cached(self._fc, id(f), f, self._formula, f)
 
     def _formula(self, f) -> Callable[[dict[str, str]], Formula]:  # noqa: C901 - one clause per construct
         if isinstance(f, Sym):
@@ -518,16 +522,15 @@ class _Ground:
             return (lambda env: TOP) if h == "true" else (lambda env: BOT)
         if str(h).startswith(":"):
             raise self.err(f"{h} is a list construct; formulas use and/or/forall/exists (without ':')", f)
-        return self._cached(self._ac, id(f), f, lambda: self._atom(f))
+        return self.atom_of(f)
 
     def _static_first(self, f: Node) -> list:
         """The arguments of an and/or, those depending only on facts and equality first (they often decide
         the whole formula, and the others are then never grounded)."""
-        got = self._order.get(f)
-        if got is None:
-            args = list(f[1:])
-            got = self._order[f] = [x for x in args if self._static(x)] + [x for x in args if not self._static(x)]
-        return got
+        args = f[1:]
+        static = [self._static(x) for x in args]
+        return [x for x, st in zip(args, static, strict=True) if st] + \
+            [x for x, st in zip(args, static, strict=True) if not st]
 
     def _static(self, x) -> bool:
         if not isinstance(x, Node):
@@ -584,7 +587,8 @@ class _Ground:
     def effects(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
         """The effects ``node`` compiled: (env, condition, pos, neg) -> None, appending to pos[p] (neg[p]) the
         conditions under which fluent p becomes true (false)."""
-        return self._cached(self._ec, id(node), node, lambda: self._effect(node))
+        got = self._ec.get(id(node))
+        return got[1] if got is not None else self._cached(self._ec, id(node), node, self._effect, node)
 
     def _effect(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
         head = node.head() if isinstance(node, Node) and node.kind == "(" else None
@@ -620,9 +624,7 @@ class _Ground:
                 raise self.err("(iff condition literal)", node)
             test, lit = self.compile(node[1]), self._literal(node[2])
             inv = node[2][1] if isinstance(node[2], Node) and node[2].head() == "not" else None
-            other = self._cached(self._ac, id(inv if inv is not None else node[2]),
-                                 inv if inv is not None else node[2],
-                                 lambda: self._atom(inv if inv is not None else node[2]))
+            other = self.atom_of(inv if inv is not None else node[2])
             to_pos = inv is not None  # (iff φ (not p)): p is made true when φ is false
 
             def iff(env, cond, pos, neg) -> None:
@@ -636,9 +638,9 @@ class _Ground:
 
     def _literal(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
         if isinstance(node, Node) and node.head() == "not" and len(node) == 2:
-            atom, into_pos = self._cached(self._ac, id(node[1]), node[1], lambda: self._atom(node[1])), False
+            atom, into_pos = self.atom_of(node[1]), False
         elif isinstance(node, Node) and node.head() in self.preds:
-            atom, into_pos = self._cached(self._ac, id(node), node, lambda: self._atom(node)), True
+            atom, into_pos = self.atom_of(node), True
         else:
             raise self.err("expected an effect: a literal, (when φ effects) or (iff φ literal)", node)
 
@@ -653,11 +655,11 @@ class _Ground:
     def items(self, node, env: dict[str, str], leaf: Callable[[object, dict[str, str]], None]) -> None:
         """Expand ``(:and ...)``/``(:forall (vars | filter) body)`` and call ``leaf`` on each element (with an
         environment that is only valid during the call)."""
-        self._cached(self._ic, id(node), node, lambda: self._items(node))(env, leaf)
+        self._cached(self._ic, id(node), node, self._items, node)(env, leaf)
 
     def _items(self, node) -> Callable[[dict[str, str], Callable], None]:
         if isinstance(node, Node) and node.kind == "(" and node.head() == ":and":
-            parts = [self._cached(self._ic, id(x), x, lambda x=x: self._items(x)) for x in node[1:]]
+            parts = [self._cached(self._ic, id(x), x, self._items, x) for x in node[1:]]
 
             def conj(env, leaf) -> None:
                 for p in parts:
@@ -666,7 +668,7 @@ class _Ground:
         if isinstance(node, Node) and node.kind == "(" and node.head() == ":forall":
             if len(node) != 3:
                 raise self.err("(:forall (vars) body) takes a parameter list and one body", node)
-            params, body = node[1], self._cached(self._ic, id(node[2]), node[2], lambda: self._items(node[2]))
+            params, body = node[1], self._cached(self._ic, id(node[2]), node[2], self._items, node[2])
 
             def forall(env, leaf) -> None:
                 for e in self.bindings(params, env):
