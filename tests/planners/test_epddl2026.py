@@ -225,3 +225,19 @@ def test_unknown_requirement_is_refused_with_its_line(tmp_path) -> None:
     prob.write_text("(define (problem p) (:domain d) (:agents a) (:init (:and (q))) (:goal (q)))")
     with pytest.raises(ParseError, match=r"d\.epddl:3: unknown requirement ':negative-precondition'"):
         load_epddl2026(dom, prob)
+
+
+def test_deadline_is_honoured_inside_one_big_quantifier(tmp_path) -> None:
+    """One action whose precondition quantifies over 60^3 bindings (seconds of grounding): the limit must be
+    checked inside the quantifier's enumeration, not only between actions."""
+    objs = " ".join(f"o{i}" for i in range(60))
+    (tmp_path / "d.epddl").write_text(
+        "(define (domain big) (:requirements :typing :facts)\n (:types obj)\n"
+        " (:predicates (p) (:fact f ?x ?y ?z - obj))\n"
+        " (:event e :precondition (forall (?u ?v ?w - obj) (not (f ?u ?v ?w))) :effects (p))\n"
+        " (:action go :parameters () :action-type (basic (e))))")
+    (tmp_path / "p.epddl").write_text(f"(define (problem big1) (:domain big) (:agents a) (:objects {objs} - obj)\n"
+                                      " (:init (:and (not (p)))) (:goal (p)))")
+    t0 = time.monotonic()
+    with pytest.raises(LoadTimeout):
+        load_epddl2026(tmp_path / "d.epddl", tmp_path / "p.epddl", deadline=t0 + 0.05)
