@@ -84,7 +84,8 @@ class Relation:
         arr = np.asarray(list(pairs), dtype=np.int64).reshape(-1, 2)
         _check_points(n, arr.ravel(), "relation pair")
         # sorted, duplicate-free CSR rows in numpy: scipy is imported only if the matrix itself is used
-        keys = np.unique(arr[:, 0] * max(n, 1) + arr[:, 1])
+        keys = np.sort(arr[:, 0] * max(n, 1) + arr[:, 1])
+        keys = keys[np.concatenate(([True], keys[1:] != keys[:-1]))] if keys.size else keys  # np.unique: numpy.ma
         src, dst = np.divmod(keys, max(n, 1))
         indptr = np.searchsorted(src, np.arange(n + 1)).astype(np.int64)
         return Relation(n=n, _rows=(indptr, dst.astype(np.int64)))

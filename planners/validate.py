@@ -240,10 +240,14 @@ def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, mod
     require(product_update_bytes(model, em), f"replaying step {i} ({label})", "check a shorter plan or a smaller task")
     uncovered = uncovered_worlds(em, model) if isinstance(act, EventAction) else []
     if uncovered:
+        # plank's updater: every designated world needs a designated event whose precondition holds there;
+        # explained at the first designated world where none does, with each designated event's reason
         w = uncovered[0]
+        whys = [f"event {em.events[d]}: {explain(model, em.pre[d], w)[0]}" for d in em.designated]
+        wname = model.world_name(w)
         return CheckResult(False, n, i, name, "not-applicable",
-                           f"step {i} ({label}): no designated event of the action has its precondition true at "
-                           f"the designated world {_world_text(model, w)}", None, _world_text(model, w))
+                           f"step {i} ({label}) is not applicable: at designated world {wname} no designated "
+                           f"event's precondition holds ({'; '.join(whys)})", None, wname)
     new = product_update(model, em)
     if not new.designated:
         sensed = ", ".join(show(f) for f in act.active_sensed(model)) if isinstance(act, ActionSpec) else ""
@@ -264,10 +268,17 @@ def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, mod
 
 def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[Property] | tuple = (), *,
                allow_inconsistent: bool = False, require_goal: bool = True,
-               plan_source: str = "plan") -> CheckResult:
+               plan_source: str = "plan", epddl: bool | None = None) -> CheckResult:
     """Replay ``plan`` from the task's initial state with delkit's product update (see module docstring).
 
-    ``plan_source`` names the plan (e.g. its file) in the error for an action the task does not have."""
+    ``plan_source`` names the plan (e.g. its file) in the error for an action the task does not have.
+    ``epddl`` (default: whether the task has :class:`EventAction` s, as the tasks read from EPDDL (2026) files
+    do — the planner's ``space_for`` decides the same way) replays with EPDDL's semantics: a state where an
+    agent believes ⊥ is never refused (K and KD45 states are legitimate there, and plank does not prune them),
+    and the replayed states are not contracted (an explicit initial state keeps its world names for the
+    explanations)."""
+    if epddl is None:
+        epddl = any(isinstance(a, EventAction) for a in task.actions)
     names = {a.name for a in task.actions}
     for i, name in enumerate(plan, 1):
         if name not in names:
@@ -280,8 +291,8 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
             raise PlanningError(f"{plan_source}: step {i}: unknown action {name!r}")
     from planners.spaces import task_groups
 
-    groups = task_groups(task) or any(isinstance(g, D) and len(set(g.group)) > 1
-                                      for pr in properties for g in subformulas(pr.formula))
+    groups = epddl or task_groups(task) or any(isinstance(g, D) and len(set(g.group)) > 1
+                                               for pr in properties for g in subformulas(pr.formula))
     model = task.initial
     n = len(plan)
     seen_eventually = [False] * len(properties)
@@ -308,14 +319,15 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
                  enumerate(act.steps, 1)] if isinstance(act, MacroSpec) else [(name, act)]
         new = model
         for label, part in parts:
-            bad = _replay_one(task, i, n, name, label, part, new, allow_inconsistent)
+            bad = _replay_one(task, i, n, name, label, part, new, allow_inconsistent or epddl)
             if isinstance(bad, CheckResult):
                 return bad
             new = bad
         # bisimulation contraction keeps every formula's truth at the actual world (properties, goal,
         # preconditions) and keeps the replay small: without it a 15-step plan doubled to 2^15 worlds. Not
-        # for tasks that mention distributed knowledge of a group, which contraction does not preserve; not
-        # for small models either (contraction needs scipy, whose import costs more than such a replay)
+        # for tasks that mention distributed knowledge of a group, which contraction does not preserve, nor for
+        # EPDDL (world names); not for small models either (contraction needs scipy, whose import costs more
+        # than such a replay)
         model = new if groups or new.n_worlds <= _CONTRACT_ABOVE else contract(new)
         bad = props_at(i, model, name)
         if bad:
@@ -331,7 +343,8 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
     if require_goal and not model.holds(task.goal):
         why, ag, wd = explain(model, task.goal, _failing_world(model, task.goal))
         return CheckResult(False, n, n, plan[-1] if plan else None, "goal",
-                           f"the goal {show(task.goal)} does not hold after the plan: {why}", ag, wd)
+                           f"the goal {show(task.goal)} does not hold after the plan"
+                           f"{'' if n else ' (empty plan: in the initial state)'}: {why}", ag, wd)
     return CheckResult(True, n)
 
 

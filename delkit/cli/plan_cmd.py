@@ -120,11 +120,6 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
                          source="delkit check")
     task = load_task(files[0], files[1] if len(files) == 3 else None, list(library or ()), strict=strict)
     steps = read_plan(files[-1])
-    from planners.lang.epddl_run import check_event_plan, has_event_actions
-
-    if has_event_actions(task) and (prop or props_file is not None):
-        raise ParseError("--property/--properties are not supported for EPDDL (2026) tasks yet",
-                         source="delkit check")
     texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop or ()]   # (text, source, line)
     if props_file is not None:
         try:
@@ -134,11 +129,8 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
         texts += [(ln.strip(), str(props_file), i) for i, ln in enumerate(lines, 1)
                   if ln.strip() and not ln.lstrip().startswith("#")]
     properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
-    if has_event_actions(task):
-        res = check_event_plan(task, steps, plan_source=str(files[-1]))
-    else:
-        res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent,
-                         plan_source=str(files[-1]))
+    # one checker; EPDDL (2026) tasks are replayed with EPDDL's semantics (see check_plan's ``epddl``)
+    res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent, plan_source=str(files[-1]))
     if as_json:
         _echo(json.dumps(res.to_json()))
     elif res.valid:

@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from delkit.errors import ParseError
-from delkit.formula import BOT, TOP, And, C, Formula, Implies, K, Kw, Not, Or, Prop
+from delkit.formula import BOT, TOP, And, Bot, C, Formula, Implies, K, Kw, Not, Or, Prop, Top
 from planners.lang.initial import LoadTimeout
 from planners.lang.sexpr import Node, Sym, read
 
@@ -67,11 +67,12 @@ _ENTITY, _OBJECT, _AGENT = "entity", "object", "agent"
 
 # ----------------------------------------------------------------------------- formula smart constructors
 def mk_not(f: Formula) -> Formula:
-    if f is TOP or f == TOP:
+    t = type(f)
+    if t is Top:
         return BOT
-    if f is BOT or f == BOT:
+    if t is Bot:
         return TOP
-    if isinstance(f, Not):
+    if t is Not:
         return f.arg
     return Not(f)
 
@@ -84,16 +85,17 @@ def _contradicts(parts: tuple[Formula, ...]) -> bool:
 def mk_and(parts) -> Formula:
     out: list[Formula] = []
     for p in parts:
-        if p == BOT:
+        t = type(p)
+        if t is Bot:
             return BOT
-        if p == TOP:
+        if t is Top:
             continue
-        if isinstance(p, And):
+        if t is And:
             out.extend(p.args)
         else:
             out.append(p)
-    if not out:
-        return TOP
+    if len(out) < 2:
+        return out[0] if out else TOP
     uniq = tuple(dict.fromkeys(out))
     if _contradicts(uniq):  # x ∧ ¬x
         return BOT
@@ -103,16 +105,17 @@ def mk_and(parts) -> Formula:
 def mk_or(parts) -> Formula:
     out: list[Formula] = []
     for p in parts:
-        if p == TOP:
+        t = type(p)
+        if t is Top:
             return TOP
-        if p == BOT:
+        if t is Bot:
             continue
-        if isinstance(p, Or):
+        if t is Or:
             out.extend(p.args)
         else:
             out.append(p)
-    if not out:
-        return BOT
+    if len(out) < 2:
+        return out[0] if out else BOT
     uniq = tuple(dict.fromkeys(out))
     if _contradicts(uniq):  # x ∨ ¬x
         return TOP
@@ -153,10 +156,11 @@ def _read_define(path: Path) -> tuple[str, str, list[Node]]:
     return _sections(forms[0], str(path))
 
 
-def find_libraries(domain: Path, names: list[str], given: list[Path]) -> list[Path]:
-    """The library files for the declared ``names`` that ``given`` does not provide: ``NAME.epddl`` next to
-    the domain or in a ``libraries/`` folder of one of its ancestors (plank's layout)."""
-    have = set()
+def find_libraries(domain: Path, names: list[str], given: list[Path], have: set[str] | None = None) -> list[Path]:
+    """The library files for the declared ``names`` that ``given`` (or the library names ``have``) does not
+    provide: ``NAME.epddl`` next to the domain or in a ``libraries/`` folder of one of its ancestors (plank's
+    layout)."""
+    have = set(have or ())
     for g in given:
         try:
             have.add(_read_define(g)[1])
@@ -192,9 +196,21 @@ class _Ground:
         self._by_type: dict[str, list[str]] = {}
         self.where = "<epddl>"
         self.counter = 0
-        self._order: dict[Node, list] = {}
         self.groups: dict[str, tuple[str, ...]] = {}
         self._is_static: dict[Node, bool] = {}
+        self._props: dict[str, Prop] = {}
+        self._fc: dict[int, tuple] = {}   # compiled formulas, atoms, bindings, list constructs, effects:
+        self._ac: dict[int, tuple] = {}   # id(node) -> (node, closure)
+        self._bc: dict[tuple, tuple] = {}
+        self._ic: dict[int, tuple] = {}
+        self._ec: dict[int, tuple] = {}
+        # per action type (by name: unique in a run), event and observability conditions
+        self.type_pairs: dict[str, dict[str, list[tuple[int, int]]]] = {}
+        self.type_relations: dict[str, dict] = {}
+        self.event_params: dict[str, list] = {}
+        self.ground_events: dict[tuple, tuple] = {}
+        self.node_vars: dict[int, tuple] = {}
+        self.obs_specs: dict[tuple, dict] = {}
 
     def err(self, msg: str, node) -> ParseError:
         return ParseError(msg, source=self.where, line=getattr(node, "line", None))
@@ -261,6 +277,29 @@ class _Ground:
         out += [(p, default) for p in pending]
         return out, filt
 
+    # compiled nodes -----------------------------------------------------------
+    # Every formula, atom, term list, parameter list and list construct is compiled once, on first use, into
+    # a closure over the environment (variable -> entity); grounding then only calls closures. A construct
+    # that is wrong compiles into a closure raising its error, so an error is still reported only when (and
+    # where) the construct is grounded, as when it was interpreted. Caches are keyed by id() of the node and
+    # keep the node alive (an id is never reused while its entry exists).
+    def _cached(self, cache: dict, key, node, build: Callable[..., Callable], *args) -> Callable:
+        got = cache.get(key)
+        if got is None:
+            try:
+                fn = build(*args)
+            except ParseError as exc:
+                def fn(*_args, exc=exc):
+                    raise exc
+            got = cache[key] = (node, fn)
+        return got[1]
+
+    def _prop(self, name: str) -> Prop:
+        p = self._props.get(name)
+        if p is None:
+            p = self._props[name] = Prop(name)
+        return p
+
     # terms ---------------------------------------------------------------
     def term(self, x, env: dict[str, str]) -> str:
         if not isinstance(x, Sym):
@@ -271,6 +310,38 @@ class _Ground:
             except KeyError:
                 raise self.err(f"unbound variable {x}", x) from None
         return str(x)
+
+    def _terms(self, xs) -> Callable[[dict[str, str]], tuple[str, ...]]:
+        """The compiled term list ``xs``: env -> tuple of entities (errors as :meth:`term`, in order)."""
+        xs = list(xs)
+        if not all(isinstance(x, Sym) for x in xs):
+            return lambda env: tuple(self.term(x, env) for x in xs)
+        spec = [(x.startswith("?"), str(x)) for x in xs]
+        if all(v for v, _ in spec):
+            names = [n for _, n in spec]
+            if len(names) == 1:
+                only = names[0]
+
+                def one(env):
+                    try:
+                        return (env[only],)
+                    except KeyError:
+                        return tuple(self.term(x, env) for x in xs)
+                return one
+
+            def all_vars(env):
+                try:
+                    return tuple([env[n] for n in names])
+                except KeyError:
+                    return tuple(self.term(x, env) for x in xs)
+            return all_vars
+
+        def mixed(env):
+            try:
+                return tuple([env[n] if v else n for v, n in spec])
+            except KeyError:
+                return tuple(self.term(x, env) for x in xs)
+        return mixed
 
     def group(self, x, env: dict[str, str]) -> tuple[str, ...]:
         if isinstance(x, Node):
@@ -288,75 +359,123 @@ class _Ground:
         return a
 
     # bindings -------------------------------------------------------------
-    def bindings(self, params: Node | list, env: dict[str, str], default: str = _OBJECT,
-                 domains: dict[str, list[str]] | None = None) -> Iterator[dict[str, str]]:
-        """Every extension of ``env`` by the typed variables of ``params`` that passes its ``|`` filter.
+    def bindings(self, params: Node | list, env: dict[str, str], default: str = _OBJECT) -> Iterator[dict[str, str]]:
+        """Every extension of ``env`` by the typed variables of ``params`` that passes its ``|`` filter. The
+        filter's top-level conjuncts are tested as soon as their variables are bound. The yielded dictionary
+        is reused for the next binding: use it before asking for the next one, never keep it."""
+        return self._cached(self._bc, (id(params), default), params, self._binder, params, default)(env)
 
-        The filter's top-level conjuncts are tested as soon as their variables are bound."""
+    def _binder(self, params, default: str) -> Callable[[dict[str, str]], Iterator[dict[str, str]]]:
         typed, filt = self.typed_list(params, default)
         names = [v for v, _ in typed]
-        doms = []
-        for v, t in typed:
+        types = [t for _, t in typed]
+        for v in names:
             if not v.startswith("?"):
                 raise self.err(f"expected a ?variable, got {v!r}", params)
-            if domains is not None and t in domains:
-                doms.append(domains[t])
-            else:
-                doms.append(self.of_type(t))  # type: ignore[arg-type]
-        checks: list[list[Node]] = [[] for _ in names]
+        checks: list[list[Callable]] = [[] for _ in names]
         if filt is not None:
             conjs = list(filt[1:]) if isinstance(filt, Node) and filt.head() == "and" else [filt]
             for c in conjs:
                 used = _vars_in(c)
                 idx = max((names.index(u) for u in used if u in names), default=-1)
-                checks[max(idx, 0) if idx >= 0 else 0].append(c)
+                checks[max(idx, 0)].append(self._static_test(c))
         n = len(names)
-        cur = dict(env)
+        whole = self._static_test(filt) if filt is not None else None
+        deadline = self.deadline
 
-        def rec(k: int) -> Iterator[dict[str, str]]:
-            if k == n:
-                yield dict(cur)
+        def run(env: dict[str, str]) -> Iterator[dict[str, str]]:
+            doms = [self.of_type(t) for t in types]  # type: ignore[arg-type]
+            cur = dict(env)
+            if n == 0:
+                if whole is None or whole(cur):
+                    yield cur
                 return
-            for val in doms[k]:
-                self.tick()
-                cur[names[k]] = val
-                if all(self.static(c, cur) for c in checks[k]):
-                    yield from rec(k + 1)
-            cur.pop(names[k], None)
+            its: list = [iter(doms[0])] + [None] * (n - 1)
+            last = n - 1
+            k = 0
+            while k >= 0:
+                name, tests = names[k], checks[k]
+                for val in its[k]:
+                    self.counter += 1
+                    if deadline is not None and (self.counter & 1023) == 0 and time.monotonic() > deadline:
+                        raise LoadTimeout("time limit reached while grounding the EPDDL task")
+                    cur[name] = val
+                    if tests and not all(t(cur) for t in tests):
+                        continue
+                    if k == last:
+                        yield cur
+                    else:
+                        k += 1
+                        its[k] = iter(doms[k])
+                        break
+                else:
+                    cur.pop(name, None)
+                    k -= 1
+        return run
 
-        if n == 0:
-            if filt is None or self.static(filt, cur):
-                yield dict(cur)
-            return
-        yield from rec(0)
+    def _static_test(self, f) -> Callable[[dict[str, str]], bool]:
+        fn = self.compile(f)
+
+        def test(env) -> bool:
+            g = fn(env)
+            if g is TOP or g == TOP:
+                return True
+            if g is BOT or g == BOT:
+                return False
+            raise self.err("a '|' filter may only use equality and facts (it depends on a fluent)", f)
+        return test
 
     def static(self, f, env) -> bool:
-        g = self.formula(f, env)
-        if g == TOP:
-            return True
-        if g == BOT:
-            return False
-        raise self.err("a '|' filter may only use equality and facts (it depends on a fluent)", f)
+        return self._static_test(f)(env)
 
     # formulas -------------------------------------------------------------
     def atom(self, node: Node, env) -> Formula:
-        pred = node[0]
-        args = tuple(self.term(x, env) for x in node[1:])
-        decl = self.preds.get(pred)
-        if decl is None:
-            raise self.err(f"unknown predicate {pred!r}", node)
-        if len(decl[0]) != len(args):
-            raise self.err(f"predicate {pred!r} takes {len(decl[0])} argument(s), got {len(args)}", node)
-        if decl[1]:
-            return TOP if (pred, *args) in self.facts else BOT
-        return Prop(atom_name(pred, args))
+        return self.atom_of(node)(env)
 
-    def formula(self, f, env: dict[str, str]) -> Formula:  # noqa: C901 - one clause per construct
+    def atom_of(self, node) -> Callable[[dict[str, str]], Formula]:
+        """The atom ``node`` compiled (a fact gives ⊤/⊥, a fluent its Prop)."""
+        got = self._ac.get(id(node))
+        return got[1] if got is not None else self._cached(self._ac, id(node), node, self._atom, node)
+
+    def _atom(self, node: Node) -> Callable[[dict[str, str]], Formula]:
+        pred = node[0]
+        args = self._terms(node[1:])
+        decl = self.preds.get(pred)
+        if decl is None or len(decl[0]) != len(node) - 1:
+            def bad(env):
+                args(env)  # an unbound variable is reported first
+                if decl is None:
+                    raise self.err(f"unknown predicate {pred!r}", node)
+                raise self.err(f"predicate {pred!r} takes {len(decl[0])} argument(s), got {len(node) - 1}", node)
+            return bad
+        name = str(pred)
+        if decl[1]:
+            facts = self.facts
+            return lambda env: TOP if (name, *args(env)) in facts else BOT
+        cache: dict[tuple[str, ...], Prop] = {}
+
+        def fluent(env) -> Formula:
+            a = args(env)
+            p = cache.get(a)
+            if p is None:
+                p = cache[a] = self._prop(atom_name(name, a))
+            return p
+        return fluent
+
+    def formula(self, f, env: dict[str, str]) -> Formula:
+        return self.compile(f)(env)
+
+    def compile(self, f) -> Callable[[dict[str, str]], Formula]:
+        """The formula ``f`` compiled: env -> ground formula (see "compiled nodes")."""
+        got = self._fc.get(id(f))
+        return got[1] if got is not None else self._cached(self._fc, id(f), f, self._formula, f)
+
+    def _formula(self, f) -> Callable[[dict[str, str]], Formula]:  # noqa: C901 - one clause per construct
         if isinstance(f, Sym):
             if f in ("true", "⊤"):
-                return TOP
+                return lambda env: TOP
             if f in ("false", "⊥"):
-                return BOT
+                return lambda env: BOT
             raise self.err(f"expected a formula, got {f!r}", f)
         if f.kind != "(" or not f:
             raise self.err("expected a formula in parentheses", f)
@@ -364,44 +483,54 @@ class _Ground:
         if isinstance(h, Node):
             if h.kind not in "[<" or len(f) != 2:
                 raise self.err("expected ([modality] formula) or (<modality> formula)", f)
-            return self.modal(h, self.formula(f[1], env), env)
-        if h == "and":
-            return mk_and(self.formula(x, env) for x in self._static_first(f))
-        if h == "or":
-            return mk_or(self.formula(x, env) for x in self._static_first(f))
+            return self._modal(h, self.compile(f[1]))
+        if h in ("and", "or"):
+            parts = [self.compile(x) for x in self._static_first(f)]
+            mk = mk_and if h == "and" else mk_or
+            return lambda env: mk(p(env) for p in parts)   # lazy: mk stops at the first deciding operand
         if h == "not":
             self._arity(f, 1)
-            return mk_not(self.formula(f[1], env))
+            arg = self.compile(f[1])
+            return lambda env: mk_not(arg(env))
         if h == "imply":
             self._arity(f, 2)
-            a, b = self.formula(f[1], env), self.formula(f[2], env)
-            if a == TOP or b == BOT:
-                return mk_or([mk_not(a), b])
-            if a == BOT or b == TOP:
-                return TOP
-            return Implies(a, b)
+            left, right = self.compile(f[1]), self.compile(f[2])
+
+            def imply(env):
+                a, b = left(env), right(env)
+                if a == TOP or b == BOT:
+                    return mk_or([mk_not(a), b])
+                if a == BOT or b == TOP:
+                    return TOP
+                return Implies(a, b)
+            return imply
         if h in ("forall", "exists"):
             self._arity(f, 2)
-            parts = (self.formula(f[2], e) for e in self.bindings(f[1], env))
-            return mk_and(parts) if h == "forall" else mk_or(parts)
+            params, body = f[1], self.compile(f[2])
+            mk = mk_and if h == "forall" else mk_or
+            return lambda env: mk(body(e) for e in self.bindings(params, env))
         if h in ("=", "/="):
             self._arity(f, 2)
-            same = self.term(f[1], env) == self.term(f[2], env)
-            return TOP if same == (h == "=") else BOT
+            both = self._terms(f[1:])
+            same_is = h == "="
+
+            def eq(env):
+                a, b = both(env)
+                return TOP if (a == b) == same_is else BOT
+            return eq
         if h in ("true", "false"):
-            return TOP if h == "true" else BOT
+            return (lambda env: TOP) if h == "true" else (lambda env: BOT)
         if str(h).startswith(":"):
             raise self.err(f"{h} is a list construct; formulas use and/or/forall/exists (without ':')", f)
-        return self.atom(f, env)
+        return self.atom_of(f)
 
     def _static_first(self, f: Node) -> list:
         """The arguments of an and/or, those depending only on facts and equality first (they often decide
         the whole formula, and the others are then never grounded)."""
-        got = self._order.get(f)
-        if got is None:
-            args = list(f[1:])
-            got = self._order[f] = [x for x in args if self._static(x)] + [x for x in args if not self._static(x)]
-        return got
+        args = f[1:]
+        static = [self._static(x) for x in args]
+        return [x for x, st in zip(args, static, strict=True) if st] + \
+            [x for x, st in zip(args, static, strict=True) if not st]
 
     def _static(self, x) -> bool:
         if not isinstance(x, Node):
@@ -426,38 +555,126 @@ class _Ground:
         if len(f) != n + 1:
             raise self.err(f"({f[0]} ...) takes {n} argument(s), got {len(f) - 1}", f)
 
-    def modal(self, m: Node, phi: Formula, env) -> Formula:
+    def _modal(self, m: Node, phi: Callable[[dict[str, str]], Formula]) -> Callable[[dict[str, str]], Formula]:
         items = list(m)
         op = None
         if items and items[0] in ("Kw.", "C."):
             op = str(items[0])
             items = items[1:]
         if len(items) != 1:
-            raise self.err("a modality holds one agent, a group (a1 a2 ...) or All", m)
-        g = self.group(items[0], env)
-        box = m.kind == "["
-        if op is None:
-            return mk_and(K(a, phi) if box else mk_not(K(a, mk_not(phi))) for a in g)
-        if op == "Kw.":
-            if box:
-                return mk_and(Kw(a, phi) for a in g)
-            return mk_and(mk_and([mk_not(K(a, phi)), mk_not(K(a, mk_not(phi)))]) for a in g)
-        return C(g, phi) if box else mk_not(C(g, mk_not(phi)))
+            def bad(env):
+                phi(env)  # the operand's own errors first
+                raise self.err("a modality holds one agent, a group (a1 a2 ...) or All", m)
+            return bad
+        who, box = items[0], m.kind == "["
+
+        def modal(env) -> Formula:
+            f = phi(env)
+            g = self.group(who, env)
+            if op is None:
+                return mk_and(K(a, f) if box else mk_not(K(a, mk_not(f))) for a in g)
+            if op == "Kw.":
+                if box:
+                    return mk_and(Kw(a, f) for a in g)
+                return mk_and(mk_and([mk_not(K(a, f)), mk_not(K(a, mk_not(f)))]) for a in g)
+            return C(g, f) if box else mk_not(C(g, mk_not(f)))
+        return modal
+
+    def modal(self, m: Node, phi: Formula, env) -> Formula:
+        return self._modal(m, lambda _env: phi)(env)
+
+    # effects -------------------------------------------------------------------
+    def effects(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
+        """The effects ``node`` compiled: (env, condition, pos, neg) -> None, appending to pos[p] (neg[p]) the
+        conditions under which fluent p becomes true (false)."""
+        got = self._ec.get(id(node))
+        return got[1] if got is not None else self._cached(self._ec, id(node), node, self._effect, node)
+
+    def _effect(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
+        head = node.head() if isinstance(node, Node) and node.kind == "(" else None
+        if head == ":and":
+            parts = [self.effects(x) for x in node[1:]]
+
+            def conj(env, cond, pos, neg) -> None:
+                for p in parts:
+                    p(env, cond, pos, neg)
+            return conj
+        if head == ":forall":
+            if len(node) != 3:
+                raise self.err("(:forall (vars) body) takes a parameter list and one body", node)
+            params, body = node[1], self.effects(node[2])
+
+            def forall(env, cond, pos, neg) -> None:
+                for e in self.bindings(params, env):
+                    body(e, cond, pos, neg)
+            return forall
+        head = node.head() if isinstance(node, Node) else None
+        if head == "when":
+            if len(node) != 3:
+                raise self.err("(when condition effects)", node)
+            test, then = self.compile(node[1]), self.effects(node[2])
+
+            def when(env, cond, pos, neg) -> None:
+                c = mk_and([cond, test(env)])
+                if type(c) is not Bot:
+                    then(env, c, pos, neg)
+            return when
+        if head == "iff":
+            if len(node) != 3:
+                raise self.err("(iff condition literal)", node)
+            test, lit = self.compile(node[1]), self._literal(node[2])
+            inv = node[2][1] if isinstance(node[2], Node) and node[2].head() == "not" else None
+            other = self.atom_of(inv if inv is not None else node[2])
+            to_pos = inv is not None  # (iff φ (not p)): p is made true when φ is false
+
+            def iff(env, cond, pos, neg) -> None:
+                c = test(env)
+                lit(env, mk_and([cond, c]), pos, neg)
+                p = other(env)
+                if type(p) is Prop:
+                    (pos if to_pos else neg).setdefault(p.name, []).append(mk_and([cond, mk_not(c)]))
+            return iff
+        return self._literal(node)
+
+    def _literal(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
+        if isinstance(node, Node) and node.head() == "not" and len(node) == 2:
+            atom, into_pos = self.atom_of(node[1]), False
+        elif isinstance(node, Node) and node.head() in self.preds:
+            atom, into_pos = self.atom_of(node), True
+        else:
+            raise self.err("expected an effect: a literal, (when φ effects) or (iff φ literal)", node)
+
+        def literal(env, cond, pos, neg) -> None:
+            f = atom(env)
+            if type(f) is not Prop:
+                raise self.err("effects may not change a fact", node)
+            (pos if into_pos else neg).setdefault(f.name, []).append(cond)
+        return literal
 
     # list constructs ----------------------------------------------------------
     def items(self, node, env: dict[str, str], leaf: Callable[[object, dict[str, str]], None]) -> None:
-        """Expand ``(:and ...)``/``(:forall (vars | filter) body)`` and call ``leaf`` on each element."""
+        """Expand ``(:and ...)``/``(:forall (vars | filter) body)`` and call ``leaf`` on each element (with an
+        environment that is only valid during the call)."""
+        self._cached(self._ic, id(node), node, self._items, node)(env, leaf)
+
+    def _items(self, node) -> Callable[[dict[str, str], Callable], None]:
         if isinstance(node, Node) and node.kind == "(" and node.head() == ":and":
-            for x in node[1:]:
-                self.items(x, env, leaf)
-            return
+            parts = [self._cached(self._ic, id(x), x, self._items, x) for x in node[1:]]
+
+            def conj(env, leaf) -> None:
+                for p in parts:
+                    p(env, leaf)
+            return conj
         if isinstance(node, Node) and node.kind == "(" and node.head() == ":forall":
             if len(node) != 3:
                 raise self.err("(:forall (vars) body) takes a parameter list and one body", node)
-            for e in self.bindings(node[1], env):
-                self.items(node[2], e, leaf)
-            return
-        leaf(node, env)
+            params, body = node[1], self._cached(self._ic, id(node[2]), node[2], self._items, node[2])
+
+            def forall(env, leaf) -> None:
+                for e in self.bindings(params, env):
+                    body(e, leaf)
+            return forall
+        return lambda env, leaf: leaf(node, env)
 
 
 def _vars_in(x) -> set[str]:
@@ -565,9 +782,10 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
     # ---- libraries
     act_types: dict[str, _ActType] = {BASIC: _BASIC_TYPE}
     lib_names = []
-    for lp in [*libraries, *find_libraries(domain, declared_libs, libraries)]:
+    given = [(lp, _read_define(lp)) for lp in libraries]  # each file is read once
+    found = find_libraries(domain, declared_libs, [], have={d[1] for _, d in given})
+    for lp, (lkind, lname, lsecs) in [*given, *((lp, _read_define(lp)) for lp in found)]:
         g.where = str(lp)
-        lkind, lname, lsecs = _read_define(lp)
         if lkind != "action-type-library":
             raise ParseError(f"expected (define (action-type-library NAME) ...), found ({lkind} {lname})",
                              source=str(lp))
@@ -829,54 +1047,12 @@ def _effects(g: _Ground, node, env) -> dict[str, Formula]:
     """p ↦ p' of an event's effects (p' = pos ∨ (p ∧ ¬neg))."""
     pos: dict[str, list[Formula]] = {}
     neg: dict[str, list[Formula]] = {}
-
-    def lit(node, env, cond: Formula) -> None:
-        if isinstance(node, Node) and node.head() == "not" and len(node) == 2:
-            f = g.atom(node[1], env)
-            if isinstance(f, Prop):
-                neg.setdefault(f.name, []).append(cond)
-                return
-            raise g.err("effects may not change a fact", node)
-        if isinstance(node, Node) and node.head() in g.preds:
-            f = g.atom(node, env)
-            if isinstance(f, Prop):
-                pos.setdefault(f.name, []).append(cond)
-                return
-            raise g.err("effects may not change a fact", node)
-        raise g.err("expected an effect: a literal, (when φ effects) or (iff φ literal)", node)
-
-    def leaf(node, env, cond: Formula = TOP) -> None:
-        if isinstance(node, Node) and node.head() == "when":
-            if len(node) != 3:
-                raise g.err("(when condition effects)", node)
-            c = mk_and([cond, g.formula(node[1], env)])
-            if c == BOT:
-                return
-            g.items(node[2], env, lambda n, e: leaf(n, e, c))
-            return
-        if isinstance(node, Node) and node.head() == "iff":
-            if len(node) != 3:
-                raise g.err("(iff condition literal)", node)
-            c = g.formula(node[1], env)
-            lit(node[2], env, mk_and([cond, c]))
-            inv = node[2][1] if isinstance(node[2], Node) and node[2].head() == "not" else None
-            if inv is not None:
-                p = g.atom(inv, env)
-                if isinstance(p, Prop):
-                    pos.setdefault(p.name, []).append(mk_and([cond, mk_not(c)]))
-            else:
-                p = g.atom(node[2], env)
-                if isinstance(p, Prop):
-                    neg.setdefault(p.name, []).append(mk_and([cond, mk_not(c)]))
-            return
-        lit(node, env, cond)
-
     if node is not None:
-        g.items(node, env, leaf)
+        g.effects(node)(env, TOP, pos, neg)
     post: dict[str, Formula] = {}
     for p in dict.fromkeys([*pos, *neg]):
         pf, nf = mk_or(pos.get(p, [])), mk_or(neg.get(p, []))
-        post[p] = mk_or([pf, mk_and([Prop(p), mk_not(nf)])])
+        post[p] = mk_or([pf, mk_and([g._prop(p), mk_not(nf)])])
     return post
 
 
@@ -890,27 +1066,29 @@ def _ground_event(g: _Ground, ref, events: dict[str, _Event], env) -> tuple[str,
     ev = events.get(name)
     if ev is None:
         raise g.err(f"unknown event {name!r}", ref)
-    typed, _ = g.typed_list(ev.params)
+    typed = g.event_params.get(name)
+    if typed is None:
+        typed = g.event_params[name] = g.typed_list(ev.params)[0]
     if len(typed) != len(args):
         raise g.err(f"event {name!r} takes {len(typed)} argument(s), got {len(args)}", ref)
-    eenv = {v: g.term(x, env) for (v, _), x in zip(typed, args, strict=True)}
-    pre = g.formula(ev.pre, eenv) if ev.pre is not None else TOP
-    post = _effects(g, ev.effects, eenv)
-    return atom_name(name, tuple(eenv.values())), pre, post
-
-
-_REL_CACHE: dict[tuple[int, str], dict[str, list[tuple[int, int]]]] = {}
+    vals = tuple(g.term(x, env) for x in args)
+    key = (name, vals)
+    got = g.ground_events.get(key)  # an event with the same arguments in another action: grounded once
+    if got is None:
+        eenv = {v: x for (v, _), x in zip(typed, vals, strict=True)}
+        pre = g.formula(ev.pre, eenv) if ev.pre is not None else TOP
+        post = _effects(g, ev.effects, eenv)
+        got = g.ground_events[key] = (atom_name(name, vals), pre, post)
+    return got
 
 
 def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]]:
-    """obs type -> event index pairs of an action type (ground once per type)."""
-    key = (id(at), at.name)
-    got = _REL_CACHE.get(key)
+    """obs type -> event index pairs of an action type (ground once per type and load)."""
+    got = g.type_pairs.get(at.name)
     if got is not None:
         return got
     if at.relations is None:  # basic
-        got = {"Fully": [(0, 0)]}
-        _REL_CACHE[key] = got
+        got = g.type_pairs[at.name] = {"Fully": [(0, 0)]}
         return got
     eidx = {e: j for j, e in enumerate(at.events)}
     saved = (dict(g.entities), g.where)
@@ -936,12 +1114,24 @@ def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]
         g.items(rel[j + 1], {e: e for e in at.events}, pair)
     g.entities, g.where = saved
     g._by_type.clear()
-    _REL_CACHE[key] = got
+    g.type_pairs[at.name] = got
     return got
 
 
 def _obs_spec(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tuple[int, Formula]]]:
-    """agent -> [(obs type index, condition)] (plank's per-agent map, first statement per type wins)."""
+    """agent -> [(obs type index, condition)] (plank's per-agent map, first statement per type wins); computed
+    once per observability conditions, action type and values of the variables they mention."""
+    names = g.node_vars.get(id(node))
+    if names is None:
+        names = g.node_vars[id(node)] = (node, sorted(_vars_in(node)) if node is not None else [])
+    key = (id(node), at.name, tuple(env.get(v) for v in names[1]))
+    got = g.obs_specs.get(key)
+    if got is None:
+        got = g.obs_specs[key] = _obs_spec_of(g, node, env, at, agents)
+    return got
+
+
+def _obs_spec_of(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tuple[int, Formula]]]:
     tidx = {t: j for j, t in enumerate(at.obs_types)}
     spec: dict[str, dict[int, Formula]] = {a: {} for a in agents}
     if node is None:
@@ -1006,17 +1196,20 @@ def _obs_spec(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tup
     return {a: sorted(spec[a].items()) for a in agents}
 
 
-_TYPE_REL: dict[int, tuple] = {}  # id(action type) -> (type, obs type -> Relation); the type is kept alive
-
-
 def _relation(n: int, pairs: list[tuple[int, int]]):
     """A relation on n events; an equivalence is kept as a partition (products with S5 states stay cheap)."""
     from delkit.relation import Relation
 
-    r = Relation.from_pairs(n, pairs)
-    if r.is_reflexive() and r.is_symmetric() and r.is_transitive():
-        return r.as_partition()
-    return r
+    # decided on the pairs themselves (a handful of events): Relation's own tests would import scipy.sparse
+    succ: list[set[int]] = [set() for _ in range(n)]
+    for a, b in pairs:
+        succ[a].add(b)
+    if all(e in succ[e] and all(e in succ[f] and succ[f] == succ[e] for f in succ[e]) for e in range(n)):
+        # reflexive, symmetric, and every successor has the same successors (transitive): a partition,
+        # labelled by class in order of least member (as Relation.from_labels would, without np.unique)
+        rank = {m: k for k, m in enumerate(sorted({min(succ[e]) for e in range(n)}))}
+        return Relation(n=n, labels=np.array([rank[min(succ[e])] for e in range(n)], dtype=np.int64))
+    return Relation.from_pairs(n, pairs)
 
 
 def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_node, env, agents, line,
@@ -1044,10 +1237,9 @@ def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_nod
     post = tuple(e[2] for e in evs)
     des = tuple(at.events.index(d) for d in at.designated)
     n = len(slots)
-    type_rel = _TYPE_REL.get(id(at))
-    if type_rel is None or type_rel[0] is not at:
-        type_rel = _TYPE_REL[id(at)] = (at, {t: _relation(n, rels.get(t, [])) for t in at.obs_types})
-    type_rel = type_rel[1]
+    type_rel = g.type_relations.get(at.name)
+    if type_rel is None:
+        type_rel = g.type_relations[at.name] = {t: _relation(n, rels.get(t, [])) for t in at.obs_types}
 
     def build(bits: tuple[bool, ...]) -> EventModel:
         relations = {}

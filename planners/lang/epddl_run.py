@@ -1,17 +1,12 @@
-"""Checking a plan of a task with :class:`planners.task.EventAction` (EPDDL 2026) step by step, explaining the
-first failure at the designated world where it happens (a multi-pointed state fails where *one* designated
-world fails).
-
-The transition is the core's (:func:`planners.task.apply_action`: plank's ``updater`` — the event model is
-chosen by the truth of the action's conditions in the state; the action applies iff every designated world
-satisfies the precondition of some designated event; product update). No agent-believes-⊥ pruning: EPDDL
-states may be K or KD45 and plank never prunes them.
+"""Running tasks with :class:`planners.task.EventAction` (EPDDL 2026): the planner's state space for them
+(:func:`space_for`) and their plan check (:func:`check_event_plan`, which is
+:func:`planners.validate.check_plan` in its EPDDL mode: no agent-believes-⊥ pruning — EPDDL states may be K or
+KD45 and plank never prunes them — and the first failure explained at the designated world where it happens).
 """
 
 from __future__ import annotations
 
-from delkit.formula import show
-from planners.task import EventAction, Task, apply_action, uncovered_worlds
+from planners.task import EventAction, Task
 
 __all__ = ["check_event_plan", "has_event_actions", "space_for"]
 
@@ -35,42 +30,8 @@ def space_for(task: Task, engine: str = "auto", allow_inconsistent: bool = False
 
 
 def check_event_plan(task: Task, plan: list[str], *, plan_source: str = "plan"):
-    """Replay ``plan`` (EPDDL semantics, no contraction) and explain the first failing step."""
-    from delkit.errors import PlanningError
-    from planners.validate import CheckResult, explain
+    """Replay ``plan`` with EPDDL semantics and explain the first failing step: the one plan checker,
+    :func:`planners.validate.check_plan`, in its EPDDL mode."""
+    from planners.validate import check_plan
 
-    for i, name in enumerate(plan, 1):
-        try:
-            task.action(name)
-        except PlanningError as exc:
-            raise PlanningError(f"{plan_source}: step {i}: {exc}") from None
-    model = task.initial
-    n = len(plan)
-    for i, name in enumerate(plan, 1):
-        act = task.action(name)
-        new = apply_action(task, act, model)
-        if new is None:
-            bad = [w for w in model.designated if not model.holds(act.executable, [w])]
-            if bad:
-                why, ag, wd = explain(model, act.executable, bad[0])
-                return CheckResult(False, n, i, name, "precondition",
-                                   f"step {i} ({name}) is not executable: {show(act.executable)} fails — {why}",
-                                   ag, wd)
-            em = task.event_model(act, model)
-            bad_w = uncovered_worlds(em, model)[0]
-            whys = []
-            for d in em.designated:
-                why, _ag, _wd = explain(model, em.pre[d], bad_w)
-                whys.append(f"event {em.events[d]}: {why}")
-            wname = model.world_name(bad_w)
-            return CheckResult(False, n, i, name, "not-applicable",
-                               f"step {i} ({name}) is not applicable: at designated world {wname} no designated "
-                               f"event's precondition holds ({'; '.join(whys)})", None, wname)
-        model = new
-    if not model.holds(task.goal):
-        bad = [w for w in model.designated if not model.holds(task.goal, [w])]
-        why, ag, wd = explain(model, task.goal, bad[0])
-        return CheckResult(False, n, n, plan[-1] if plan else None, "goal",
-                           f"the goal {show(task.goal)} does not hold after the plan"
-                           f"{'' if n else ' (empty plan: in the initial state)'}: {why}", ag, wd)
-    return CheckResult(True, n)
+    return check_plan(task, plan, plan_source=plan_source, epddl=True)

@@ -47,6 +47,7 @@ from delkit.formula import (
     is_propositional,
     props_of,
     show,
+    substitute,
 )
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
@@ -54,7 +55,8 @@ from delkit.relation import Relation
 __all__ = ["finitary_s5", "finitary_s5_epddl", "knows_whether", "models", "LoadTimeout"]
 
 _MAX_WORLDS = 1 << 22   # refuse initial models larger than this (4 M worlds)
-_NUMPY_VARS = 16        # components over at most this many fluents are enumerated with numpy
+_NUMPY_VARS = 16        # components over at most this many fluents are enumerated with numpy, ...
+_SPLIT_VARS = 12        # ... those over more are first split on a disjunction whose branches fix fluents
 
 
 class LoadTimeout(PlanningError):
@@ -69,8 +71,9 @@ def _check_deadline(deadline: float | None) -> None:
         raise LoadTimeout("time limit reached while building the initial state")
 
 
-def _components(parts: list[Formula]) -> list[tuple[list[str], list[Formula]]]:
+def _components(parts: list[Formula], support: dict | None = None) -> list[tuple[list[str], list[Formula]]]:
     """Group conjuncts into components connected by shared fluents (union-find)."""
+    support = {} if support is None else support
     parent: dict[str, str] = {}
 
     def find(x: str) -> str:
@@ -81,7 +84,7 @@ def _components(parts: list[Formula]) -> list[tuple[list[str], list[Formula]]]:
 
     supports = []
     for f in parts:
-        ps = sorted(props_of(f))
+        ps = sorted(_support(f, support))
         supports.append(ps)
         for p in ps:
             parent.setdefault(p, p)
@@ -233,72 +236,173 @@ def _simplify(f: Formula) -> Formula:  # noqa: C901 - one clause per connective
     raise ParseError(f"not a propositional formula: {show(f)}")
 
 
-def _propagate(parts: list[Formula], fixed: dict[str, bool]) -> list[Formula] | None:
-    """Unit propagation: fix the literal conjuncts, substitute and fold until nothing changes (None if ⊥)."""
-    from delkit.formula import substitute
+def _assign(f: Formula, vals: dict[str, bool]) -> Formula:  # noqa: C901 - one clause per connective
+    """``_simplify(substitute(f, vals as ⊤/⊥))`` in one pass, for an ``f`` that :func:`_simplify` already
+    folded (it is its own fixpoint): a subformula that mentions no fluent of ``vals`` comes back as itself."""
+    t = type(f)
+    if t is Prop:
+        v = vals.get(f.name)
+        return f if v is None else (TOP if v else BOT)
+    if t is Top or t is Bot:
+        return f
+    if t is Not:
+        a = _assign(f.arg, vals)
+        if a is f.arg:
+            return f
+        ta = type(a)
+        return BOT if ta is Top else TOP if ta is Bot else a.arg if ta is Not else Not(a)
+    if t is And or t is Or:
+        stop, skip = (Bot, Top) if t is And else (Top, Bot)
+        out: list[Formula] = []
+        changed = False
+        for g in f.args:
+            h = _assign(g, vals)
+            if h is g:
+                out.append(g)
+                continue
+            changed = True
+            th = type(h)
+            if th is stop:
+                return h
+            if th is not skip:
+                out.extend(h.args if th is t else (h,))
+        if not changed:
+            return f
+        if not out:
+            return TOP if t is And else BOT
+        return out[0] if len(out) == 1 else t(tuple(out))
+    return _simplify(substitute(f, {p: (TOP if v else BOT) for p, v in vals.items()}))
 
-    while True:
-        rest: list[Formula] = []
-        new: dict[str, bool] = {}
-        for f in parts:
-            for part in _conjuncts(f):
-                u = _unit(part)
-                if u is not None:
-                    if fixed.get(u[0], u[1]) != u[1] or new.get(u[0], u[1]) != u[1]:
-                        return None
-                    if u[0] not in fixed:
-                        new[u[0]] = u[1]
-                elif part == BOT:
-                    return None
-                elif part != TOP:
-                    rest.append(part)
-        if not new:
-            return rest
+
+def _support(f: Formula, cache: dict[int, tuple[Formula, frozenset[str]]]) -> frozenset[str]:
+    """The fluents of a propositional ``f`` (cached by identity; the entry keeps ``f`` alive)."""
+    got = cache.get(id(f))
+    if got is None:
+        out: set[str] = set()
+        stack = [f]
+        while stack:
+            g = stack.pop()
+            t = type(g)
+            if t is Prop:
+                out.add(g.name)
+            elif t is Not:
+                stack.append(g.arg)
+            elif t is And or t is Or:
+                stack.extend(g.args)
+            elif t is Implies or t is Iff:
+                stack += (g.left, g.right)
+            elif t is not Top and t is not Bot:
+                out |= props_of(g)
+        got = cache[id(f)] = (f, frozenset(out))
+    return got[1]
+
+
+def _propagate(parts: list[Formula], fixed: dict[str, bool],
+               support: dict[int, tuple[Formula, frozenset[str]]] | None = None) -> list[Formula] | None:
+    """Unit propagation: fix the literal conjuncts, substitute and fold until nothing changes (None if ⊥).
+
+    A worklist: each round rewrites only the formulas that mention a fluent fixed in the previous round
+    (found through an index fluent -> cells); a rewritten formula's conjuncts take its place, so the result
+    keeps the order of a full re-simplification of every formula in every round."""
+    support = {} if support is None else support
+    new: dict[str, bool] = {}
+
+    def absorb(f: Formula, cell: list) -> bool:
+        """Split ``f`` into conjuncts: units into ``new``, the others into child cells of ``cell``."""
+        for part in _conjuncts(f):
+            u = _unit(part)
+            if u is not None:
+                if fixed.get(u[0], u[1]) != u[1] or new.get(u[0], u[1]) != u[1]:
+                    return False
+                if u[0] not in fixed:
+                    new[u[0]] = u[1]
+            elif type(part) is Bot:
+                return False
+            elif type(part) is not Top:
+                child = [part]
+                cell.append(child)
+                for p in _support(part, support):
+                    index.setdefault(p, []).append(child)
+        return True
+
+    index: dict[str, list[list]] = {}
+    root: list = [None]
+    for f in parts:
+        if not absorb(f, root):
+            return None
+    while new:
         fixed.update(new)
-        sub = {p: (TOP if v else BOT) for p, v in new.items()}
-        parts = [_simplify(substitute(f, sub)) for f in rest]
+        done, new = new, {}
+        seen: set[int] = set()
+        for p in done:
+            for cell in index.pop(p, ()):
+                if cell[0] is None or id(cell) in seen:
+                    continue
+                seen.add(id(cell))
+                g = _assign(cell[0], done)
+                if g is cell[0]:
+                    continue
+                cell[0] = None   # replaced by the conjuncts of g, in its place
+                if not absorb(g, cell):
+                    return None
+    out: list[Formula] = []
+    stack = [root]
+    while stack:   # depth-first, children in order
+        cell = stack.pop()
+        if cell[0] is not None:
+            out.append(cell[0])
+        stack.extend(reversed(cell[1:]))
+    return out
 
 
 def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: float | None = None,
-           fixed: dict[str, bool] | None = None, _depth: int = 0) -> np.ndarray:
+           fixed: dict[str, bool] | None = None, _depth: int = 0, _folded: bool = False,
+           _support_cache: dict | None = None) -> np.ndarray:
     """Every valuation of ``props`` (a worlds × props boolean array) satisfying all ``constraints``
     (propositional) and the ``fixed`` fluent values, without enumerating the unconstrained product.
 
-    Unit propagation first; then each component over few fluents is enumerated with numpy, a larger one is
-    split on its smallest top-level disjunction (each disjunct propagated in turn, at most 3 levels deep)
-    and only what remains goes to a BDD."""
+    Unit propagation first; then a component over more than ``_SPLIT_VARS`` fluents is split on a top-level
+    disjunction whose branches fix fluents (each disjunct propagated in turn, at most 3 levels deep), one
+    over at most ``_NUMPY_VARS`` fluents is otherwise enumerated with numpy, and only what remains goes to a
+    BDD."""
     props = tuple(props)
     pidx = {p: i for i, p in enumerate(props)}
     empty = np.zeros((0, len(props)), dtype=bool)
     fixed = dict(fixed or {})
     if fixed:
-        from delkit.formula import substitute
-
         sub = {p: (TOP if v else BOT) for p, v in fixed.items()}
         constraints = [_simplify(substitute(f, sub)) for f in constraints]
-    parts = _propagate([_simplify(f) for f in constraints], fixed)
+    support: dict[int, tuple[Formula, frozenset[str]]] = {} if _support_cache is None else _support_cache
+    parts = _propagate(list(constraints) if _folded else [_simplify(f) for f in constraints], fixed, support)
     if parts is None:
         return empty
     unknown = [p for p in fixed if p not in pidx]
     if unknown:
         raise ParseError(f"the initial state mentions unknown fluent(s) {unknown}")
     blocks: list[tuple[list[int], np.ndarray]] = []
-    for vars_, fs in _components(parts):
+    for vars_, fs in _components(parts, support):
         _check_deadline(deadline)
         unknown = [p for p in vars_ if p not in pidx]
         if unknown:
             raise ParseError(f"the initial state mentions unknown fluent(s) {unknown}")
-        if len(vars_) <= _NUMPY_VARS:
+        split = None
+        if len(vars_) > _SPLIT_VARS and _depth < 3:
+            # the disjunction whose every branch fixes the most fluents (then the fewest branches)
+            ors = [(-min(sum(1 for c in _conjuncts(d) if _unit(c)) for d in f.args), len(f.args), i, f)
+                   for i, f in enumerate(fs) if isinstance(f, Or)]
+            best = min(ors, default=None)
+            if best is not None and (best[0] < 0 or len(vars_) > _NUMPY_VARS):
+                split = best[3]
+        if split is None and len(vars_) <= _NUMPY_VARS:
             rows = _numpy_models(vars_, fs, deadline)
         else:
-            ors = [f for f in fs if isinstance(f, Or)]
-            if ors and _depth < 3:
-                # the disjunction whose every branch fixes the most fluents (then the fewest branches)
-                split = min(ors, key=lambda f: (-min(sum(1 for c in _conjuncts(d) if _unit(c)) for d in f.args),
-                                                len(f.args)))
+            if split is not None:
                 others = [f for f in fs if f is not split]
-                got = [models(vars_, [d, *others], deadline=deadline, _depth=_depth + 1) for d in split.args]
-                rows = np.unique(np.concatenate(got, axis=0), axis=0) if got else np.zeros((0, len(vars_)), bool)
+                got = [models(vars_, [d, *others], deadline=deadline, _depth=_depth + 1, _folded=True,
+                              _support_cache=support) for d in split.args]  # (the parts are folded already)
+                # (return_index: without it np.unique imports numpy.ma to test for a masked array)
+                rows = (np.unique(np.concatenate(got, axis=0), axis=0, return_index=True)[0] if got
+                        else np.zeros((0, len(vars_)), bool))
             else:
                 rows = _bdd_models(vars_, fs, deadline)
         if rows.shape[0] == 0:

@@ -15,13 +15,14 @@ from delkit.errors import ParseError
 
 __all__ = ["Sym", "Node", "read"]
 
-_TOKEN = re.compile(r"\s+|;[^\n]*|[()\[\]<>|]|[^\s()\[\]<>|;]+")
+_TOKEN = re.compile(r"[()\[\]<>|]|[^\s()\[\]<>|;]+|;[^\n]*")  # whitespace is skipped, not matched
 _CLOSE = {"(": ")", "[": "]", "<": ">"}
 
 
 class Sym(str):
     """An atom (identifier, ``?variable``, ``:keyword``, ``|``) with the line it is on."""
 
+    __slots__ = ("line",)
     line: int
 
     def __new__(cls, text: str, line: int) -> Sym:
@@ -32,6 +33,8 @@ class Sym(str):
 
 class Node(list):
     """A bracketed list; ``kind`` is its opening bracket, ``line`` the line it starts on."""
+
+    __slots__ = ("kind", "line")
 
     def __init__(self, kind: str, line: int) -> None:
         super().__init__()
@@ -51,25 +54,38 @@ def read(text: str, source: str) -> list[Node | Sym]:
     """All top-level forms of ``text``."""
     out: list = []
     stack: list[Node] = []
-    line = 1
-    for m in _TOKEN.finditer(text):
-        tok = m.group()
-        if tok[0].isspace() or tok[0] == ";":
-            line += tok.count("\n")
-            continue
-        if tok in _CLOSE:
-            stack.append(Node(tok, line))
-            continue
-        if tok in (")", "]", ">"):
-            if not stack:
-                raise ParseError(f"unbalanced {tok!r}", source=source, line=line)
-            node = stack.pop()
-            if _CLOSE[node.kind] != tok:
-                raise ParseError(f"{tok!r} closes {node.kind!r} opened on line {node.line}", source=source,
-                                 line=line)
-            (stack[-1] if stack else out).append(node)
-            continue
-        (stack[-1] if stack else out).append(Sym(tok, line))
+    cur: list = out
+    sym = _sym
+    new = list.__new__
+    findall = _TOKEN.findall
+    for line, ln in enumerate(text.split("\n"), 1):
+        for tok in findall(ln):
+            c = tok[0]
+            if c == ";":
+                break
+            if c in _CLOSE:
+                node = new(Node)  # Node(c, line) without the Python-level __init__
+                node.kind = c
+                node.line = line
+                cur.append(node)
+                stack.append(node)
+                cur = node
+            elif c in ")]>":
+                if not stack:
+                    raise ParseError(f"unbalanced {tok!r}", source=source, line=line)
+                node = stack.pop()
+                if _CLOSE[node.kind] != c:
+                    raise ParseError(f"{tok!r} closes {node.kind!r} opened on line {node.line}", source=source,
+                                     line=line)
+                cur = stack[-1] if stack else out
+            else:
+                cur.append(sym(tok, line))
     if stack:
         raise ParseError(f"{stack[-1].kind!r} opened here is never closed", source=source, line=stack[-1].line)
     return out
+
+
+def _sym(text: str, line: int) -> Sym:
+    s = str.__new__(Sym, text)
+    s.line = line
+    return s

@@ -16,8 +16,9 @@ from delkit.errors import ParseError
 from planners.epistemic import Limits, bfs
 from planners.lang import load_task, shared_benchmarks
 from planners.lang.epddl2026 import LoadTimeout, load_epddl2026
-from planners.lang.epddl_run import check_event_plan, space_for
+from planners.lang.epddl_run import space_for
 from planners.task import EventAction
+from planners.validate import check_plan
 
 BENCH = shared_benchmarks()
 if BENCH is None:
@@ -53,7 +54,7 @@ def _plan_and_check(row: dict, timeout: float = 60.0):
     res = bfs(space_for(task), Limits(timeout=max(0.0, timeout - (time.monotonic() - t0))))
     assert res.status in ("solved", "unsolvable"), res.reason
     if res.solved:
-        chk = check_event_plan(task, list(res.plan))
+        chk = check_plan(task, list(res.plan))   # EPDDL mode: the task has event-model actions
         assert chk.valid, chk.reason
     return task, res
 
@@ -92,10 +93,16 @@ def test_selective_communication_plan_of_length_7_is_valid(tmp_path) -> None:
     """The optimal plan BFS finds (exhaustively: no plan of length <= 6) is valid; the file's Solution block
     is not (its last step leaves D and E ignorant)."""
     task = load_epddl2026(*_files(_row("Selective-Communication")))
-    ok = check_event_plan(task, ["left_D", "left_E", "right_A", "right_A", "left_E", "sense_E", "tell_E"])
+    plan = ["left_D", "left_E", "right_A", "right_A", "left_E", "sense_E", "tell_E"]
+    ok = check_plan(task, plan)
     assert ok.valid, ok.reason
-    bad = check_event_plan(task, ["right_A", "left_C", "sense_C", "tell_C"])
+    bad = check_plan(task, ["right_A", "left_C", "sense_C", "tell_C"])
     assert not bad.valid and bad.kind == "goal"
+    # the explicit initial state gives B no relation (B believes ⊥): EPDDL (and plank) accept such states,
+    # mA*'s semantics would refuse the first step
+    assert task.initial.inconsistent_agents()
+    dl = check_plan(task, plan, epddl=False)
+    assert not dl.valid and dl.kind == "inconsistent-belief" and dl.step == 1 and dl.agent == "B"
 
 
 def test_every_problem_grounds() -> None:
@@ -161,6 +168,12 @@ def test_check_cli_valid_invalid_and_empty_plan(capsys, tmp_path) -> None:
     assert rc == 1 and "initial state" in out and "K_A tails" in out
     rc, _, err = _cli(capsys, ["check", dom, prob, tmp_path / "nope.plan", *lib])
     assert rc == 2 and "nope.plan" in err
+    # temporal properties over the EPDDL task's ground fluents (one checker for every dialect)
+    rc, out, _ = _cli(capsys, ["check", dom, prob, good, *lib, "-p", "eventually opened", "-p", "at end K_A tails"])
+    assert rc == 0 and "2 properties hold" in out
+    rc, out, _ = _cli(capsys, ["check", dom, prob, good, *lib, "-p", "always ~opened", "--json"])
+    data = json.loads(out)
+    assert rc == 1 and data["kind"] == "property" and data["step"] == 1
 
 
 def test_plan_cli_epddl(capsys) -> None:
@@ -212,3 +225,19 @@ def test_unknown_requirement_is_refused_with_its_line(tmp_path) -> None:
     prob.write_text("(define (problem p) (:domain d) (:agents a) (:init (:and (q))) (:goal (q)))")
     with pytest.raises(ParseError, match=r"d\.epddl:3: unknown requirement ':negative-precondition'"):
         load_epddl2026(dom, prob)
+
+
+def test_deadline_is_honoured_inside_one_big_quantifier(tmp_path) -> None:
+    """One action whose precondition quantifies over 60^3 bindings (seconds of grounding): the limit must be
+    checked inside the quantifier's enumeration, not only between actions."""
+    objs = " ".join(f"o{i}" for i in range(60))
+    (tmp_path / "d.epddl").write_text(
+        "(define (domain big) (:requirements :typing :facts)\n (:types obj)\n"
+        " (:predicates (p) (:fact f ?x ?y ?z - obj))\n"
+        " (:event e :precondition (forall (?u ?v ?w - obj) (not (f ?u ?v ?w))) :effects (p))\n"
+        " (:action go :parameters () :action-type (basic (e))))")
+    (tmp_path / "p.epddl").write_text(f"(define (problem big1) (:domain big) (:agents a) (:objects {objs} - obj)\n"
+                                      " (:init (:and (not (p)))) (:goal (p)))")
+    t0 = time.monotonic()
+    with pytest.raises(LoadTimeout):
+        load_epddl2026(tmp_path / "d.epddl", tmp_path / "p.epddl", deadline=t0 + 0.05)

@@ -39,10 +39,12 @@ def _brute(fs: list[Formula]) -> set[tuple[bool, ...]]:
 
 
 @settings(max_examples=80, deadline=None)
-@given(fs=st.lists(_formula(), max_size=4), bdd=st.booleans())
-def test_models_equal_brute_force(monkeypatch_session, fs, bdd) -> None:
-    """Components enumerated by numpy or by the BDD give exactly the satisfying valuations, each once."""
-    monkeypatch_session.setattr(initial, "_NUMPY_VARS", 0 if bdd else 16)
+@given(fs=st.lists(_formula(), max_size=4), mode=st.sampled_from(("numpy", "bdd", "split")))
+def test_models_equal_brute_force(monkeypatch_session, fs, mode) -> None:
+    """Components enumerated by numpy, by the BDD, or split on a disjunction (then propagated, numpy for the
+    rest) give exactly the satisfying valuations, each once."""
+    monkeypatch_session.setattr(initial, "_NUMPY_VARS", 0 if mode == "bdd" else 16)
+    monkeypatch_session.setattr(initial, "_SPLIT_VARS", 0 if mode == "split" else 16)
     got = models(PROPS, fs)
     rows = [tuple(r) for r in got.tolist()]
     assert len(rows) == len(set(rows)) and set(rows) == _brute(fs)
