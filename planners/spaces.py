@@ -32,7 +32,7 @@ from typing import Any, Literal
 from delkit.compact import CompactEngine, CompactState
 from delkit.errors import PlanningError
 from delkit.events import EventModel
-from delkit.formula import Formula, is_propositional
+from delkit.formula import Formula, is_propositional, props_of
 from delkit.kripke import KripkeModel
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, build_event_model, goal_conjuncts
 
@@ -105,6 +105,20 @@ class CompactSpace:
         self._acts: list[tuple] = [self._entry(act) for act in task.actions]
         self._index = {act.name: i for i, act in enumerate(task.actions)}
         self._ems: dict[tuple, EventModel] = {}
+        # per action whose executability and conditions are all propositional: the event model (or None: not
+        # executable) per valuations of the designated worlds restricted to the propositions the conditions
+        # mention — they decide it (shared by all states)
+        self._select: list[tuple[dict, int] | None] = []
+        for e in self._acts:
+            conds = [] if e[0] == "macro" else self._conditions(e)
+            if e[0] == "macro" or not all(is_propositional(c) for c in conds):
+                self._select.append(None)
+                continue
+            support = 0
+            for c in conds:
+                for p in props_of(c):
+                    support |= 1 << self.engine.pidx[p]
+            self._select.append(({}, support))
 
     def _entry(self, act: ActionSpec | EventAction | MacroSpec) -> tuple:
         """Per action its conditions as node ids: ("spec", act, exe, full, partial, sensed) / ("event", act,
@@ -256,8 +270,22 @@ class CompactSpace:
         return self.apply_entry(s, self._acts[self._index[name]])
 
     def successors(self, s: CompactState) -> Iterator[tuple[str, CompactState, Hashable]]:
-        for entry in self._acts:
-            new = self.apply_entry(s, entry)
+        val, points = s.val, s.points
+        single = len(points) == 1
+        here = val[points[0]]
+        apply = self.engine.apply
+        for entry, sel in zip(self._acts, self._select, strict=True):
+            if sel is not None:
+                table, support = sel
+                at = here & support if single else frozenset([val[p] & support for p in points])
+                em = table.get(at, _MISSING)
+                if em is _MISSING:
+                    em = table[at] = self.event_model(s, entry)
+                if em is None:
+                    continue
+                new = apply(s, em)
+            else:
+                new = self.apply_entry(s, entry)
             if new is None:
                 continue
             if not self.allow_inconsistent and self.engine.believes_bottom(new):
@@ -266,10 +294,12 @@ class CompactSpace:
             yield entry[1].name, new, new.key
 
 
+_MISSING = object()
+
+
 def _valuation_view(v: int, n_agents: int) -> CompactState:
     """A one-world state with valuation ``v`` (for deciding propositional conditions only)."""
-    return CompactState((v,), tuple(((0,),) for _ in range(n_agents)), tuple((1,) for _ in range(n_agents)), (0,),
-                        None, tuple((0,) for _ in range(n_agents)), tuple((((0,),)) for _ in range(n_agents)))
+    return CompactState((v,), tuple((1,) for _ in range(n_agents)), (0,))
 
 
 def _group_d_formulas(task: Task) -> list[Formula]:
