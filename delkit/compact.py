@@ -303,9 +303,9 @@ class CompactEngine:
         elif isinstance(f, Not):
             node = (_NOT, self.cid(f.arg))
         elif isinstance(f, And):
-            node = (_AND, tuple(self.cid(g) for g in f.args))
+            node = (_AND, self._cheap_first([self.cid(g) for g in f.args]))
         elif isinstance(f, Or):
-            node = (_OR, tuple(self.cid(g) for g in f.args))
+            node = (_OR, self._cheap_first([self.cid(g) for g in f.args]))
         elif isinstance(f, Implies):
             node = (_OR, (self.cid(Not(f.left)), self.cid(f.right)))
         elif isinstance(f, Iff):
@@ -336,6 +336,10 @@ class CompactEngine:
         self._pfn.append(None)
         self._fid[f] = i
         return i
+
+    def _cheap_first(self, ids: list[int]) -> tuple[int, ...]:
+        """Conjuncts/disjuncts with the propositional ones (table look-ups) first: evaluation stops early."""
+        return tuple(sorted(ids, key=lambda j: self._ptab[j] is None))
 
     def _propositional(self, node: tuple) -> bool:
         op = node[0]
@@ -490,6 +494,9 @@ class CompactEngine:
             return True
         b = s.memo.get(i)
         if b is None:
+            node = self._nodes[i]
+            if node[0] == _C:  # only the designated worlds matter: search from them, stop at a ¬φ world
+                return _common_at(s, node[1], self.ev(s, node[2]))
             b = self.ev(s, i)
         for p in s.points:
             if not (b >> p) & 1:
@@ -521,16 +528,20 @@ class CompactEngine:
         full = (1 << n) - 1
         if op == _K:
             out = _box(s.masks[node[1]], self.ev(s, node[2]))
-        elif op == _AND:
+        elif op == _AND:  # propositional conjuncts first (see cid), stops at the empty set
             out = full
             for g in node[1]:
                 out &= self.ev(s, g)
+                if not out:
+                    break
         elif op == _NOT:
             out = full ^ self.ev(s, node[1])
-        elif op == _OR:
+        elif op == _OR:  # stops at the full set
             out = 0
             for g in node[1]:
                 out |= self.ev(s, g)
+                if out == full:
+                    break
         elif op == _TOP:
             out = full
         elif op == _BOT:
@@ -594,8 +605,9 @@ class CompactEngine:
             else:  # postconditions evaluated on the state (all of this event's, as bit masks over the worlds)
                 nposts.append(tuple(posts))
                 posts = []
-            fns.append(self._transition(pre if pre_p else None, posts))
-            tabs.append({})
+            fn = self._transition(pre if pre_p else None, posts)
+            fns.append(fn)
+            tabs.append(_Table(fn))
         des = tuple(em.designated)
         others = tuple(e for e in range(k) if e not in set(des))
         comp = (q, k, des, others, tabs, fns, npre, nposts, {})
@@ -625,12 +637,7 @@ class CompactEngine:
 
     def _row(self, s: CompactState, tab: dict, fn: Any, npre: int | None, nposts: tuple) -> list[int]:
         """One event at every world of ``s``: the new valuation, or -1 where its precondition fails."""
-        out = []
-        for v in s.val:
-            x = tab.get(v)
-            if x is None:
-                x = tab[v] = fn(v)
-            out.append(x)
+        out = list(map(tab.__getitem__, s.val))
         if npre is not None:
             pm = self.ev(s, npre)
             out = [x if (pm >> w) & 1 else -1 for w, x in enumerate(out)]
@@ -647,7 +654,11 @@ class CompactEngine:
         (else None); the designated worlds of the result are the pairs (w, e), w and e designated,
         w ⊨ pre(e). Postconditions are evaluated in s, all at once (delkit.update).
         """
-        q, k, designated, others, tabs, fns, npre, nposts, shapes = self.compile(em)
+        return self.apply_compiled(s, self.compile(em))
+
+    def apply_compiled(self, s: CompactState, comp: tuple) -> CompactState | None:
+        """:meth:`apply` with the event model already compiled (``comp = self.compile(em)``)."""
+        q, k, designated, others, tabs, fns, npre, nposts, shapes = comp
         row = self._row
         # the designated events first (an inapplicable action costs just those), then the others
         rows: list[Any] = [None] * k
@@ -666,16 +677,17 @@ class CompactEngine:
         # order) depends only on the frame of s, on which pairs (w, e) satisfy pre(e) and on the order of the
         # new valuations: look it up (states of one search share a few hundred frames)
         skey: Any = None
-        if s.fid >= 0 and len(s.val) * k <= 256:
+        n = len(s.val)
+        if s.fid >= 0 and n * k <= 256:
             flat = rows[0] if k == 1 else [x for r in rows for x in r]
             u = sorted(set(flat))
             off = 1 if u[0] < 0 else 0
             rk = {v: i - off for i, v in enumerate(u)}
-            skey = (s.fid, tuple([rk[x] for x in flat]))
+            skey = (s.fid, tuple(map(rk.__getitem__, flat)))
             hit = shapes.get(skey)
             if hit is not None:
-                reps, rmasks, cps, fid = hit
-                return CompactState(tuple([rows[e][w] for e, w in reps]), rmasks, cps, fid)
+                pick, rmasks, cps, fid = hit
+                return CompactState(pick(flat), rmasks, cps, fid)
         ids = {code: t for t, code in enumerate(order)}
         nag = len(q)
         dist: list[list[list[int]]] = [[] for _ in range(nag)]
@@ -717,8 +729,25 @@ class CompactEngine:
             for t, b in enumerate(blk):
                 if rep[b] < 0:
                     rep[b] = t
-            shapes[skey] = (tuple((order[t] % k, order[t] // k) for t in rep), rmasks, cps, fid)
+            # the new valuations of the blocks' representatives, picked from rows flattened event by event
+            at = [(order[t] % k) * n + order[t] // k for t in rep]
+            pick = itemgetter(*at) if len(at) > 1 else (lambda f, _i=at[0]: (f[_i],))
+            shapes[skey] = (pick, rmasks, cps, fid)
         return CompactState(tuple(cval), rmasks, cps, fid)
+
+
+class _Table(dict):
+    """valuation -> value of ``fn``, computed on first look-up."""
+
+    __slots__ = ("fn",)
+
+    def __init__(self, fn: Any) -> None:
+        super().__init__()
+        self.fn = fn
+
+    def __missing__(self, v: int) -> Any:
+        x = self[v] = self.fn(v)
+        return x
 
 
 def _transition_closure(pre: Any, keep: int, posts: tuple) -> Any:
@@ -763,6 +792,27 @@ def _common(s: CompactState, ags: Sequence[int], t: int) -> int:
             break
         x = nx
     return ((1 << n) - 1) ^ x
+
+
+def _common_at(s: CompactState, ags: Sequence[int], t: int) -> bool:
+    """C_G φ at every designated world: no world reachable in ≥ 1 steps of ⋃_{a∈G} R_a is a ¬φ world."""
+    rel = [s.masks[a] for a in ags]
+    bad = ~t
+    seen = 0
+    for p in s.points:
+        for m in rel:
+            seen |= m[p]
+    front = seen
+    while front:
+        if front & bad:
+            return False
+        nxt = 0
+        for w in _bits(front):
+            for m in rel:
+                nxt |= m[w]
+        front = nxt & ~seen
+        seen |= nxt
+    return True
 
 
 def _reorder(m: KripkeModel, props: tuple[str, ...], agents: tuple[str, ...]) -> KripkeModel:

@@ -273,17 +273,18 @@ class CompactSpace:
         val, points = s.val, s.points
         single = len(points) == 1
         here = val[points[0]]
-        apply = self.engine.apply
+        apply, compile_em = self.engine.apply_compiled, self.engine.compile
         for entry, sel in zip(self._acts, self._select, strict=True):
             if sel is not None:
                 table, support = sel
                 at = here & support if single else frozenset([val[p] & support for p in points])
-                em = table.get(at, _MISSING)
-                if em is _MISSING:
-                    em = table[at] = self.event_model(s, entry)
-                if em is None:
+                comp = table.get(at, _MISSING)
+                if comp is _MISSING:
+                    em = self.event_model(s, entry)
+                    comp = table[at] = None if em is None else compile_em(em)
+                if comp is None:
                     continue
-                new = apply(s, em)
+                new = apply(s, comp)
             else:
                 new = self.apply_entry(s, entry)
             if new is None:
