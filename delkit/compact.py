@@ -270,6 +270,7 @@ class CompactEngine:
         # repeat across the states of a search), else None; _pfn: the node as a function of one valuation
         self._ptab: list[dict[int, bool] | None] = []
         self._pfn: list[Any] = []
+        self._pslow: dict[int, Any] = {}
         self._compiled: dict[int, tuple] = {}
 
     # ------------------------------------------------------------------ conversion
@@ -404,6 +405,13 @@ class CompactEngine:
         self._pfn[i] = fn
         return fn
 
+    def pfun_slow(self, i: int) -> Any:
+        """:meth:`pfun` as closures (nothing to compile: for formulas evaluated a few times)."""
+        fn = self._pslow.get(i)
+        if fn is None:
+            fn = self._pslow[i] = self._pfn[i] or self._pclosure(i)
+        return fn
+
     def _pclosure(self, i: int) -> Any:
         node = self._nodes[i]
         op = node[0]
@@ -419,12 +427,12 @@ class CompactEngine:
             def fn(v: int) -> bool:
                 return False
         elif op == _NOT:
-            g = self.pfun(node[1])
+            g = self.pfun_slow(node[1])
 
             def fn(v: int, g: Any = g) -> bool:
                 return not g(v)
         elif op == _IFF:
-            g, h = self.pfun(node[1]), self.pfun(node[2])
+            g, h = self.pfun_slow(node[1]), self.pfun_slow(node[2])
 
             def fn(v: int, g: Any = g, h: Any = h) -> bool:
                 return bool(g(v)) == bool(h(v))
@@ -438,7 +446,7 @@ class CompactEngine:
                 elif cn[0] == _NOT and self._nodes[cn[1]][0] == _PROP:
                     neg |= 1 << self._nodes[cn[1]][1]
                 else:
-                    rest.append(self.pfun(c))
+                    rest.append(self.pfun_slow(c))
             rest_t = tuple(rest)
             if op == _AND:
                 def fn(v: int, pos: int = pos, neg: int = neg, rest: tuple = rest_t) -> bool:
@@ -594,7 +602,7 @@ class CompactEngine:
         for g in self.groups:
             per = [q[self.aidx[a]] for a in g]
             q.append([tuple(sorted(set.intersection(*(set(p[e]) for p in per)))) for e in range(k)])
-        tabs, fns, npre, nposts = [], [], [], []
+        tabs, lits, npre, nposts = [], [], [], []
         for e in range(k):
             posts = [(self.pidx[p], self.cid(f)) for p, f in em.post[e].items() if f != Prop(p)]
             pre = self.cid(em.pre[e])
@@ -605,12 +613,18 @@ class CompactEngine:
             else:  # postconditions evaluated on the state (all of this event's, as bit masks over the worlds)
                 nposts.append(tuple(posts))
                 posts = []
-            fn = self._transition(pre if pre_p else None, posts)
-            fns.append(fn)
-            tabs.append(_Table(fn))
+            # closures first, generated code once the event is used often (compiling costs ~0.1-0.5 ms an event;
+            # many events of a grounded task are tried at a handful of valuations or never)
+            ppre = pre if pre_p else None
+            tabs.append(_Table(
+                lambda ppre=ppre, posts=posts: _transition_closure(
+                    None if ppre is None else self.pfun_slow(ppre), ~_mask([pi for pi, _ in posts]),
+                    tuple((1 << pi, self.pfun_slow(j)) for pi, j in posts)),
+                lambda ppre=ppre, posts=posts: self._transition(ppre, posts)))
+            lits.append(self._literals(pre))
         des = tuple(em.designated)
         others = tuple(e for e in range(k) if e not in set(des))
-        comp = (q, k, des, others, tabs, fns, npre, nposts, {})
+        comp = (q, k, des, others, tabs, lits, npre, nposts, {})
         self._compiled[id(em)] = (em, comp)  # the model is kept alive so that its id is not reused
         return comp
 
@@ -635,7 +649,34 @@ class CompactEngine:
             return _transition_closure(None if pre is None else self.pfun(pre), keep,
                                        tuple((1 << pi, self.pfun(j)) for pi, j in posts))
 
-    def _row(self, s: CompactState, tab: dict, fn: Any, npre: int | None, nposts: tuple) -> list[int]:
+    def may_apply(self, comp: tuple, vals: Any) -> bool:
+        """False when a world with one of the valuations ``vals`` (the designated worlds') satisfies no
+        designated event's propositional precondition: the compiled event model cannot apply there."""
+        designated, lits = comp[2], comp[5]
+        for v in vals:
+            for e in designated:
+                pos, neg = lits[e]
+                if (v & pos) == pos and not (v & neg):
+                    break
+            else:
+                return False
+        return True
+
+    def _literals(self, i: int) -> tuple[int, int]:
+        """(pos, neg): bit masks of the literals among the conjuncts of node ``i`` — necessary for it to hold
+        at a world (a conjunction of literals: exactly its truth)."""
+        node = self._nodes[i]
+        parts = node[1] if node[0] == _AND else (i,)
+        pos = neg = 0
+        for c in parts:
+            cn = self._nodes[c]
+            if cn[0] == _PROP:
+                pos |= 1 << cn[1]
+            elif cn[0] == _NOT and self._nodes[cn[1]][0] == _PROP:
+                neg |= 1 << self._nodes[cn[1]][1]
+        return pos, neg
+
+    def _row(self, s: CompactState, tab: dict, npre: int | None, nposts: tuple) -> list[int]:
         """One event at every world of ``s``: the new valuation, or -1 where its precondition fails."""
         out = list(map(tab.__getitem__, s.val))
         if npre is not None:
@@ -658,12 +699,20 @@ class CompactEngine:
 
     def apply_compiled(self, s: CompactState, comp: tuple) -> CompactState | None:
         """:meth:`apply` with the event model already compiled (``comp = self.compile(em)``)."""
-        q, k, designated, others, tabs, fns, npre, nposts, shapes = comp
+        q, k, designated, others, tabs, _lits, npre, nposts, shapes = comp
+        val = s.val
+        for p in s.points:  # inapplicable at a designated world: known from its valuation alone (tables)
+            v = val[p]
+            for e in designated:
+                if npre[e] is not None or tabs[e][v] >= 0:
+                    break
+            else:
+                return None
         row = self._row
         # the designated events first (an inapplicable action costs just those), then the others
         rows: list[Any] = [None] * k
         for e in designated:
-            rows[e] = row(s, tabs[e], fns[e], npre[e], nposts[e])
+            rows[e] = row(s, tabs[e], npre[e], nposts[e])
         order: list[int] = []  # pair (w, e) coded as w*k + e, in the order of the new worlds
         for p in s.points:
             here = [p * k + e for e in designated if rows[e][p] >= 0]
@@ -672,7 +721,7 @@ class CompactEngine:
             order.extend(here)
         npoints = len(order)
         for e in others:
-            rows[e] = row(s, tabs[e], fns[e], npre[e], nposts[e])
+            rows[e] = row(s, tabs[e], npre[e], nposts[e])
         # the shape of the result (which pairs exist, how they are related and contracted, in which canonical
         # order) depends only on the frame of s, on which pairs (w, e) satisfy pre(e) and on the order of the
         # new valuations: look it up (states of one search share a few hundred frames)
@@ -739,14 +788,22 @@ class CompactEngine:
 class _Table(dict):
     """valuation -> value of ``fn``, computed on first look-up."""
 
-    __slots__ = ("fn",)
+    __slots__ = ("fn", "slow", "fast", "misses")
 
-    def __init__(self, fn: Any) -> None:
+    def __init__(self, slow: Any, fast: Any) -> None:
         super().__init__()
-        self.fn = fn
+        self.fn = None
+        self.slow, self.fast = slow, fast  # build fn: cheap to build / fast to run
+        self.misses = 0
 
     def __missing__(self, v: int) -> Any:
-        x = self[v] = self.fn(v)
+        fn = self.fn
+        self.misses += 1
+        if fn is None:
+            fn = self.fn = self.slow()
+        elif self.misses == 32:
+            fn = self.fn = self.fast()
+        x = self[v] = fn(v)
         return x
 
 

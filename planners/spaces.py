@@ -119,6 +119,7 @@ class CompactSpace:
                 for p in props_of(c):
                     support |= 1 << self.engine.pidx[p]
             self._select.append(({}, support))
+        self._by_point: dict[Any, list] = {}
 
     def _entry(self, act: ActionSpec | EventAction | MacroSpec) -> tuple:
         """Per action its conditions as node ids: ("spec", act, exe, full, partial, sensed) / ("event", act,
@@ -269,30 +270,43 @@ class CompactSpace:
         """The successor of ``s`` by the action ``name`` (None if not applicable)."""
         return self.apply_entry(s, self._acts[self._index[name]])
 
+    def _candidates(self, s: CompactState, here: Any) -> list[tuple[str, tuple | None, tuple | None]]:
+        """The actions that may apply in ``s`` as (name, entry, None) — decided per state — or (name, None,
+        compiled event model) — chosen by the designated worlds' valuations ``here`` and not excluded by them
+        (some designated event's propositional precondition holds at every designated world)."""
+        single = not isinstance(here, frozenset)
+        compile_em, may = self.engine.compile, self.engine.may_apply
+        out = []
+        for entry, sel in zip(self._acts, self._select, strict=True):
+            if sel is None:
+                out.append((entry[1].name, entry, None))
+                continue
+            table, support = sel
+            at = here & support if single else frozenset([v & support for v in here])
+            comp = table.get(at, _MISSING)
+            if comp is _MISSING:
+                em = self.event_model(s, entry)
+                comp = table[at] = None if em is None else compile_em(em)
+            if comp is not None and may(comp, (here,) if single else here):
+                out.append((entry[1].name, None, comp))
+        return out
+
     def successors(self, s: CompactState) -> Iterator[tuple[str, CompactState, Hashable]]:
         val, points = s.val, s.points
-        single = len(points) == 1
-        here = val[points[0]]
-        apply, compile_em = self.engine.apply_compiled, self.engine.compile
-        for entry, sel in zip(self._acts, self._select, strict=True):
-            if sel is not None:
-                table, support = sel
-                at = here & support if single else frozenset([val[p] & support for p in points])
-                comp = table.get(at, _MISSING)
-                if comp is _MISSING:
-                    em = self.event_model(s, entry)
-                    comp = table[at] = None if em is None else compile_em(em)
-                if comp is None:
-                    continue
-                new = apply(s, comp)
-            else:
-                new = self.apply_entry(s, entry)
+        # the candidate actions per valuation(s) of the designated world(s), shared by all states
+        here = val[points[0]] if len(points) == 1 else frozenset([val[p] for p in points])
+        cands = self._by_point.get(here)
+        if cands is None:
+            cands = self._by_point[here] = self._candidates(s, here)
+        apply = self.engine.apply_compiled
+        for name, entry, comp in cands:
+            new = apply(s, comp) if comp is not None else self.apply_entry(s, entry)  # type: ignore[arg-type]
             if new is None:
                 continue
             if not self.allow_inconsistent and self.engine.believes_bottom(new):
                 self.dead_ends += 1
                 continue
-            yield entry[1].name, new, new.key
+            yield name, new, new.key
 
 
 _MISSING = object()
