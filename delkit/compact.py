@@ -333,10 +333,16 @@ class CompactEngine:
             node = (_DYN, f)
         i = len(self._nodes)
         self._nodes.append(node)
-        self._ptab.append({} if self._propositional(node) else None)
+        self._ptab.append(self._truth_table(i) if self._propositional(node) else None)
         self._pfn.append(None)
         self._fid[f] = i
         return i
+
+    def _truth_table(self, i: int) -> dict[int, bool]:
+        """valuation -> truth of node ``i``, filled on demand: closures first, generated code once the node
+        has been evaluated at 32 valuations (compiling costs more than a few evaluations)."""
+        return _Table(lambda: (lambda v, f=self.pfun_slow(i): bool(f(v))),
+                      lambda: (lambda v, f=self.pfun(i): bool(f(v))))
 
     def _cheap_first(self, ids: list[int]) -> tuple[int, ...]:
         """Conjuncts/disjuncts with the propositional ones (table look-ups) first: evaluation stops early."""
@@ -469,9 +475,7 @@ class CompactEngine:
     def truth(self, i: int, v: int) -> bool:
         """A propositional node at a valuation (memoised per valuation)."""
         tab = self._ptab[i]
-        t = tab.get(v)  # type: ignore[union-attr]
-        if t is None:
-            t = tab[v] = bool(self.pfun(i)(v))  # type: ignore[index]
+        t = tab[v]  # type: ignore[index]
         return t
 
     def _agent(self, a: str) -> int:
@@ -494,9 +498,7 @@ class CompactEngine:
             val = s.val
             for p in s.points:
                 v = val[p]
-                t = tab.get(v)
-                if t is None:
-                    t = tab[v] = bool(self.pfun(i)(v))
+                t = tab[v]
                 if not t:
                     return False
             return True
@@ -522,9 +524,7 @@ class CompactEngine:
             out = 0
             bit = 1
             for v in s.val:
-                t = tab.get(v)
-                if t is None:
-                    t = tab[v] = bool(self.pfun(i)(v))
+                t = tab[v]
                 if t:
                     out |= bit
                 bit <<= 1
@@ -624,7 +624,7 @@ class CompactEngine:
             lits.append(self._literals(pre))
         des = tuple(em.designated)
         others = tuple(e for e in range(k) if e not in set(des))
-        comp = (q, k, des, others, tabs, lits, npre, nposts, {})
+        comp = (q, k, des, others, tabs, lits, npre, nposts, {}, [0, 0, 0])
         self._compiled[id(em)] = (em, comp)  # the model is kept alive so that its id is not reused
         return comp
 
@@ -699,7 +699,7 @@ class CompactEngine:
 
     def apply_compiled(self, s: CompactState, comp: tuple) -> CompactState | None:
         """:meth:`apply` with the event model already compiled (``comp = self.compile(em)``)."""
-        q, k, designated, others, tabs, _lits, npre, nposts, shapes = comp
+        q, k, designated, others, tabs, _lits, npre, nposts, shapes, stat = comp
         val = s.val
         for p in s.points:  # inapplicable at a designated world: known from its valuation alone (tables)
             v = val[p]
@@ -724,16 +724,24 @@ class CompactEngine:
             rows[e] = row(s, tabs[e], npre[e], nposts[e])
         # the shape of the result (which pairs exist, how they are related and contracted, in which canonical
         # order) depends only on the frame of s, on which pairs (w, e) satisfy pre(e) and on the order of the
-        # new valuations: look it up (states of one search share a few hundred frames)
+        # new valuations: look it up (states of one search share a few hundred frames). Products over 32 pairs
+        # are looked up while at least a quarter of the look-ups hit (and every 16th time), since the key costs
+        # a sort of the new valuations
         skey: Any = None
         n = len(s.val)
-        if s.fid >= 0 and n * k <= 256:
+        big = n * k > 32
+        if big:
+            stat[2] += 1
+        if s.fid >= 0 and n * k <= 256 and (not big or stat[1] * 4 >= stat[0] or not stat[2] & 15):
             flat = rows[0] if k == 1 else [x for r in rows for x in r]
             u = sorted(set(flat))
             off = 1 if u[0] < 0 else 0
             rk = {v: i - off for i, v in enumerate(u)}
             skey = (s.fid, tuple(map(rk.__getitem__, flat)))
             hit = shapes.get(skey)
+            if big:
+                stat[0] += 1
+                stat[1] += hit is not None
             if hit is not None:
                 pick, rmasks, cps, fid = hit
                 return CompactState(pick(flat), rmasks, cps, fid)
