@@ -6,7 +6,8 @@ interpreter: start-up, imports, grounding, search, output; best of ``--repeat``)
 grounding and ``bfs_planner`` times, status and length from the same CSV row (C++17, 2-core machine).
 Targets (issue 14): grounding ≤ 0.1 s everywhere; grounding + search ≤ plank's planner time where plank
 solves, compared as whole processes where plank needs ≥ 0.3 s. The "target" column compares delkit's CPU
-seconds (the machine is shared: wall time includes other jobs) with plank's recorded seconds.
+seconds (the machine is shared: wall time includes other jobs) with plank's recorded seconds; the last column
+is delkit's search CPU alone over plank's planner seconds.
 
     .venv/bin/python bench/epddl.py [--repeat 3] [--timeout 60] [--only NAME] [--json out.json]
 """
@@ -94,10 +95,15 @@ def run(repeat: int, timeout: float, only: str | None) -> list[dict]:
     return out
 
 
+def _ratio(ours: float, plank: float | None) -> str:
+    """delkit's search CPU seconds over plank's whole bfs_planner seconds (≤ 1: the search alone is faster)."""
+    return "—" if not plank else f"{ours / plank:.2f}"
+
+
 def table(rows: list[dict]) -> str:
     head = ("| problem | worlds | ground s (cpu) | search s (cpu) | ground+search s | process s (cpu) | delkit | "
-            "plank ground s | plank bfs s | plank | shortest known | target |")
-    lines = [head, "|" + "---|" * 12]
+            "plank ground s | plank bfs s | plank | shortest known | target | search cpu / plank bfs |")
+    lines = [head, "|" + "---|" * 13]
     for r in rows:
         gs = r["ground_s"] + r["search_s"]
         ours = f"{r['status']}" + (f" {r['length']}" if r["length"] is not None else "")
@@ -116,7 +122,8 @@ def table(rows: list[dict]) -> str:
                      f"{r['search_s']:.3f} ({r['search_cpu']:.3f}) | {gs:.3f} | {r['process_s']:.2f} "
                      f"({r['process_cpu']:.2f}) | {ours} | "
                      f"{r['plank_ground_s'] if r['plank_ground_s'] is not None else '300+'} | "
-                     f"{pb if pb is not None else '—'} | {plank} | {r['shortest_known'] or '?'} | {target} |")
+                     f"{pb if pb is not None else '—'} | {plank} | {r['shortest_known'] or '?'} | {target} | "
+                     f"{_ratio(r['search_cpu'], pb) if r['plank_bfs'] in ('solved', 'no-plan') else '—'} |")
     return "\n".join(lines)
 
 
