@@ -624,7 +624,7 @@ class CompactEngine:
             lits.append(self._literals(pre))
         des = tuple(em.designated)
         others = tuple(e for e in range(k) if e not in set(des))
-        comp = (q, k, des, others, tabs, lits, npre, nposts, {}, [0, 0, 0])
+        comp = (q, k, des, others, tabs, lits, npre, nposts, {}, [0, 0, 0], tuple(lits[e] for e in des))
         self._compiled[id(em)] = (em, comp)  # the model is kept alive so that its id is not reused
         return comp
 
@@ -652,10 +652,9 @@ class CompactEngine:
     def may_apply(self, comp: tuple, vals: Any) -> bool:
         """False when a world with one of the valuations ``vals`` (the designated worlds') satisfies no
         designated event's propositional precondition: the compiled event model cannot apply there."""
-        designated, lits = comp[2], comp[5]
+        dlits = comp[10]  # (pos, neg) literal masks of the designated events' preconditions
         for v in vals:
-            for e in designated:
-                pos, neg = lits[e]
+            for pos, neg in dlits:
                 if (v & pos) == pos and not (v & neg):
                     break
             else:
@@ -699,7 +698,7 @@ class CompactEngine:
 
     def apply_compiled(self, s: CompactState, comp: tuple) -> CompactState | None:
         """:meth:`apply` with the event model already compiled (``comp = self.compile(em)``)."""
-        q, k, designated, others, tabs, _lits, npre, nposts, shapes, stat = comp
+        q, k, designated, others, tabs, _lits, npre, nposts, shapes, stat, _dlits = comp
         val = s.val
         for p in s.points:  # inapplicable at a designated world: known from its valuation alone (tables)
             v = val[p]

@@ -287,7 +287,14 @@ class CompactSpace:
             if comp is _MISSING:
                 em = self.event_model(s, entry)
                 comp = table[at] = None if em is None else compile_em(em)
-            if comp is not None and may(comp, (here,) if single else here):
+            if comp is None:
+                continue
+            if single:  # CompactEngine.may_apply inlined: (pos, neg) literals of the designated events
+                for pos, neg in comp[10]:
+                    if (here & pos) == pos and not (here & neg):
+                        out.append((entry[1].name, None, comp))
+                        break
+            elif may(comp, here):
                 out.append((entry[1].name, None, comp))
         return out
 
