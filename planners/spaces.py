@@ -32,7 +32,7 @@ from typing import Any, Literal
 from delkit.compact import CompactEngine, CompactState
 from delkit.errors import PlanningError
 from delkit.events import EventModel
-from delkit.formula import Formula, is_propositional
+from delkit.formula import Formula, is_propositional, props_of
 from delkit.kripke import KripkeModel
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, build_event_model, goal_conjuncts
 
@@ -105,6 +105,21 @@ class CompactSpace:
         self._acts: list[tuple] = [self._entry(act) for act in task.actions]
         self._index = {act.name: i for i, act in enumerate(task.actions)}
         self._ems: dict[tuple, EventModel] = {}
+        # per action whose executability and conditions are all propositional: the event model (or None: not
+        # executable) per valuations of the designated worlds restricted to the propositions the conditions
+        # mention — they decide it (shared by all states)
+        self._select: list[tuple[dict, int] | None] = []
+        for e in self._acts:
+            conds = [] if e[0] == "macro" else self._conditions(e)
+            if e[0] == "macro" or not all(is_propositional(c) for c in conds):
+                self._select.append(None)
+                continue
+            support = 0
+            for c in conds:
+                for p in props_of(c):
+                    support |= 1 << self.engine.pidx[p]
+            self._select.append(({}, support))
+        self._by_point: dict[Any, list] = {}
 
     def _entry(self, act: ActionSpec | EventAction | MacroSpec) -> tuple:
         """Per action its conditions as node ids: ("spec", act, exe, full, partial, sensed) / ("event", act,
@@ -255,21 +270,58 @@ class CompactSpace:
         """The successor of ``s`` by the action ``name`` (None if not applicable)."""
         return self.apply_entry(s, self._acts[self._index[name]])
 
+    def _candidates(self, s: CompactState, here: Any) -> list[tuple[str, tuple | None, tuple | None]]:
+        """The actions that may apply in ``s`` as (name, entry, None) — decided per state — or (name, None,
+        compiled event model) — chosen by the designated worlds' valuations ``here`` and not excluded by them
+        (some designated event's propositional precondition holds at every designated world)."""
+        single = not isinstance(here, frozenset)
+        compile_em, may = self.engine.compile, self.engine.may_apply
+        out = []
+        for entry, sel in zip(self._acts, self._select, strict=True):
+            if sel is None:
+                out.append((entry[1].name, entry, None))
+                continue
+            table, support = sel
+            at = here & support if single else frozenset([v & support for v in here])
+            comp = table.get(at, _MISSING)
+            if comp is _MISSING:
+                em = self.event_model(s, entry)
+                comp = table[at] = None if em is None else compile_em(em)
+            if comp is None:
+                continue
+            if single:  # CompactEngine.may_apply inlined: (pos, neg) literals of the designated events
+                for pos, neg in comp[10]:
+                    if (here & pos) == pos and not (here & neg):
+                        out.append((entry[1].name, None, comp))
+                        break
+            elif may(comp, here):
+                out.append((entry[1].name, None, comp))
+        return out
+
     def successors(self, s: CompactState) -> Iterator[tuple[str, CompactState, Hashable]]:
-        for entry in self._acts:
-            new = self.apply_entry(s, entry)
+        val, points = s.val, s.points
+        # the candidate actions per valuation(s) of the designated world(s), shared by all states
+        here = val[points[0]] if len(points) == 1 else frozenset([val[p] for p in points])
+        cands = self._by_point.get(here)
+        if cands is None:
+            cands = self._by_point[here] = self._candidates(s, here)
+        apply = self.engine.apply_compiled
+        for name, entry, comp in cands:
+            new = apply(s, comp) if comp is not None else self.apply_entry(s, entry)  # type: ignore[arg-type]
             if new is None:
                 continue
             if not self.allow_inconsistent and self.engine.believes_bottom(new):
                 self.dead_ends += 1
                 continue
-            yield entry[1].name, new, new.key
+            yield name, new, new.key
+
+
+_MISSING = object()
 
 
 def _valuation_view(v: int, n_agents: int) -> CompactState:
     """A one-world state with valuation ``v`` (for deciding propositional conditions only)."""
-    return CompactState((v,), tuple(((0,),) for _ in range(n_agents)), tuple((1,) for _ in range(n_agents)), (0,),
-                        None, tuple((0,) for _ in range(n_agents)), tuple((((0,),)) for _ in range(n_agents)))
+    return CompactState((v,), tuple((1,) for _ in range(n_agents)), (0,))
 
 
 def _group_d_formulas(task: Task) -> list[Formula]:

@@ -7,6 +7,7 @@ update followed by contraction. The numpy backend is the reference.
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -16,6 +17,7 @@ from delkit.compact import CompactEngine
 from delkit.errors import ModelError
 from delkit.formula import D, Not, subformulas
 from delkit.kripke import KripkeModel
+from delkit.relation import Relation
 from delkit.testing import event_models, formulas, kripke_models
 from delkit.update import product_update
 
@@ -76,6 +78,77 @@ def test_update_compact_equals_numpy(data, frame, eframe) -> None:
     f = data.draw(formulas(P, A, 2).filter(_no_group_d))
     assert ENGINE.holds(new, f) == ref.holds(f)
     assert sorted(ENGINE.inconsistent(new)) == sorted({ag for ag, _ in ref.inconsistent_agents()})
+
+
+def _check_update(engine: CompactEngine, m: KripkeModel, em) -> None:
+    new = engine.apply(engine.from_kripke(m), em)
+    ref = product_update(m, em)
+    covered = {int(w) for w in m.designated if any(m.check(em.pre[e])[int(w)] for e in em.designated)}
+    if covered != {int(w) for w in m.designated}:
+        assert new is None
+        return
+    assert new is not None
+    assert bisimilar(engine.to_kripke(new), ref)
+    assert new.key == engine.from_kripke(ref).key
+
+
+@settings(max_examples=100, deadline=None)
+@given(data=st.data(), frame=FRAMES, eframe=st.sampled_from(["S5", "KD45", "K", "mA*"]))
+def test_update_through_the_shape_cache_equals_numpy(data, frame, eframe) -> None:
+    """One event model applied to several models of one frame (valuations redrawn, so preconditions and
+    postconditions come out differently): after the first application the engine answers from its cache of
+    transition shapes whenever the frame, the precondition pattern and the order of the new valuations
+    repeat — every answer equal to the reference update."""
+    engine = CompactEngine(P, A)  # fresh caches, filled by this example only
+    m = data.draw(_models(frame, max_worlds=4))
+    em = data.draw(event_models(P, A, 3, frame=eframe))
+    for _ in range(8):
+        bits = data.draw(st.lists(st.booleans(), min_size=m.valuation.size, max_size=m.valuation.size))
+        val = np.array(bits, dtype=bool).reshape(m.valuation.shape)
+        _check_update(engine, KripkeModel(P, A, val, m.relations, m.designated), em)
+
+
+def test_shape_cache_hit_hand_checked() -> None:
+    """Two states with one frame and the same order of valuations after the update share the cached shape
+    (the very same relation tuples) and each has the reference result: a public ontic event q := ¬q on a
+    two-world model where a cannot tell p and b can."""
+    from delkit.events import EventModel
+    from delkit.formula import Prop, Top
+
+    em = EventModel(("e",), A, (Top(),), ({"q": Not(Prop("q"))},), {a: Relation.identity(1) for a in A}, (0,),
+                    "flip q")
+    engine = CompactEngine(P, A)
+    rel = {"a": Relation.from_labels([0, 0]), "b": Relation.identity(2)}
+    m1 = KripkeModel(P, A, np.array([[True, False], [False, False]]), rel, (0,))
+    m2 = KripkeModel(P, A, np.array([[True, True], [False, True]]), rel, (0,))
+    n1 = engine.apply(engine.from_kripke(m1), em)
+    n2 = engine.apply(engine.from_kripke(m2), em)
+    assert n1 is not None and n2 is not None and n2.masks is n1.masks  # the second came from the cache
+    for m, new in ((m1, n1), (m2, n2)):
+        assert bisimilar(engine.to_kripke(new), product_update(m, em))
+        assert len(new.val) == 2
+    assert n1.val != n2.val
+
+
+def test_shape_cache_tells_a_failed_precondition_from_a_small_valuation() -> None:
+    """Same frame, same event (pre p, q := ⊤): in the first state the precondition fails at the world a
+    cannot tell from the designated one (the result has one world), in the second it holds there and the new
+    valuation is the smallest (two worlds). The shape key must not confuse "fails" with "smallest"."""
+    from delkit.events import EventModel
+    from delkit.formula import Prop, Top
+
+    p3, a2 = ("p", "q", "r"), ("a", "b")
+    em = EventModel(("e",), a2, (Prop("p"),), ({"q": Top()},), {a: Relation.identity(1) for a in a2}, (0,), "set q")
+    engine = CompactEngine(p3, a2)
+    rel = {"a": Relation.from_labels([0, 0]), "b": Relation.identity(2)}
+    first = KripkeModel(p3, a2, np.array([[False, False, False], [True, False, False]]), rel, (1,))
+    second = KripkeModel(p3, a2, np.array([[True, False, False], [True, False, True]]), rel, (1,))
+    sizes = []
+    for m in (first, second):
+        new = engine.apply(engine.from_kripke(m), em)
+        assert new is not None and bisimilar(engine.to_kripke(new), product_update(m, em))
+        sizes.append(new.n)
+    assert sizes == [1, 2]
 
 
 @settings(max_examples=60, deadline=None)

@@ -73,13 +73,9 @@ def test_fast_instances_planned_with_expected_length(part: str) -> None:
 
 
 def _slow_rows():
+    # Selective-Communication included: BFS needs 53,694 expansions (length 7, optimal), ~14 s CPU
     for r in ROWS:
-        marks = []
-        if "Selective-Communication" in r["problem"]:
-            # BFS needs 53,694 expansions (length 7, optimal); ~500 s on the compact backend today
-            marks.append(pytest.mark.xfail(reason="BFS per-node speed: ~500 s for the 53,694 expansions",
-                                           strict=False))
-        yield pytest.param(r, id=r["problem"].split("domains/")[1], marks=marks)
+        yield pytest.param(r, id=r["problem"].split("domains/")[1])
 
 
 @pytest.mark.slow
