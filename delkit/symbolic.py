@@ -63,7 +63,6 @@ from delkit.formula import (
     Prop,
     Top,
     Update,
-    children,
     conj,
     disj,
     parse,
@@ -81,12 +80,20 @@ _FRESH = itertools.count()
 def new_manager(*, reordering: bool = False) -> Any:
     """A fresh ``dd.cudd.BDD`` manager. Dynamic reordering is off by default: variables keep the order in
     which they are declared (the vocabulary order), which keeps runs deterministic and, on the puzzles,
-    is several times faster than CUDD's sifting (muddy children N = 80: 1.4 s vs 12 s)."""
+    is several times faster than CUDD's sifting (muddy children N = 80: 1.4 s vs 12 s).
+
+    The computed table starts at 2^16 entries instead of dd's 2^18: CUDD grows it by itself when its hit
+    rate is high, and allocating and clearing the larger table cost 5-10 ms of CPU per manager (page faults
+    included) — a third of the whole muddy-children puzzle at N = 40, most of it at N = 10. The memory
+    bound stays dd's default (1 GiB)."""
     import dd.cudd
 
-    mgr = dd.cudd.BDD()
+    mgr = dd.cudd.BDD(initial_cache_size=_INITIAL_CACHE)
     mgr.configure(reordering=reordering)
     return mgr
+
+
+_INITIAL_CACHE = 1 << 16
 
 
 def _fresh(prefix: str, taken: set[str]) -> str:
@@ -205,24 +212,28 @@ class KnowledgeStructure:
     # ------------------------------------------------------------------ truth
     def evaluate(self, formula: Formula | str) -> Any:
         """``||φ||_F``: the BDD of the assignments where φ holds (meaningful on states, i.e. under θ)."""
-        if isinstance(formula, str):
-            formula = parse(formula)
         hit = self._cache.get(formula)
         if hit is not None:
             return hit
-        props = self._props
-        hit = props.get(formula)
-        if hit is not None:
-            return hit
-        kind = type(formula)
-        rule = _DISPATCH.get(kind)
-        if rule is None:
-            raise TypeError(f"cannot evaluate {formula!r}")
-        hit = rule(self, formula)
-        if kind is Prop or (kind in _BOOLEAN and all(c in props for c in children(formula))):
-            props[formula] = hit  # propositional: the same BDD in every structure on this manager
-        else:
-            self._cache[formula] = hit
+        if type(formula) is Not and type(formula.arg) is not Iff:
+            return ~self.evaluate(formula.arg)  # negation is free on BDDs (a complemented edge): not cached
+        return self._compute(formula)
+
+    def _compute(self, formula: Formula | str) -> Any:
+        """A cache miss of :meth:`evaluate`: the structure-independent cache of propositional truth sets,
+        then the rule of the formula's kind."""
+        if isinstance(formula, str):
+            return self.evaluate(parse(formula))
+        props, kind = self._props, type(formula)
+        hit = props.get(formula) if kind is Prop or kind in _BOOLEAN else None
+        if hit is None:
+            rule = _DISPATCH.get(kind)
+            if rule is None:
+                raise TypeError(f"cannot evaluate {formula!r}")
+            hit = rule(self, formula)
+            if kind is Prop or (kind in _BOOLEAN and _children_propositional(formula, props)):
+                props[formula] = hit  # propositional: the same BDD in every structure on this manager
+        self._cache[formula] = hit
         return hit
 
     def holds(self, formula: Formula | str) -> bool:
@@ -270,32 +281,40 @@ class KnowledgeStructure:
         return cube
 
     def _knows_whether(self, agent: str, u: Any) -> Any:
-        """``||Kw_a φ|| = ||K_a φ|| ∨ ||K_a ¬φ||``.
-
-        When ``||φ||`` is a literal of one unobserved variable x (``Kw_a p`` with p hidden from a, as in
-        muddy children), ``K_a x ∨ K_a ¬x = ¬(∃H'θ[x:=0] ∧ ∃H'θ[x:=1]) = ¬∀x ∃H'θ`` with H' = H ∖ {x}: one
-        quantification instead of two and-abstracts and a disjunction; ∃H'θ is cached per (agent, x).
-        """
-        b = self.bdd
-        hidden = self._hidden.get(agent)
-        if hidden is None:
-            hidden = self._hidden[agent] = self._unobserved((agent,))
-        x = u.var
-        if x is not None and x in hidden:
-            node = b.var(x)  # a positive literal is its own one-variable cube
-            if u == node or u == ~node:
-                if len(hidden) == 1:
-                    base = self.law
-                else:
-                    key = ("__proj", agent, x)
-                    base = self._cache.get(key)
-                    if base is None:
-                        base = self._cache[key] = b.exist(hidden - {x}, self.law)
-                return ~b.apply("\\A", node, base)  # the cube form skips dd's per-call cube building
+        """``||Kw_a φ|| = ||K_a φ|| ∨ ||K_a ¬φ||`` for ``u = ||φ||``."""
+        lit = self._hidden_literal(agent, u)
+        if lit:
+            return self._knows_whether_literal(agent, *lit)
+        hidden = self._unobserved((agent,))
         if not hidden:
-            return b.true
-        cube, law = self._cube(hidden), self.law
+            return self.bdd.true
+        b, cube, law = self.bdd, self._cube(hidden), self.law
         return ~(b.apply("\\E", cube, law & ~u) & b.apply("\\E", cube, law & u))
+
+    def _hidden_literal(self, agent: str, u: Any) -> tuple:
+        """``(x, rest)`` when ``u`` is a literal of a variable x the agent does not observe, with ``rest`` the
+        other unobserved variables (None if there are none); ``()`` otherwise."""
+        hidden = self._unobserved((agent,))
+        x = u.var
+        if x is None or x not in hidden:
+            return ()
+        node = self.bdd.var(x)
+        if u != node and u != ~node:
+            return ()
+        return node, (hidden - {x}) or None
+
+    def _knows_whether_literal(self, agent: str, node: Any, rest: frozenset[str] | None) -> Any:
+        """``Kw_a x`` for a variable x hidden from a: ``K_a x ∨ K_a ¬x = ¬(∃H'θ[x:=0] ∧ ∃H'θ[x:=1]) = ¬∀x ∃H'θ``
+        with H' = ``rest`` (the other hidden variables): one quantification instead of two and-abstracts and a
+        disjunction; ∃H'θ is cached per (agent, x) on this structure."""
+        if rest is None:
+            base = self.law
+        else:
+            key = ("__proj", agent, node)
+            base = self._cache.get(key)
+            if base is None:
+                base = self._cache[key] = self.bdd.apply("\\E", self._cube(rest), self.law)
+        return ~self.bdd.apply("\\A", node, base)  # the one-variable cube is the variable's node
 
     def _common(self, group: tuple[str, ...], u: Any) -> Any:
         """gfp X. θ ∧ ⋀_{a∈G} ∀(V∖O_a)(θ → u ∧ X), iterated from X = θ.
@@ -412,8 +431,7 @@ def _fold_bdds(parts: list[Any], op: Any) -> Any:
     return out
 
 
-def _level(u: Any) -> int:
-    return u.level
+_level = operator.attrgetter("level")
 
 
 def _ev_and(ks: KnowledgeStructure, f: And) -> Any:
@@ -443,6 +461,21 @@ def _ev_knows(ks: KnowledgeStructure, f: K) -> Any:
             parts.append(u)
         return _fold_bdds(parts, operator.and_)
     return ks._box((f.agent,), ks.evaluate(arg))
+
+
+def _ev_knows_whether(ks: KnowledgeStructure, f: Kw) -> Any:
+    """``||Kw_a φ||``. Whether ``||φ||`` is a literal of a variable hidden from a is decided once per formula
+    with a propositional φ and kept with the observations (shared by all announcements): each further
+    round then costs one quantification and no Python-level inspection of the BDD."""
+    shared = ks._hidden
+    lit = shared.get(f)
+    if lit is None:
+        lit = ks._hidden_literal(f.agent, ks.evaluate(f.arg))
+        if _in_props(f.arg, ks._props):
+            shared[f] = lit
+    if lit:
+        return ks._knows_whether_literal(f.agent, *lit)
+    return ks._knows_whether(f.agent, ks.evaluate(f.arg))
 
 
 def _ev_xor(ks: KnowledgeStructure, iff: Iff) -> Any:
@@ -502,6 +535,28 @@ def _ev_announce(ks: KnowledgeStructure, f: Announce) -> Any:
 
 _BOOLEAN = frozenset((Top, Bot, Not, And, Or, Implies, Iff))
 
+
+def _in_props(f: Formula, props: dict) -> bool:
+    """Whether the truth set of ``f`` is in the propositional cache (negations are looked up by argument)."""
+    while type(f) is Not and type(f.arg) is not Iff:
+        f = f.arg
+    return f in props
+
+
+def _children_propositional(f: Formula, props: dict) -> bool:
+    """Whether every immediate subformula of the Boolean formula ``f`` has its truth set in ``props``
+    (negations are not cached, see :meth:`KnowledgeStructure.evaluate`: their argument is looked up)."""
+    kind = type(f)
+    if kind is And or kind is Or:
+        kids: Iterable[Formula] = f.args
+    elif kind is Not:
+        kids = (f.arg,)
+    elif kind is Implies or kind is Iff:
+        kids = (f.left, f.right)
+    else:
+        return True  # ⊤, ⊥
+    return all(_in_props(c, props) for c in kids)
+
 _DISPATCH: dict[type, Any] = {
     Prop: _ev_prop,
     Top: lambda ks, f: ks.bdd.true,
@@ -512,7 +567,7 @@ _DISPATCH: dict[type, Any] = {
     Implies: lambda ks, f: ~ks.evaluate(f.left) | ks.evaluate(f.right),
     Iff: lambda ks, f: ks.bdd.apply("<=>", ks.evaluate(f.left), ks.evaluate(f.right)),
     K: lambda ks, f: _ev_knows(ks, f),
-    Kw: lambda ks, f: ks._knows_whether(f.agent, ks.evaluate(f.arg)),
+    Kw: _ev_knows_whether,
     E: _ev_every,
     D: lambda ks, f: ks._box(f.group, ks.evaluate(f.arg)),
     C: lambda ks, f: ks._common(f.group, ks.evaluate(f.arg)),
