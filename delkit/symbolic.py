@@ -216,12 +216,18 @@ class KnowledgeStructure:
     # ------------------------------------------------------------------ truth
     def evaluate(self, formula: Formula | str) -> Any:
         """``||φ||_F``: the BDD of the assignments where φ holds (meaningful on states, i.e. under θ)."""
-        hit = self._cache.get(formula)
+        cache = self._cache
+        hit = cache.get(formula)
         if hit is not None:
             return hit
         kind = type(formula)
         if kind is Not and type(formula.arg) is not Iff:
             return ~self.evaluate(formula.arg)  # negation is free on BDDs (a complemented edge): not cached
+        if kind is Kw:  # the per-agent question of epistemic puzzles, asked anew of every announced structure
+            lit = self._hidden.get(formula)
+            if lit:  # Kw_a x, x hidden from a, decided once per formula (_ev_knows_whether)
+                hit = cache[formula] = self._knows_whether_literal(formula.agent, *lit)
+                return hit
         return self._compute(formula, kind)
 
     def _compute(self, formula: Formula | str, kind: type) -> Any:
@@ -243,10 +249,7 @@ class KnowledgeStructure:
 
     def holds(self, formula: Formula | str) -> bool:
         """True iff φ holds at every actual state."""
-        u = self._cache.get(formula)
-        if u is None:
-            u = self.evaluate(formula)
-        return (self.actual & ~u) == self.bdd.false
+        return (self.actual & ~self.evaluate(formula)) == self.bdd.false
 
     def truth(self, formula: Formula | str, state: Mapping[str, bool]) -> bool:
         """Truth of φ at one state (a full assignment of the vocabulary)."""

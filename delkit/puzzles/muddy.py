@@ -115,22 +115,20 @@ def run_rounds(state: Any, children: int, muddy: int, *, max_rounds: int | None 
     # one formula object per distinct answer vector (the "nobody knows" rounds repeat one): built and
     # hashed once, a structure-independent key for the engines' caches
     said: dict[tuple[bool, ...], Formula] = {}
-    is_muddy = np.arange(children) < muddy
     limit = max_rounds if max_rounds is not None else children + 2
     sizes: list[int] = []
     nobody_rounds = 0
     muddy_round: int | None = None
     clean_round: int | None = None
     for rnd in range(1, limit + 1):
-        key = tuple([state.holds(k) for k in knows])
-        answers = np.array(key)
-        if muddy_round is None and answers[is_muddy].all():
+        key = tuple([state.holds(k) for k in knows])  # children 0 … muddy-1 are the muddy ones
+        if muddy_round is None and all(key[:muddy]):
             muddy_round = rnd
-        if clean_round is None and (~is_muddy).any() and answers[~is_muddy].all():
+        if clean_round is None and muddy < children and all(key[muddy:]):
             clean_round = rnd
-        if answers.all():
+        if all(key):
             break
-        if not answers.any():
+        if not any(key):
             nobody_rounds += 1
         # public announcement of every child's truthful answer
         announcement = said.get(key)
