@@ -86,8 +86,14 @@ def new_manager(*, reordering: bool = False) -> Any:
     N = 40, most of it at N = 10): its computed table starts at 2^18 entries, and CUDD's start-up work grows
     with the memory estimate (dd passes 1 GiB). Here the table starts at 2^16 entries (CUDD grows it when
     its hit rate is high; the cache lookups of muddy children N = 100 differ by 4 %) and the estimate is
-    256 MiB, with the unique table's loose growth bound set back to the value dd's 1 GiB gives. The
-    estimate is no limit: past it CUDD only collects garbage more eagerly. Creation: < 1 ms."""
+    256 MiB. The estimate is no limit: past it CUDD only collects garbage more eagerly. Creation: < 1 ms.
+
+    The unique table grows fast (doubling, collecting garbage rarely) only up to 100,000 slots instead of
+    the ~6.7 M dd's estimate gives; beyond that CUDD collects dead nodes before it grows the table. Dead
+    nodes pile up quickly in the puzzles (every round's intermediate conjunctions die): muddy children
+    N = 150 peaked at 1.7 M nodes with a 0.57 M-slot table, now 0.69 M nodes and 0.21 M slots, with 15 %
+    fewer last-level cache misses (valgrind's cache model; 0.7 % fewer instructions, 4 % more computed-table
+    lookups)."""
     import dd.cudd
 
     mgr = dd.cudd.BDD(memory_estimate=_MEMORY_ESTIMATE, initial_cache_size=_INITIAL_CACHE)
@@ -97,7 +103,7 @@ def new_manager(*, reordering: bool = False) -> Any:
 
 _INITIAL_CACHE = 1 << 16
 _MEMORY_ESTIMATE = 1 << 28
-_LOOSE_UP_TO = (1 << 30) // 32 // 5  # CUDD: memory estimate / sizeof(DdNode) / DD_MAX_LOOSE_FRACTION, at dd's 1 GiB
+_LOOSE_UP_TO = 100_000  # unique-table slots
 
 
 def _fresh(prefix: str, taken: set[str]) -> str:
@@ -303,8 +309,8 @@ class KnowledgeStructure:
         return ~(b.apply("\\E", cube, law & ~u) & b.apply("\\E", cube, law & u))
 
     def _hidden_literal(self, agent: str, u: Any) -> tuple:
-        """``(x, rest)`` when ``u`` is a literal of a variable x the agent does not observe, with ``rest`` the
-        other unobserved variables (None if there are none); ``()`` otherwise."""
+        """``(node, rest)`` when ``u`` is a literal of a variable x the agent does not observe: x's BDD node and
+        the other unobserved variables ``rest`` (None if there are none); ``()`` otherwise."""
         hidden = self._unobserved((agent,))
         x = u.var
         if x is None or x not in hidden:
@@ -568,6 +574,7 @@ def _children_propositional(f: Formula, props: dict) -> bool:
     else:
         return True  # ⊤, ⊥
     return all(_in_props(c, props) for c in kids)
+
 
 _DISPATCH: dict[type, Any] = {
     Prop: _ev_prop,
