@@ -13,8 +13,10 @@ time of the same run beside it), imports excluded, with the same timed region as
   :func:`delkit.puzzles.sum_product.smcdel_sum_product`, and delkit's own dialogue (Kw of the bits).
 
 The SMCDEL column is the figure from issue 12 (SMCDEL with CacBDD, measured by the lead on this machine,
-in-process CPU); ``ratio`` = delkit / SMCDEL (below 1: delkit is faster). The growth line fits
-t ∝ N^k by least squares on log-log over the muddy rows both columns have.
+in-process CPU); ``ratio`` = delkit / SMCDEL (below 1: delkit is faster). ``load`` is the machine's
+1-minute load average when the row finished (the box is shared; CPU times grow with the load too). The
+growth lines fit t ∝ N^k by least squares on log-log: over the muddy rows both columns have (N = 40…100,
+SMCDEL's exponent beside), and over all muddy rows measured.
 
     .venv/bin/python bench/symbolic.py                     # all rows, 3 repeats
     .venv/bin/python bench/symbolic.py --muddy 10,20,40,60,80,100,150,200 --repeat 5
@@ -24,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 import sys
 import time
 from pathlib import Path
@@ -102,19 +105,22 @@ def main(argv: list[str] | None = None) -> int:
 
     muddy_symbolic(3, 3)  # warm up
     table = Table(title="delkit symbolic vs SMCDEL (in-process CPU seconds; min of repeats)")
-    cols = ("puzzle", "N", "right answer", "delkit CPU s", "delkit wall s", "SMCDEL CPU s", "ratio")
+    cols = ("puzzle", "N", "right answer", "delkit CPU s", "delkit wall s", "SMCDEL CPU s", "ratio", "load")
     for col in cols:
         table.add_column(col, justify="right")
     md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     mine: list[tuple[int, float]] = []
+    every: list[tuple[int, float]] = []
     for name, n, cpu, wall, ok, ref in rows(ints(args.muddy), ints(args.drinking), ints(args.dining), args.repeat):
         ratio = f"{cpu / ref:.2f}" if ref else "—"
         cells = (name, str(n), "yes" if ok else "NO", f"{cpu:.4f}", f"{wall:.4f}",
-                 f"{ref:.3f}" if ref else "—", ratio)
+                 f"{ref:.3f}" if ref else "—", ratio, f"{os.getloadavg()[0]:.1f}")
         table.add_row(*cells)
         md.append("| " + " | ".join(cells) + " |")
-        if name == "muddy" and ref:
-            mine.append((n, cpu))
+        if name == "muddy":
+            every.append((n, cpu))
+            if ref:
+                mine.append((n, cpu))
     console = Console()
     if args.markdown:
         print("\n".join(md))
@@ -124,6 +130,8 @@ def main(argv: list[str] | None = None) -> int:
         ref_pts = [(n, SMCDEL[("muddy", n)]) for n, _ in mine]
         print(f"muddy growth on N = {', '.join(str(n) for n, _ in mine)}: delkit N^{_fit(mine):.2f}, "
               f"SMCDEL N^{_fit(ref_pts):.2f}")
+    if len(every) > len(mine) and len(every) >= 2:
+        print(f"muddy growth on N = {', '.join(str(n) for n, _ in every)}: delkit N^{_fit(every):.2f}")
     return 0
 
 

@@ -111,24 +111,30 @@ def run_rounds(state: Any, children: int, muddy: int, *, max_rounds: int | None 
     """
     agents, props = _agents(children), _props(children)
     knows = [Kw(a, Prop(p)) for a, p in zip(agents, props, strict=True)]
-    is_muddy = np.arange(children) < muddy
+    unknown = [Not(k) for k in knows]
+    # one formula object per distinct answer vector (the "nobody knows" rounds repeat one): built and
+    # hashed once, a structure-independent key for the engines' caches
+    said: dict[tuple[bool, ...], Formula] = {}
     limit = max_rounds if max_rounds is not None else children + 2
     sizes: list[int] = []
     nobody_rounds = 0
     muddy_round: int | None = None
     clean_round: int | None = None
     for rnd in range(1, limit + 1):
-        answers = np.array([state.holds(k) for k in knows])
-        if muddy_round is None and answers[is_muddy].all():
+        key = tuple([state.holds(k) for k in knows])  # children 0 … muddy-1 are the muddy ones
+        if muddy_round is None and all(key[:muddy]):
             muddy_round = rnd
-        if clean_round is None and (~is_muddy).any() and answers[~is_muddy].all():
+        if clean_round is None and muddy < children and all(key[muddy:]):
             clean_round = rnd
-        if answers.all():
+        if all(key):
             break
-        if not answers.any():
+        if not any(key):
             nobody_rounds += 1
         # public announcement of every child's truthful answer
-        state = state.announce(conj(k if yes else Not(k) for k, yes in zip(knows, answers, strict=True)))
+        announcement = said.get(key)
+        if announcement is None:
+            announcement = said[key] = conj(k if yes else n for k, n, yes in zip(knows, unknown, key, strict=True))
+        state = state.announce(announcement)
         sizes.append(size(state))
     if muddy_round is None:
         raise ModelError(f"muddy children: no answer after {limit} rounds (raise max_rounds)")
