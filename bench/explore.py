@@ -113,6 +113,8 @@ def main() -> int:
     if not args.no_ablation:
         ablation(args.workers)
 
+    if args.gap <= 0:
+        return 0
     print(f"\n== allocation: Algorithms 1–2 vs exact MILP, {args.gap} random instances (2–4 robots, 2–4 tasks) ==")
     rows = allocation_gap(args.gap, seed=0)
     for key, name in (("gap", "eq. 20 team utility"), ("makespan_gap", "makespan (second comparison)")):
