@@ -165,6 +165,7 @@ def run_draw(path: str, output: Path, max_worlds: int, layout: str, seed: int) -
     obj = load_any(path)
     pic = draw.picture(obj, max_worlds=max_worlds, layout=layout, seed=seed)
     try:
+        output.parent.mkdir(parents=True, exist_ok=True)  # like the other commands' --out
         if suffix == ".svg":
             output.write_text(pic.svg(), encoding="utf-8")
         elif suffix == ".tex":
