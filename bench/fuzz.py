@@ -27,8 +27,8 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("-n", type=int, default=5000, help="number of inputs")
     ap.add_argument("--seed", type=int, default=2026)
-    ap.add_argument("--families", default="", help="comma-separated subset of: plan, check, model, puzzle, "
-                                                     "consistency, explore, arms, misc")
+    ap.add_argument("--families", default="", help="comma-separated subset of tests/fuzz/fuzzgen.FAMILIES, e.g. "
+                                                     "plan,check,model,epddl2026,convert,smcdel,epico")
     ap.add_argument("--mem-mb", type=int, default=3072, help="address-space limit of the worker (MiB)")
     ap.add_argument("--markdown", type=Path, help="also write the table (and every bad case) here")
     args = ap.parse_args()
