@@ -389,7 +389,10 @@ def _layout(nodes: list[Node], edges: list[Edge], layout: str, seed: int) -> Non
     elif kind == "kamada-kawai":
         pos = nx.kamada_kawai_layout(g)
     else:
-        pos = nx.spring_layout(g, seed=seed)
+        import numpy as np
+
+        # any seed 0..2^63-1 (the CLI's range for every seed), mapped to the 32 bits numpy's RandomState takes
+        pos = nx.spring_layout(g, seed=int(np.random.SeedSequence(seed).generate_state(1)[0]))
     pts = [(float(pos[i][0]), float(pos[i][1])) for i in range(n)]
     rmax = max(nd.r for nd in nodes)
     dmin = min((math.hypot(a[0] - b[0], a[1] - b[1]) for i, a in enumerate(pts) for b in pts[i + 1:]), default=1.0)

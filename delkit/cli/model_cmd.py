@@ -192,7 +192,7 @@ def register(app: typer.Typer) -> None:
         max_worlds: int = typer.Option(64, "--max-worlds", min=0,
                                        help="Draw a structure's Kripke model only up to this many states."),
         layout: str = typer.Option("auto", "--layout", help="auto, circle, spring or kamada-kawai."),
-        seed: int = typer.Option(0, "--layout-seed", help="Seed of the spring layout."),
+        seed: int = typer.Option(0, "--layout-seed", min=0, max=2**63 - 1, help="Seed of the spring layout."),
     ) -> None:
         """Picture of a model or structure (no Graphviz needed): SVG, PNG or LaTeX/TikZ by the output's suffix."""
         from delkit.cli.model_tools import run_draw

@@ -426,3 +426,17 @@ def test_deadline_fires_again_when_its_exception_is_swallowed():
                     raise
                 swallowed += 1  # the first alarm is lost, as in a finaliser
     assert swallowed == 1 and time.monotonic() - t0 < 2
+
+
+@pytest.mark.parametrize("seed", ["0", "4294967296", "9223372036854775807"])
+def test_draw_layout_seed_takes_the_whole_seed_range(tmp_path, capsys, seed):
+    """Found by the model-draw fuzz family: --layout-seed -2^63 (and anything ≥ 2^32) crashed in numpy's
+    RandomState; now every seed 0..2^63-1 draws (the range of every other seed) and the rest is refused."""
+    from delkit.cli import main
+
+    out = tmp_path / "m.svg"
+    assert main(["model", "draw", str(_model(tmp_path)), "-o", str(out), "--layout", "spring",
+                 "--layout-seed", seed]) == 0
+    assert out.read_text().lstrip().startswith("<")
+    one_line_error(capsys, ["model", "draw", str(_model(tmp_path)), "-o", str(out), "--layout", "spring",
+                            "--layout-seed", "-9223372036854775808"], "--layout-seed")
