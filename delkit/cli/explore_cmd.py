@@ -79,6 +79,8 @@ def register(app: typer.Typer) -> None:
             task = bar.add_task(f"{method} mission (simulated s)", total=t_max)
             res = mission.run(lambda t, _tot: bar.update(task, completed=t))
         out = res.row()
+        if out["min_separation"] == float("inf"):
+            out["min_separation"] = None  # one robot: no pair to measure (JSON has no Infinity)
         out["task_completers"] = [list(c) for c in res.task_completers]
         if status_model:
             out["epistemic_checks"] = {k: {"passed": p, "total": t} for k, p, t in res.epistemic_checks}
@@ -170,7 +172,8 @@ def register(app: typer.Typer) -> None:
         summary = {"runs": len(rows), "failures": sum(not r["success"] for r in rows),
                    "collisions": sum(r["collisions"] for r in rows),
                    "groups": [{"case": k[0], "method": k[1], "robots": k[2], **v} for k, v in summ.items()],
-                   "paper": [{"quantity": q, "ours": o, "paper": p} for q, o, p in comparison],
+                   # the paper gives no Case II spreads: null, not NaN (which is not JSON)
+                   "paper": [{"quantity": q, "ours": o, "paper": None if p != p else p} for q, o, p in comparison],
                    "files": files}
         (out / "summary.json").write_text(json.dumps(summary, indent=1))
         if as_json:
@@ -190,7 +193,7 @@ def register(app: typer.Typer) -> None:
         for col in ("quantity", "ours", "paper"):
             p.add_column(col, justify="right")
         for q, o, pp in comparison:
-            p.add_row(q, "–" if o is None else f"{o:.1f}", f"{pp:.1f}")
+            p.add_row(q, "–" if o is None else f"{o:.1f}", "–" if pp != pp else f"{pp:.1f}")
         Console().print(p)
         print(f"wrote {', '.join(files)}")
 

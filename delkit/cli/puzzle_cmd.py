@@ -55,7 +55,11 @@ def register(app: typer.Typer) -> None:
                              f"--muddy {muddy}")
         with deadline(timeout, f"puzzle muddy -n {children}"):
             if symbolic:
+                from delkit.resources import require
                 from delkit.symbolic import muddy_symbolic
+
+                # a lower bound: per child a variable name, its formula, its BDD variable and observation cube
+                require(1024.0 * children, f"puzzle muddy --symbolic -n {children}", "use a smaller --children")
 
                 data = muddy_symbolic(children, muddy).as_dict() | {"timed": _TIMED}
             else:

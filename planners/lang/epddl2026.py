@@ -818,6 +818,8 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
         if key in (":requirements", ":domain"):
             if key == ":requirements":
                 _requirements(g, sec)
+            if key == ":domain" and len(sec) != 2:
+                raise g.err(f"write the problem's domain as (:domain NAME), e.g. (:domain {dname})", sec)
             if key == ":domain" and str(sec[1]) != dname:
                 raise g.err(f"the problem is for domain {sec[1]!r}, the domain file defines {dname!r}", sec)
             continue

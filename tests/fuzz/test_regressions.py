@@ -440,3 +440,23 @@ def test_draw_layout_seed_takes_the_whole_seed_range(tmp_path, capsys, seed):
     assert out.read_text().lstrip().startswith("<")
     one_line_error(capsys, ["model", "draw", str(_model(tmp_path)), "-o", str(out), "--layout", "spring",
                             "--layout-seed", "-9223372036854775808"], "--layout-seed")
+
+
+def test_found_by_the_third_session_fuzz_run(tmp_path, capsys):
+    """Three findings of the 5,000-input run after the new families: a symbolic muddy puzzle of 2^31 children
+    ran out of memory building names (now estimated and refused), `(:domain)` without a name in an EPDDL
+    problem raised IndexError, a one-robot exploration printed Infinity (not JSON) as its separation."""
+    import json as _json
+
+    from delkit.cli import main
+
+    one_line_error(capsys, ["puzzle", "muddy", "-n", "2147483648", "-m", "1", "--symbolic", "--json"],
+                   "would need about", "--children")
+    (tmp_path / "d.epddl").write_text("(define (domain dd) (:requirements :typing) (:predicates (p))\n"
+                                      " (:event e :parameters () :precondition (p))\n"
+                                      " (:action a :parameters () :action-type (basic (e))))\n")
+    (tmp_path / "p.epddl").write_text("(define (problem pp) (:domain) (:agents x) (:init (p)) (:goal (p)))\n")
+    one_line_error(capsys, ["plan", str(tmp_path / "d.epddl"), str(tmp_path / "p.epddl")], r"\(:domain NAME\)")
+    assert main(["explore", "run", "--json", "--t-max", "5", "--robots", "1", "--case", "1"]) in (0, 1)
+    out = capsys.readouterr().out
+    assert _json.loads(out.strip().splitlines()[-1])["min_separation"] is None and "Infinity" not in out
