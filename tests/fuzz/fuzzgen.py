@@ -225,23 +225,29 @@ MASTAR_WORDS = ["fluent", "action", "agent", "executable", "if", "causes", "obse
                 "zz", "99999999999999999999", "%%%"]
 
 
+MASTAR_LINES = st.sampled_from(["initially C([a,b], x);", "goal zz;", "fluent T;", "agent a;", "action a;"]).map(
+    lambda line: "\n" + line + "\n")
+
+
 @st.composite
-def token_mutation(draw, text: str) -> bytes:
+def token_mutation(draw, text: str, words: list[str] = MASTAR_WORDS, insert=MASTAR_LINES,
+                   bytes_one_in: int = 10) -> bytes:
+    """One to four token edits (delete, duplicate, replace by one of ``words``, insert a draw of ``insert``),
+    or, one time in ``bytes_one_in``, a byte-level mutation."""
     toks = _TOKEN.findall(text)
-    if draw(st.integers(0, 9)) == 0:
+    if draw(st.integers(0, bytes_one_in - 1)) == 0:
         return draw(text_mutation(text))
     for _ in range(draw(st.integers(1, 4))):
         i = draw(st.integers(0, len(toks) - 1))
-        op = draw(st.sampled_from(["delete", "dup", "replace", "line"]))
+        op = draw(st.sampled_from(["delete", "dup", "replace", "insert"]))
         if op == "delete":
             del toks[i]
         elif op == "dup":
             toks.insert(i, toks[i])
         elif op == "replace":
-            toks[i] = draw(st.sampled_from(MASTAR_WORDS))
+            toks[i] = draw(st.sampled_from(words))
         else:
-            toks.insert(i, "\n" + draw(st.sampled_from(["initially C([a,b], x);", "goal zz;",
-                                                        "fluent T;", "agent a;", "action a;"])) + "\n")
+            toks.insert(i, draw(insert))
     return "".join(toks).encode()
 
 
@@ -701,22 +707,8 @@ SMCDEL_WORDS = ["VARS", "LAW", "OBS", "VALID?", "WHERE?", "TRUE?", "AND", "OR", 
 def smcdel_cases(draw) -> Case:
     """``delkit smcdel`` on mutated SMCDEL input files (tokens of its language, bytes)."""
     f = draw(st.sampled_from(sorted((SPECS / "smcdel").glob("*.smcdel.txt"))))
-    toks = _TOKEN.findall(f.read_text())
-    if draw(st.integers(0, 7)) == 0:
-        data = draw(text_mutation("".join(toks)))
-    else:
-        for _ in range(draw(st.integers(1, 4))):
-            i = draw(st.integers(0, len(toks) - 1))
-            op = draw(st.sampled_from(["delete", "dup", "replace", "nest"]))
-            if op == "delete":
-                del toks[i]
-            elif op == "dup":
-                toks.insert(i, toks[i])
-            elif op == "replace":
-                toks[i] = draw(st.sampled_from(SMCDEL_WORDS))
-            else:
-                toks.insert(i, "(" * draw(st.sampled_from([3, 300, 5000])))
-        data = "".join(toks).encode()
+    data = draw(token_mutation(f.read_text(), SMCDEL_WORDS, st.sampled_from([3, 300, 5000]).map(lambda n: "(" * n),
+                               bytes_one_in=8))
     return Case("smcdel", ("smcdel", "{d}/in.smcdel.txt", "--json"), (("in.smcdel.txt", data),), oracle="json",
                 budget=30.0, note=f"mutated {f.name}")
 
