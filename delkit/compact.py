@@ -364,6 +364,21 @@ class CompactEngine:
         """Node ``i`` is decided by one world's valuation."""
         return self._ptab[i] is not None
 
+    def _literal_masks(self, children: Sequence[int]) -> tuple[int, int, list[int]]:
+        """Of a conjunction's or disjunction's children: the bit mask of its positive literals, of its negated
+        ones, and the other children (in order)."""
+        pos = neg = 0
+        others = []
+        for c in children:
+            cn = self._nodes[c]
+            if cn[0] == _PROP:
+                pos |= 1 << cn[1]
+            elif cn[0] == _NOT and self._nodes[cn[1]][0] == _PROP:
+                neg |= 1 << self._nodes[cn[1]][1]
+            else:
+                others.append(c)
+        return pos, neg, others
+
     def pexpr(self, i: int, depth: int = 0) -> str:
         """A propositional node as a Python expression over the valuation ``v`` (an int bit mask); conjunctions
         and disjunctions of literals are single mask tests. Raises RecursionError beyond 40 levels."""
@@ -381,16 +396,8 @@ class CompactEngine:
             return f"(not {self.pexpr(node[1], depth + 1)})"
         if op == _IFF:
             return f"((not {self.pexpr(node[1], depth + 1)}) == (not {self.pexpr(node[2], depth + 1)}))"
-        pos = neg = 0
-        parts = []
-        for c in node[1]:
-            cn = self._nodes[c]
-            if cn[0] == _PROP:
-                pos |= 1 << cn[1]
-            elif cn[0] == _NOT and self._nodes[cn[1]][0] == _PROP:
-                neg |= 1 << self._nodes[cn[1]][1]
-            else:
-                parts.append(self.pexpr(c, depth + 1))
+        pos, neg, others = self._literal_masks(node[1])
+        parts = [self.pexpr(c, depth + 1) for c in others]
         if op == _AND:
             lits = ([f"(v & {pos}) == {pos}"] if pos else []) + ([f"not (v & {neg})"] if neg else [])
             return "(" + " and ".join(lits + parts) + ")" if lits or parts else "True"
@@ -443,17 +450,8 @@ class CompactEngine:
             def fn(v: int, g: Any = g, h: Any = h) -> bool:
                 return bool(g(v)) == bool(h(v))
         else:  # _AND / _OR: literals folded into a positive and a negative mask
-            pos = neg = 0
-            rest = []
-            for c in node[1]:
-                cn = self._nodes[c]
-                if cn[0] == _PROP:
-                    pos |= 1 << cn[1]
-                elif cn[0] == _NOT and self._nodes[cn[1]][0] == _PROP:
-                    neg |= 1 << self._nodes[cn[1]][1]
-                else:
-                    rest.append(self.pfun_slow(c))
-            rest_t = tuple(rest)
+            pos, neg, others = self._literal_masks(node[1])
+            rest_t = tuple(self.pfun_slow(c) for c in others)
             if op == _AND:
                 def fn(v: int, pos: int = pos, neg: int = neg, rest: tuple = rest_t) -> bool:
                     if (v & pos) != pos or (v & neg):
