@@ -65,31 +65,28 @@ def test_update_compact_equals_numpy(data, frame, eframe) -> None:
     on multi-pointed models; None exactly when some designated world has no designated event possible."""
     m = data.draw(_models(frame, max_worlds=4))
     em = data.draw(event_models(P, A, 3, frame=eframe))
-    s = ENGINE.from_kripke(m)
-    new = ENGINE.apply(s, em)
-    ref = product_update(m, em)
-    covered = {int(w) for w in m.designated if any(m.check(em.pre[e])[int(w)] for e in em.designated)}
-    if covered != {int(w) for w in m.designated}:
-        assert new is None
+    checked = _check_update(ENGINE, m, em)
+    if checked is None:
         return
-    assert new is not None
-    assert bisimilar(ENGINE.to_kripke(new), ref)
-    assert new.key == ENGINE.from_kripke(ref).key
+    new, ref = checked
     f = data.draw(formulas(P, A, 2).filter(_no_group_d))
     assert ENGINE.holds(new, f) == ref.holds(f)
     assert sorted(ENGINE.inconsistent(new)) == sorted({ag for ag, _ in ref.inconsistent_agents()})
 
 
-def _check_update(engine: CompactEngine, m: KripkeModel, em) -> None:
+def _check_update(engine: CompactEngine, m: KripkeModel, em):
+    """apply(s, E) is None exactly when some designated world has no designated event possible, else it is
+    bisimilar to M ⊗ E with the same key; returns (compact result, reference) in that case, else None."""
     new = engine.apply(engine.from_kripke(m), em)
     ref = product_update(m, em)
     covered = {int(w) for w in m.designated if any(m.check(em.pre[e])[int(w)] for e in em.designated)}
     if covered != {int(w) for w in m.designated}:
         assert new is None
-        return
+        return None
     assert new is not None
     assert bisimilar(engine.to_kripke(new), ref)
     assert new.key == engine.from_kripke(ref).key
+    return new, ref
 
 
 @settings(max_examples=100, deadline=None)

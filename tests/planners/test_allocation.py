@@ -138,15 +138,18 @@ def test_allocate_chains_algorithms_1_to_3():
     assert a.makespan == pytest.approx(makespan(robots, a.bundles, {t.id: t for t in tasks}, COST))
 
 
-def _brute_force(robots, tasks):
-    best = float("inf")
-    tmap = {t.id: t for t in tasks}
+def _all_bundles(robots, tasks):
+    """Every allocation: each task to a team of its required size, each robot's tasks in every order."""
     choices = [list(itertools.combinations([r.id for r in robots], t.n_required)) for t in tasks]
     for assign in itertools.product(*choices):
         per = {r.id: [t.id for t, who in zip(tasks, assign, strict=True) if r.id in who] for r in robots}
         for orders in itertools.product(*[list(itertools.permutations(per[r.id])) for r in robots]):
-            best = min(best, makespan(robots, dict(zip([r.id for r in robots], orders, strict=True)), tmap, COST))
-    return best
+            yield dict(zip([r.id for r in robots], orders, strict=True))
+
+
+def _brute_force(robots, tasks):
+    tmap = {t.id: t for t in tasks}
+    return min((makespan(robots, b, tmap, COST) for b in _all_bundles(robots, tasks)), default=float("inf"))
 
 
 @pytest.mark.parametrize("seed", range(4))
@@ -160,15 +163,8 @@ def test_milp_is_exact_on_tiny_instances(seed):
 
 
 def _brute_force_utility(robots, tasks):
-    best = float("-inf")
     tmap = {t.id: t for t in tasks}
-    choices = [list(itertools.combinations([r.id for r in robots], t.n_required)) for t in tasks]
-    for assign in itertools.product(*choices):
-        per = {r.id: [t.id for t, who in zip(tasks, assign, strict=True) if r.id in who] for r in robots}
-        for orders in itertools.product(*[list(itertools.permutations(per[r.id])) for r in robots]):
-            best = max(best, team_utility(robots, dict(zip([r.id for r in robots], orders, strict=True)), tmap,
-                                          COST))
-    return best
+    return max((team_utility(robots, b, tmap, COST) for b in _all_bundles(robots, tasks)), default=float("-inf"))
 
 
 @pytest.mark.parametrize("seed", range(4))
