@@ -172,6 +172,12 @@ class Task:
         return em
 
 
+def has_event_actions(task: Task) -> bool:
+    """Whether ``task`` has :class:`EventAction` s (as the tasks read from EPDDL (2026) files do): the planner
+    and the plan checker then use EPDDL's semantics (no agent-believes-⊥ pruning)."""
+    return any(isinstance(a, EventAction) for a in task.actions)
+
+
 def uncovered_worlds(em: EventModel, model: KripkeModel) -> list[int]:
     """The designated worlds of ``model`` where no designated event of ``em`` has its precondition true."""
     import numpy as np

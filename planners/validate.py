@@ -31,7 +31,7 @@ from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Or, Prop, show, su
 from delkit.kripke import KripkeModel
 from delkit.resources import product_update_bytes, require
 from delkit.update import product_update
-from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, uncovered_worlds
+from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, has_event_actions, uncovered_worlds
 
 __all__ = ["Property", "CheckResult", "check_plan", "parse_property", "read_plan", "parse_plan_text", "explain"]
 
@@ -278,7 +278,7 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
     and the replayed states are not contracted (an explicit initial state keeps its world names for the
     explanations)."""
     if epddl is None:
-        epddl = any(isinstance(a, EventAction) for a in task.actions)
+        epddl = has_event_actions(task)
     names = {a.name for a in task.actions}
     for i, name in enumerate(plan, 1):
         if name not in names:

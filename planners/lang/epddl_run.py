@@ -1,18 +1,14 @@
 """Running tasks with :class:`planners.task.EventAction` (EPDDL 2026): the planner's state space for them
-(:func:`space_for`) and their plan check (:func:`check_event_plan`, which is
-:func:`planners.validate.check_plan` in its EPDDL mode: no agent-believes-⊥ pruning — EPDDL states may be K or
-KD45 and plank never prunes them — and the first failure explained at the designated world where it happens).
+(:func:`space_for`). Their plan check is :func:`planners.validate.check_plan`, which switches to its EPDDL mode
+for such tasks (no agent-believes-⊥ pruning — EPDDL states may be K or KD45 and plank never prunes them — and
+the first failure explained at the designated world where it happens).
 """
 
 from __future__ import annotations
 
-from planners.task import EventAction, Task
+from planners.task import Task, has_event_actions
 
-__all__ = ["check_event_plan", "has_event_actions", "space_for"]
-
-
-def has_event_actions(task: Task) -> bool:
-    return any(isinstance(a, EventAction) for a in task.actions)
+__all__ = ["has_event_actions", "space_for"]
 
 
 def space_for(task: Task, engine: str = "auto", allow_inconsistent: bool = False):
@@ -27,11 +23,3 @@ def space_for(task: Task, engine: str = "auto", allow_inconsistent: bool = False
     if engine == "auto":
         engine = "del" if event and task.initial.n_worlds > 4096 else "fast"
     return make_space(task, engine=engine, allow_inconsistent=allow_inconsistent or event)  # type: ignore[arg-type]
-
-
-def check_event_plan(task: Task, plan: list[str], *, plan_source: str = "plan"):
-    """Replay ``plan`` with EPDDL semantics and explain the first failing step: the one plan checker,
-    :func:`planners.validate.check_plan`, in its EPDDL mode."""
-    from planners.validate import check_plan
-
-    return check_plan(task, plan, plan_source=plan_source, epddl=True)
