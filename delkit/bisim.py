@@ -93,21 +93,28 @@ def _set_hashes(rel: Relation, blocks: np.ndarray) -> np.ndarray:
     return out
 
 
-def refine(model: KripkeModel, agents: Sequence[str] | None = None, *, exact: bool = False) -> np.ndarray:
+def refine(model: KripkeModel, agents: Sequence[str] | None = None, *, exact: bool = False,
+           history: list[np.ndarray] | None = None) -> np.ndarray:
     """Canonical block number of every world under the coarsest bisimulation (w.r.t. ``agents``).
 
     Partition refinement to the fixpoint. Each round, a world's signature is its block plus, per agent,
     the set of its successors' blocks; the new block number is the rank of the signature in sorted
     order. The default compares successor sets by 128-bit set hashes (fully vectorised);
     ``exact=True`` compares the sets themselves (tuples, slower) — tests check that both agree.
+    ``history``, if given, receives the partition of every round up to the last one that split a block (round 0
+    is the partition by valuation; the last entry is the coarsest bisimulation).
     """
     ags = list(model.agents if agents is None else agents)
     n = model.n_worlds
     if n == 0:
+        if history is not None:
+            history.append(np.zeros(0, dtype=np.int64))
         return np.zeros(0, dtype=np.int64)
     # round 0: rank of the valuation row (canonical: rows compared as bit strings)
     _, blocks = np.unique(model.valuation, axis=0, return_inverse=True)
     blocks = blocks.astype(np.int64).ravel()
+    if history is not None:
+        history.append(blocks)
     n_blocks = int(blocks.max()) + 1
     nonempty = [model.relations[a].has_successor() for a in ags]
     while True:
@@ -130,6 +137,8 @@ def refine(model: KripkeModel, agents: Sequence[str] | None = None, *, exact: bo
         if count == n_blocks:
             # no block split: the partition is stable (ranks are a monotone renaming of the old blocks)
             return new
+        if history is not None:
+            history.append(new)
         blocks, n_blocks = new, count
 
 

@@ -57,24 +57,11 @@ def refinement_history(model: KripkeModel) -> list[np.ndarray]:
 
     Round 0 is the partition by valuation; the last entry is the coarsest bisimulation.
     """
-    from delkit.bisim import _successor_sets
+    from delkit.bisim import refine
 
-    n = model.n_worlds
-    if n == 0:
-        return [np.zeros(0, dtype=np.int64)]
-    _, blocks = np.unique(model.valuation, axis=0, return_inverse=True)
-    blocks = np.asarray(blocks, dtype=np.int64).ravel()
-    history = [blocks]
-    agents = sorted(model.agents)
-    while True:
-        succ = [_successor_sets(model.relations[a], blocks) for a in agents]
-        sigs = [(int(blocks[w]), *(s[w] for s in succ)) for w in range(n)]
-        rank = {s: i for i, s in enumerate(sorted(set(sigs)))}
-        new = np.fromiter((rank[s] for s in sigs), dtype=np.int64, count=n)
-        if len(rank) == int(blocks.max()) + 1:
-            return history
-        history.append(new)
-        blocks = new
+    history: list[np.ndarray] = []
+    refine(model, sorted(model.agents), exact=True, history=history)
+    return history
 
 
 @dataclass
