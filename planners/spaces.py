@@ -273,7 +273,8 @@ class CompactSpace:
     def _candidates(self, s: CompactState, here: Any) -> list[tuple[str, tuple | None, tuple | None]]:
         """The actions that may apply in ``s`` as (name, entry, None) — decided per state — or (name, None,
         compiled event model) — chosen by the designated worlds' valuations ``here`` and not excluded by them
-        (some designated event's propositional precondition holds at every designated world)."""
+        (some designated event's propositional precondition holds at every designated world). Computed once per
+        ``here`` (cached by :meth:`successors`), so it is not on the per-state path."""
         single = not isinstance(here, frozenset)
         compile_em, may = self.engine.compile, self.engine.may_apply
         out = []
@@ -287,14 +288,7 @@ class CompactSpace:
             if comp is _MISSING:
                 em = self.event_model(s, entry)
                 comp = table[at] = None if em is None else compile_em(em)
-            if comp is None:
-                continue
-            if single:  # CompactEngine.may_apply inlined: (pos, neg) literals of the designated events
-                for pos, neg in comp[10]:
-                    if (here & pos) == pos and not (here & neg):
-                        out.append((entry[1].name, None, comp))
-                        break
-            elif may(comp, here):
+            if comp is not None and may(comp, (here,) if single else here):
                 out.append((entry[1].name, None, comp))
         return out
 
