@@ -145,7 +145,10 @@ def table(rows: list[dict]) -> str:
             target = "missed (no answer within the limit)"
         else:   # CPU seconds: the machine is shared, wall time is inflated by other load
             ours_t = r["process_cpu"] if pb >= 0.3 else gs
-            target = ("met" if ours_t <= pb else "missed") + (" (process)" if pb >= 0.3 else "")
+            if ours_t != ours_t:  # --no-process: the whole process was not measured
+                target = "not measured (--no-process)"
+            else:
+                target = ("met" if ours_t <= pb else "missed") + (" (process)" if pb >= 0.3 else "")
         if r["ground_cpu"] > 0.1:
             target += "; ground > 0.1 s"
         lines.append(f"| {r['problem']} | {r['worlds']} | {r['actions']} | {r['parse_s']:.4f} ({r['parse_cpu']:.4f}) | "
