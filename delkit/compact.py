@@ -663,14 +663,7 @@ class CompactEngine:
         """(pos, neg): bit masks of the literals among the conjuncts of node ``i`` — necessary for it to hold
         at a world (a conjunction of literals: exactly its truth)."""
         node = self._nodes[i]
-        parts = node[1] if node[0] == _AND else (i,)
-        pos = neg = 0
-        for c in parts:
-            cn = self._nodes[c]
-            if cn[0] == _PROP:
-                pos |= 1 << cn[1]
-            elif cn[0] == _NOT and self._nodes[cn[1]][0] == _PROP:
-                neg |= 1 << self._nodes[cn[1]][1]
+        pos, neg, _ = self._literal_masks(node[1] if node[0] == _AND else (i,))
         return pos, neg
 
     def _row(self, s: CompactState, tab: dict, npre: int | None, nposts: tuple) -> list[int]:
