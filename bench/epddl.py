@@ -42,6 +42,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+# as the CLI (delkit/cli/__init__.py): numpy's BLAS on one thread — its idle pool's CPU would otherwise be counted
+# in this process's CPU seconds (process_time counts every thread)
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 from planners.epistemic import Limits, bfs  # noqa: E402
 from planners.lang import shared_benchmarks  # noqa: E402

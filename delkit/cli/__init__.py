@@ -7,9 +7,17 @@ printed as one line on stderr with exit status 2, never as a traceback.
 
 from __future__ import annotations
 
+import os
 import sys
 
 __all__ = ["main", "run"]
+
+# numpy's bundled OpenBLAS starts a thread per core when numpy is imported; on this project's machines that
+# costs ~70 ms of CPU (more than half of a small `delkit plan`'s 0.12 s) and buys nothing: delkit's matrices
+# are small. The CLI runs BLAS on one thread unless the user chose otherwise (OPENBLAS_NUM_THREADS is read
+# once, when numpy is first imported, so this must come before any import of numpy).
+if "numpy" not in sys.modules:
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 
 def _build_app():

@@ -57,3 +57,16 @@ def test_epddl_plan_and_check_import_nothing_heavy(tmp_path, case) -> None:
     plan.write_text("")
     rc, mods = _run(["check", *files, str(plan)])
     assert rc == 1 and not mods & HEAVY, mods & HEAVY   # the empty plan does not reach these goals
+
+
+@pytest.mark.parametrize("preset", [None, "2"])
+def test_cli_runs_blas_on_one_thread_unless_the_user_chose(preset) -> None:
+    """numpy's OpenBLAS pool (a thread per core, ~70 ms of CPU at import) is not started by the CLI; a value the
+    user set is kept."""
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    if preset is not None:
+        env["OPENBLAS_NUM_THREADS"] = preset
+    env["PYTHONPATH"] = str(ROOT)
+    code = "import os, delkit.cli, numpy; print(os.environ.get('OPENBLAS_NUM_THREADS'))"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, check=True)
+    assert out.stdout.strip() == (preset or "1")
