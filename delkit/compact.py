@@ -272,6 +272,10 @@ class CompactEngine:
         self._pfn: list[Any] = []
         self._pslow: dict[int, Any] = {}
         self._compiled: dict[int, tuple] = {}
+        # per Relation object (event models of one action type share theirs): its successor rows
+        self._rows: dict[int, tuple[Relation, list[tuple[int, ...]]]] = {}
+        # the update's shape tables, shared by the event models of one frame (see apply_compiled)
+        self._shapes: dict[tuple, tuple[dict, list[int]]] = {}
 
     # ------------------------------------------------------------------ conversion
     def from_kripke(self, m: KripkeModel) -> CompactState:
@@ -593,10 +597,7 @@ class CompactEngine:
         missing = [a for a in self.agents if a not in em.relations]
         if missing:
             raise ModelError(f"event model {em.name!r} has no relation for agent(s) {missing}")
-        q = []
-        for ag in self.agents:
-            r = em.relations[ag]
-            q.append([tuple(int(x) for x in r.successors(e)) for e in range(k)])
+        q = [self._successor_rows(em.relations[ag], k) for ag in self.agents]
         for g in self.groups:
             per = [q[self.aidx[a]] for a in g]
             q.append([tuple(sorted(set.intersection(*(set(p[e]) for p in per)))) for e in range(k)])
@@ -619,12 +620,36 @@ class CompactEngine:
                     None if ppre is None else self.pfun_slow(ppre), ~_mask([pi for pi, _ in posts]),
                     tuple((1 << pi, self.pfun_slow(j)) for pi, j in posts)),
                 lambda ppre=ppre, posts=posts: self._transition(ppre, posts)))
-            lits.append(self._literals(pre))
+            lits.append(self.literals(pre))
         des = tuple(em.designated)
         others = tuple(e for e in range(k) if e not in set(des))
-        comp = (q, k, des, others, tabs, lits, npre, nposts, {}, [0, 0, 0], tuple(lits[e] for e in des))
+        # the shape of an update depends on the event model only through its frame (events, relations,
+        # designated events): event models with one frame (the actions of one EPDDL action type, say) share
+        # their shape table
+        frame = (k, des, tuple(map(tuple, q)))
+        shared = self._shapes.get(frame)
+        if shared is None:
+            shared = self._shapes[frame] = ({}, [0, 0, 0])
+        comp = (q, k, des, others, tabs, lits, npre, nposts, shared[0], shared[1], tuple(lits[e] for e in des))
         self._compiled[id(em)] = (em, comp)  # the model is kept alive so that its id is not reused
         return comp
+
+    def _successor_rows(self, r: Relation, k: int) -> list[tuple[int, ...]]:
+        """The successors of each of the k events under ``r`` (cached per relation object)."""
+        hit = self._rows.get(id(r))
+        if hit is not None and hit[0] is r:
+            return hit[1]
+        if r.labels is not None:
+            labels = r.labels.tolist()
+            members: dict[int, list[int]] = {}
+            for e, lab in enumerate(labels):
+                members.setdefault(lab, []).append(e)
+            cls = {lab: tuple(m) for lab, m in members.items()}
+            rows = [cls[lab] for lab in labels]
+        else:
+            rows = [tuple(int(x) for x in r.successors(e)) for e in range(k)]
+        self._rows[id(r)] = (r, rows)  # the relation is kept alive so that its id is not reused
+        return rows
 
     def _transition(self, pre: int | None, posts: list[tuple[int, int]]) -> Any:
         """One event as a function valuation -> new valuation (-1 if the propositional precondition ``pre``
@@ -659,11 +684,24 @@ class CompactEngine:
                 return False
         return True
 
-    def _literals(self, i: int) -> tuple[int, int]:
+    def literals(self, i: int) -> tuple[int, int]:
         """(pos, neg): bit masks of the literals among the conjuncts of node ``i`` — necessary for it to hold
         at a world (a conjunction of literals: exactly its truth)."""
         node = self._nodes[i]
         pos, neg, _ = self._literal_masks(node[1] if node[0] == _AND else (i,))
+        return pos, neg
+
+    def formula_literals(self, f: Formula) -> tuple[int, int]:
+        """:meth:`literals` of a formula read from the formula itself (nothing is compiled): the masks of its
+        positive and negated propositions among its conjuncts (propositions outside the vocabulary ignored)."""
+        pos = neg = 0
+        pidx = self.pidx
+        for g in f.args if isinstance(f, And) else (f,):
+            if isinstance(g, Prop):
+                if g.name in pidx:
+                    pos |= 1 << pidx[g.name]
+            elif isinstance(g, Not) and isinstance(g.arg, Prop) and g.arg.name in pidx:
+                neg |= 1 << pidx[g.arg.name]
         return pos, neg
 
     def _row(self, s: CompactState, tab: dict, npre: int | None, nposts: tuple) -> list[int]:

@@ -32,7 +32,7 @@ from typing import Any, Literal
 from delkit.compact import CompactEngine, CompactState
 from delkit.errors import PlanningError
 from delkit.events import EventModel
-from delkit.formula import Formula, is_propositional, props_of
+from delkit.formula import Formula, Top, is_propositional, props_of
 from delkit.kripke import KripkeModel
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, build_event_model, goal_conjuncts
 
@@ -109,17 +109,64 @@ class CompactSpace:
         # executable) per valuations of the designated worlds restricted to the propositions the conditions
         # mention — they decide it (shared by all states)
         self._select: list[tuple[dict, int] | None] = []
+        eng = self.engine
         for e in self._acts:
-            conds = [] if e[0] == "macro" else self._conditions(e)
-            if e[0] == "macro" or not all(is_propositional(c) for c in conds):
+            conds = [] if e[0] == "macro" else [c for c in self._conditions(e) if not isinstance(c, Top)]
+            if e[0] == "macro" or not all(eng.is_propositional(eng.cid(c)) for c in conds):
                 self._select.append(None)
                 continue
             support = 0
             for c in conds:
                 for p in props_of(c):
-                    support |= 1 << self.engine.pidx[p]
+                    support |= 1 << eng.pidx[p]
             self._select.append(({}, support))
+        self._watch, self._watched, self._always = self._literal_index()
         self._by_point: dict[Any, list] = {}
+
+    def _literal_index(self) -> tuple[dict[int, list[tuple[int, int, int]]], int, list[tuple[int, Any]]]:
+        """A successor generator: for the actions whose designated events' preconditions are known without
+        building an event model (:attr:`EventAction.designated_pre`), the literals they require — a designated
+        world must satisfy all literals of some designated event's precondition. An action with one designated
+        event requiring a true proposition is filed under one such proposition (the least used so far: the
+        lists stay short); the others are tested at every valuation. Returns (proposition -> [(action, pos,
+        neg)], the mask of the filed propositions, [(action, ((pos, neg), ...) or None: no test)])."""
+        watch: dict[int, list[tuple[int, int, int]]] = {}
+        always: list[tuple[int, Any]] = []
+        eng = self.engine
+        for i, entry in enumerate(self._acts):
+            dp = entry[1].designated_pre if entry[0] == "event" else None
+            if dp is None:
+                always.append((i, None))
+                continue
+            lits = tuple(map(eng.formula_literals, dp))
+            if len(lits) == 1 and lits[0][0]:
+                pos, neg = lits[0]
+                j = min(_bit_list(pos), key=lambda b: len(watch.get(b, ())))
+                watch.setdefault(j, []).append((i, pos, neg))
+            else:
+                always.append((i, lits))
+        watched = 0
+        for j in watch:
+            watched |= 1 << j
+        return watch, watched, always
+
+    def _enabled(self, vals: tuple[int, ...]) -> list[int]:
+        """The indices (ascending) of the actions not excluded by the literal index at the designated worlds'
+        valuations ``vals``."""
+        out = [i for i, lits in self._always
+               if lits is None or all(any((v & p) == p and not v & n for p, n in lits) for v in vals)]
+        h = vals[0]
+        rest = vals[1:]
+        m = h & self._watched
+        watch = self._watch
+        while m:
+            low = m & -m
+            m ^= low
+            for i, pos, neg in watch[low.bit_length() - 1]:
+                if (h & pos) == pos and not h & neg and all((v & pos) == pos and not v & neg for v in rest):
+                    out.append(i)
+        out.sort()
+        return out
 
     def _entry(self, act: ActionSpec | EventAction | MacroSpec) -> tuple:
         """Per action its conditions as node ids: ("spec", act, exe, full, partial, sensed) / ("event", act,
@@ -278,7 +325,9 @@ class CompactSpace:
         single = not isinstance(here, frozenset)
         compile_em, may = self.engine.compile, self.engine.may_apply
         out = []
-        for entry, sel in zip(self._acts, self._select, strict=True):
+        acts, select = self._acts, self._select
+        for i in self._enabled((here,) if single else tuple(sorted(here))):
+            entry, sel = acts[i], select[i]
             if sel is None:
                 out.append((entry[1].name, entry, None))
                 continue
@@ -313,22 +362,48 @@ class CompactSpace:
 _MISSING = object()
 
 
+def _bit_list(m: int) -> list[int]:
+    """The positions of the set bits of ``m``."""
+    return [j for j in range(m.bit_length()) if (m >> j) & 1]
+
+
 def _valuation_view(v: int, n_agents: int) -> CompactState:
     """A one-world state with valuation ``v`` (for deciding propositional conditions only)."""
     return CompactState((v,), tuple((1,) for _ in range(n_agents)), (0,))
 
 
 def _group_d_formulas(task: Task) -> list[Formula]:
-    """D_G subformulas with |G| ≥ 2 anywhere in the task (goal, executability, effects, observability)."""
+    """D_G subformulas with |G| ≥ 2 anywhere in the task (goal, executability, effects, observability, the
+    declared designated preconditions of event actions). Each distinct formula node is visited once: grounded
+    actions share most of their subformulas."""
     import dataclasses
 
-    from delkit.formula import D, subformulas
+    from delkit.formula import D, children
 
     found: list[Formula] = []
+    seen: set[int] = set()
+    names: dict[type, tuple[str, ...]] = {}
+
+    def formula(f: Formula) -> None:
+        stack = [f]
+        while stack:
+            g = stack.pop()
+            if id(g) in seen:
+                continue
+            seen.add(id(g))
+            if isinstance(g, D) and len(g.group) > 1:
+                found.append(g)
+            stack.extend(children(g))
 
     def walk(x: Any) -> None:
         if isinstance(x, Formula):
-            found.extend(g for g in subformulas(x) if isinstance(g, D) and len(g.group) > 1)
+            formula(x)
+        elif isinstance(x, EventAction):  # its formulas (the rest are names and the builder)
+            walk(x.conditions)
+            formula(x.executable)
+            walk(x.designated_pre)
+        elif isinstance(x, (str, int, float)) or x is None:
+            return
         elif isinstance(x, (tuple, list, frozenset, set)):
             for y in x:
                 walk(y)
@@ -336,8 +411,11 @@ def _group_d_formulas(task: Task) -> list[Formula]:
             for y in x.values():
                 walk(y)
         elif dataclasses.is_dataclass(x) and not isinstance(x, type):
-            for fld in dataclasses.fields(x):
-                walk(getattr(x, fld.name))
+            fs = names.get(type(x))
+            if fs is None:
+                fs = names[type(x)] = tuple(fld.name for fld in dataclasses.fields(x))
+            for name in fs:
+                walk(getattr(x, name))
 
     walk(task.goal)
     for act in task.actions:

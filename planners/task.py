@@ -75,6 +75,11 @@ class EventAction:
     (results are cached per bits). The action is applicable in a state s iff ``executable`` holds in s and
     every designated world of s satisfies the precondition of at least one designated event; the designated
     worlds of the result are the pairs (w, e) of designated w and designated e with w ⊨ pre(e).
+
+    ``designated_pre``, when given, are the preconditions of the designated events of every event model
+    ``build`` returns (EPDDL: only the observability relations depend on the conditions): the planner reads
+    from them which actions cannot apply at a valuation without building their event models. It is checked
+    against each model built (:meth:`Task.event_model_for_bits`).
     """
 
     name: str
@@ -83,6 +88,7 @@ class EventAction:
     executable: Formula = TOP
     where: str = ""
     kind: str = "event"
+    designated_pre: tuple[Formula, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -168,6 +174,10 @@ class Task:
             if set(em.agents) != set(self.agents):
                 raise PlanningError(f"{act.where}: the event model of {act.name!r} has agents {list(em.agents)}, "
                                     f"the task {list(self.agents)}")
+            if act.designated_pre is not None and tuple(em.pre[d] for d in em.designated) != act.designated_pre:
+                raise PlanningError(f"{act.where}: the event model of {act.name!r} built for conditions {bits} has "
+                                    f"designated preconditions {[str(em.pre[d]) for d in em.designated]}, not the "
+                                    f"declared designated_pre {[str(f) for f in act.designated_pre]}")
             self._cache[key] = em
         return em
 

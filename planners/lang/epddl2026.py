@@ -1254,7 +1254,7 @@ def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_nod
         return EventModel(slots, agents, pre, post, relations, des, name)
 
     return EventAction(name=name, build=build, conditions=tuple(conds), where=f"{g.where}:{line}",
-                       kind=at.name)
+                       kind=at.name, designated_pre=tuple(pre[d] for d in des))
 
 
 def load_epddl2026(domain: str | Path, problem: str | Path, libraries: list[str | Path] = (), *,

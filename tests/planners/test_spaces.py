@@ -159,3 +159,58 @@ def test_checker_explains_a_failed_goal_at_the_designated_world_where_it_fails()
     res = check_plan(task, [])
     assert not res.valid and res.kind == "goal"
     assert "w1" in res.reason and "w0" not in res.reason
+
+
+def _epddl_runs(limit_worlds: int = 64):
+    import csv
+
+    from planners.lang import shared_benchmarks
+
+    bench = shared_benchmarks()
+    if bench is None:
+        return []
+    base = bench / "epddl2026"
+    rows = list(csv.DictReader((base / "expected.csv").open()))
+    return [(base / r["domain"], base / r["problem"], [base / r["libraries"]] if r["libraries"] else [])
+            for r in rows if not any(x in r["problem"] for x in ("Tiger", "Selective"))]
+
+
+@pytest.mark.parametrize("run", _epddl_runs(), ids=lambda r: "/".join(r[1].parts[-3:]))
+def test_literal_index_never_drops_an_applicable_action(run) -> None:
+    """The successor generator (actions filed by a required literal of their designated preconditions) keeps
+    every action that applies: on the first 150 states of a BFS of each EPDDL benchmark problem, each action
+    with a successor is among the enabled ones — multi-pointed states included."""
+    from planners.lang.epddl2026 import load_epddl2026
+
+    task = load_epddl2026(*run[:2], run[2])
+    space = CompactSpace(task, allow_inconsistent=True)
+    s, key = space.initial()
+    frontier, seen, pruned = [s], {key}, 0
+    while frontier and len(seen) < 150:
+        s = frontier.pop(0)
+        vals = tuple(sorted({s.val[p] for p in s.points}))
+        enabled = set(space._enabled(vals))
+        pruned += len(task.actions) - len(enabled)
+        for i, entry in enumerate(space._acts):
+            new = space.apply_entry(s, entry)
+            assert new is None or i in enabled, (entry[1].name, s)
+            if new is not None and new.key not in seen:
+                seen.add(new.key)
+                frontier.append(new)
+    assert pruned > 0 or len(task.actions) < 8
+
+
+def test_declared_designated_preconditions_are_checked() -> None:
+    """An EventAction whose declared designated_pre differs from its event model's is refused when built."""
+    from delkit.errors import PlanningError
+    from delkit.formula import Prop
+
+    task = _coin_task((0,), "K_a p")
+    look = task.actions[0]
+    bad = dataclasses.replace(look, designated_pre=(Prop("p"),))   # sensing's designated event requires ⊤
+    wrong = dataclasses.replace(task, actions=(bad,), _cache={})
+    with pytest.raises(PlanningError, match="designated_pre"):
+        plan(wrong)
+    good = dataclasses.replace(look, designated_pre=tuple(
+        look.build(()).pre[d] for d in look.build(()).designated))
+    assert plan(dataclasses.replace(task, actions=(good,), _cache={})).plan == ("look",)
