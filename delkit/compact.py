@@ -773,7 +773,18 @@ class CompactEngine:
             if hit is not None:
                 pick, rmasks, cps, fid = hit
                 return CompactState(pick(flat), rmasks, cps, fid)
-        ids = {code: t for t, code in enumerate(order)}
+        idx = [-1] * (n * k)  # pair code -> its number among the new worlds (-1: not reached yet)
+        for t, code in enumerate(order):
+            idx[code] = t
+        okm = []  # per event: the worlds of s where its precondition holds, as a bit mask
+        for r in rows:
+            m = 0
+            bit = 1
+            for x in r:
+                if x >= 0:
+                    m |= bit
+                bit <<= 1
+            okm.append(m)
         nag = len(q)
         dist: list[list[list[int]]] = [[] for _ in range(nag)]
         cls: list[list[int]] = [[] for _ in range(nag)]
@@ -787,20 +798,20 @@ class CompactEngine:
             w, e = divmod(code, k)
             i += 1
             for a in range(nag):
-                mkey = masks[a][w] * k + e
+                mw = masks[a][w]
+                mkey = mw * k + e
                 ma = memo[a]
                 j = ma.get(mkey)
                 if j is None:
                     lst = []
-                    qa = q[a][e]
-                    for v in _bits(masks[a][w]):
-                        base = v * k
-                        for f in qa:
-                            if rows[f][v] >= 0:
-                                pk = base + f
-                                t = ids.get(pk)
-                                if t is None:
-                                    t = ids[pk] = len(order)
+                    for f in q[a][e]:
+                        m = mw & okm[f]
+                        if m:
+                            for v in _bits(m):
+                                pk = v * k + f
+                                t = idx[pk]
+                                if t < 0:
+                                    t = idx[pk] = len(order)
                                     order.append(pk)
                                 lst.append(t)
                     j = ma[mkey] = len(dist[a])
