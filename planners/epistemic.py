@@ -30,7 +30,7 @@ from typing import Any, Literal, Protocol
 
 from delkit.errors import PlanningError
 from planners.spaces import CompactSpace, DelSpace, make_space
-from planners.task import Task, goal_conjuncts
+from planners.task import Task, goal_conjuncts, has_event_actions
 
 __all__ = ["SearchResult", "Limits", "DelSpace", "CompactSpace", "make_space", "plan", "bfs", "best_first",
            "StateSpace", "goal_conjuncts"]
@@ -244,8 +244,14 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
 
 
 def plan(task: Task, *, search: Literal["bfs", "gbfs", "astar"] = "bfs", limits: Limits = Limits(),
-         engine: Literal["fast", "compact", "del"] = "fast", allow_inconsistent: bool = False) -> SearchResult:
-    """Plan for ``task`` with the chosen search; never raises on a failed search (see ``status``)."""
+         engine: Literal["fast", "compact", "del"] = "fast", allow_inconsistent: bool | None = None) -> SearchResult:
+    """Plan for ``task`` with the chosen search; never raises on a failed search (see ``status``).
+
+    ``allow_inconsistent`` None (the default): as ``delkit plan`` and the plan checker decide — a task with
+    event-model actions (EPDDL 2026) keeps states where an agent believes ⊥ (EPDDL's and plank's semantics),
+    any other prunes them."""
+    if allow_inconsistent is None:
+        allow_inconsistent = has_event_actions(task)
     space = make_space(task, engine=engine, allow_inconsistent=allow_inconsistent)
     if search == "bfs":
         return bfs(space, limits)

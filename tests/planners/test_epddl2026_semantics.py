@@ -156,3 +156,21 @@ def test_agent_groups_in_modalities(tmp_path) -> None:
                  f" (:goal (and (not (<G> (p))) (<H> (p)) ([C. H] (or (p) (q))))))")
     task = load_epddl2026(d, p)
     assert task.initial.holds(task.goal)
+
+
+def test_library_plan_uses_epddl_semantics_like_the_cli(tmp_path) -> None:
+    """``planners.epistemic.plan`` on an EPDDL task keeps states where an agent believes ⊥ (EPDDL's and plank's
+    semantics), as ``delkit plan`` does: b has no accessible world, and one step makes p true."""
+    from delkit.cli import main
+    from planners.epistemic import plan
+
+    d, p = tmp_path / "d.epddl", tmp_path / "p.epddl"
+    d.write_text("(define (domain flip) (:predicates (p)) (:event e :effects (p))"
+                 " (:action act :action-type (basic (e))))")
+    p.write_text("(define (problem f) (:domain flip) (:agents a b)\n (:init :worlds (w1)\n"
+                 " :relations (a (:and (w1 w1)))\n :labels (w1 (:and))\n :designated (w1))\n (:goal (p)))")
+    task = load_epddl2026(d, p)
+    assert [a for a, _ in task.initial.inconsistent_agents()] == ["b"]
+    assert plan(task).plan == ("act",)
+    assert main(["plan", str(d), str(p)]) == 0
+    assert plan(task, allow_inconsistent=False).status == "unsolvable"   # mA*'s pruning, asked for explicitly
