@@ -151,7 +151,7 @@ class Task:
         if isinstance(act, EventAction):
             return self.event_model_for_bits(act, tuple(model.holds(c) for c in act.conditions))
         if isinstance(act, MacroSpec):
-            raise PlanningError(f"{act.where}: the macro {act.name!r} has no single event model in a state; "
+            raise PlanningError(f"{_where(act)}the macro {act.name!r} has no single event model in a state; "
                                 f"apply it with planners.task.apply_action (its steps in sequence)")
         full, partial = act.observers(model, self.agents)
         sensed = act.active_sensed(model) if act.kind != "ontic" else ()
@@ -168,14 +168,17 @@ class Task:
         key = ("__event", act.name, bits)
         em = self._cache.get(key)
         if em is None:
+            if len(bits) != len(act.conditions):
+                raise PlanningError(f"{_where(act)}action {act.name!r} has {len(act.conditions)} condition(s) "
+                                    f"{[str(c) for c in act.conditions]}; {len(bits)} truth value(s) were given")
             em = act.build(bits)
             if not isinstance(em, EventModel):
-                raise PlanningError(f"{act.where}: action {act.name!r} built {type(em).__name__}, not an EventModel")
+                raise PlanningError(f"{_where(act)}action {act.name!r} built {type(em).__name__}, not an EventModel")
             if set(em.agents) != set(self.agents):
-                raise PlanningError(f"{act.where}: the event model of {act.name!r} has agents {list(em.agents)}, "
+                raise PlanningError(f"{_where(act)}the event model of {act.name!r} has agents {list(em.agents)}, "
                                     f"the task {list(self.agents)}")
             if act.designated_pre is not None and tuple(em.pre[d] for d in em.designated) != act.designated_pre:
-                raise PlanningError(f"{act.where}: the event model of {act.name!r} built for conditions {bits} has "
+                raise PlanningError(f"{_where(act)}the event model of {act.name!r} built for conditions {bits} has "
                                     f"designated preconditions {[str(em.pre[d]) for d in em.designated]}, not the "
                                     f"declared designated_pre {[str(f) for f in act.designated_pre]}")
             self._cache[key] = em
@@ -242,7 +245,7 @@ def build_event_model(act: ActionSpec, agents: tuple[str, ...], full: frozenset[
     part_l = [a for a in agents if a in partial]
     if act.kind == "ontic":
         if part_l:
-            raise PlanningError(f"{act.where}: agent(s) {part_l} partially observe the ontic action {act.name!r}; "
+            raise PlanningError(f"{_where(act)}agent(s) {part_l} partially observe the ontic action {act.name!r}; "
                                 f"partial observability is not defined for ontic actions in mA* (make them "
                                 f"fully observant or oblivious)")
         effects = [(p, v, c) for p, v, c in act.effects]
@@ -260,7 +263,7 @@ def build_event_model(act: ActionSpec, agents: tuple[str, ...], full: frozenset[
         phi = conj(list(sensed)) if sensed else TOP
         return action(agents, [("yes", phi, {}), ("no", Not(phi), {})], full=full_l, partial=part_l,
                       designated=["yes"], name=act.name)
-    raise PlanningError(f"{act.where}: unknown action type {act.kind!r}")
+    raise PlanningError(f"{_where(act)}unknown action type {act.kind!r}")
 
 
 def describe(act: ActionSpec) -> str:
@@ -297,3 +300,8 @@ def merge_observers(obs: list[tuple[str, Formula]]) -> list[tuple[str, Formula]]
 
 def literal(p: str, value: bool) -> Formula:
     return Prop(p) if value else Not(Prop(p))
+
+
+def _where(act: ActionSpec | EventAction | MacroSpec) -> str:
+    """``"FILE:LINE: "`` of an action for an error message, or nothing for an action made in Python."""
+    return f"{act.where}: " if act.where else ""

@@ -214,3 +214,11 @@ def test_declared_designated_preconditions_are_checked() -> None:
     good = dataclasses.replace(look, designated_pre=tuple(
         look.build(()).pre[d] for d in look.build(()).designated))
     assert plan(dataclasses.replace(task, actions=(good,), _cache={})).plan == ("look",)
+
+
+def test_event_model_for_bits_refuses_a_wrong_number_of_truth_values() -> None:
+    from delkit.errors import PlanningError
+
+    task = _coin_task((0,), "K_a p")
+    with pytest.raises(PlanningError, match="0 condition"):
+        task.event_model_for_bits(task.actions[0], (True,))
