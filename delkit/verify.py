@@ -41,6 +41,7 @@ Four tools, all returning plain data (frozen dataclasses) and never trusting z3 
 
 from __future__ import annotations
 
+import ctypes
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -615,11 +616,20 @@ def find_model(formula: Formula | str, *, logic: str = "S5", worlds: int = 4, pr
     g = _reduce_updates(f)
     for k in range(max(1, min_worlds), worlds + 1):
         enc = _Encoding(k, ps, ags, logic)
-        goal = enc.enc(g, 0)
-        s = z3.Solver()
-        s.add(*enc.constraints)
-        s.add(goal)
-        res = s.check()
+        try:
+            goal = enc.enc(g, 0)
+            s = z3.Solver()
+            s.add(*enc.constraints)
+            s.add(goal)
+            res = s.check()
+        except (RecursionError, ctypes.ArgumentError) as exc:
+            # z3's Python API converts terms recursively: its ctypes calls report Python's recursion limit as
+            # an ArgumentError wrapping the RecursionError
+            if isinstance(exc, ctypes.ArgumentError) and "RecursionError" not in str(exc):
+                raise
+            raise VerificationError(f"{show(f)[:80]}...: nested too deeply for z3 (more than a few hundred "
+                                    f"operators inside each other); split the formula or flatten chains "
+                                    f"with E{{...}} / C{{...}}") from None
         if res == z3.unknown:  # pragma: no cover - propositional + finite domains: z3 decides
             raise VerificationError(f"z3 returned unknown for {show(f)} with {k} worlds: {s.reason_unknown()}")
         if res == z3.sat:

@@ -357,8 +357,10 @@ def macro_report(colors: int = 2, handwritten: str | None = None) -> dict[str, A
     path = Path(handwritten) if handwritten else specs / "listing4.txt"
     try:
         text = path.read_text()
-    except OSError as exc:
-        raise EpicoError(f"{path}: cannot read the hand-written macro ({exc.strerror})") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        from delkit.errors import io_reason
+
+        raise EpicoError(f"{path}: cannot read the hand-written macro ({io_reason(exc)})") from None
     htask, hand = ground_handwritten(inst.domain_text, inst.problem_text, text)
     hw = check_handwritten(htask, hand, ground_macros(htask, parse_macros(inst.domain_text), inst.problem_text))
     return {"proofs": proofs, "all_equal": all(p["equal"] for p in proofs) and bool(proofs),

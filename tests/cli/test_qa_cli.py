@@ -102,6 +102,21 @@ def test_a_formula_nested_too_deeply_is_one_line(capsys) -> None:
     assert rc == 2 and out == "" and "nested too deeply" in _one_error_line(err)
 
 
+def test_a_modal_chain_too_deep_for_z3_is_one_line(capsys) -> None:
+    """Found by the 5,000-input fuzz: z3's Python API reports the recursion limit as a ctypes.ArgumentError
+    (400 nested K_a are parsed, but too deep for z3's term conversion)."""
+    rc, out, err = _run(capsys, ["prove", "K_a " * 400 + "p"])
+    assert rc == 2 and out == "" and "nested too deeply for z3" in _one_error_line(err)
+
+
+def test_a_binary_handwritten_macro_is_one_line(tmp_path, capsys) -> None:
+    """Found by the 5,000-input fuzz (was a UnicodeDecodeError traceback)."""
+    binary = tmp_path / "m.txt"
+    binary.write_bytes(b"\x00\x01\x9e\xff")
+    rc, out, err = _run(capsys, ["epico", "macros", "--colors", "2", "--handwritten", str(binary), "--json"])
+    assert rc == 2 and out == "" and "not UTF-8" in _one_error_line(err)
+
+
 @pytest.mark.parametrize("where", ["plan", "properties", "mastar", "problem"])
 def test_a_binary_file_is_one_line_not_a_unicode_traceback(tmp_path, capsys, where) -> None:
     binary = tmp_path / "binary.txt"
