@@ -122,6 +122,55 @@ def mk_or(parts) -> Formula:
     return uniq[0] if len(uniq) == 1 else Or(uniq)
 
 
+def _lazy_and(parts: list[Callable]) -> Callable:
+    """env -> mk_and of the parts' values, grounding no part after one that is ⊥ (mk_and inlined: a
+    conjunction is grounded per binding)."""
+    def conj(env) -> Formula:
+        out: list[Formula] = []
+        for part in parts:
+            p = part(env)
+            t = type(p)
+            if t is Bot:
+                return BOT
+            if t is Top:
+                continue
+            if t is And:
+                out.extend(p.args)
+            else:
+                out.append(p)
+        if len(out) < 2:
+            return out[0] if out else TOP
+        uniq = tuple(dict.fromkeys(out))
+        if _contradicts(uniq):  # x ∧ ¬x
+            return BOT
+        return uniq[0] if len(uniq) == 1 else And(uniq)
+    return conj
+
+
+def _lazy_or(parts: list[Callable]) -> Callable:
+    """env -> mk_or of the parts' values, grounding no part after one that is ⊤."""
+    def disj(env) -> Formula:
+        out: list[Formula] = []
+        for part in parts:
+            p = part(env)
+            t = type(p)
+            if t is Top:
+                return TOP
+            if t is Bot:
+                continue
+            if t is Or:
+                out.extend(p.args)
+            else:
+                out.append(p)
+        if len(out) < 2:
+            return out[0] if out else BOT
+        uniq = tuple(dict.fromkeys(out))
+        if _contradicts(uniq):  # x ∨ ¬x
+            return TOP
+        return uniq[0] if len(uniq) == 1 else Or(uniq)
+    return disj
+
+
 def atom_name(pred: str, args: tuple[str, ...]) -> str:
     return "_".join((pred, *args)) if args else pred
 
@@ -209,8 +258,7 @@ class _Ground:
         self.type_relations: dict[str, dict] = {}
         self.event_params: dict[str, list] = {}
         self.ground_events: dict[tuple, tuple] = {}
-        self.node_vars: dict[int, tuple] = {}
-        self.obs_specs: dict[tuple, dict] = {}
+        self.type_info: dict[str, tuple] = {}
 
     def err(self, msg: str, node) -> ParseError:
         return ParseError(msg, source=self.where, line=getattr(node, "line", None))
@@ -486,8 +534,7 @@ class _Ground:
             return self._modal(h, self.compile(f[1]))
         if h in ("and", "or"):
             parts = [self.compile(x) for x in self._static_first(f)]
-            mk = mk_and if h == "and" else mk_or
-            return lambda env: mk(p(env) for p in parts)   # lazy: mk stops at the first deciding operand
+            return _lazy_and(parts) if h == "and" else _lazy_or(parts)
         if h == "not":
             self._arity(f, 1)
             arg = self.compile(f[1])
@@ -934,11 +981,14 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
                              f"({' '.join(at.events)}), {len(ev_refs)} given", source=str(domain), line=sig.line)
         params = kv.get(":parameters") or []
         typed, _ = g.typed_list(params)
+        pnames = [v for v, _ in typed]
+        act = _action_grounder(g, at, ev_refs, events, kv.get(":observability-conditions"), agents, line,
+                               EventAction)
+        tick = g.tick
+        add = ground.append
         for env in g.bindings(params, {}):
-            g.tick(0)
-            name = "_".join([aname, *(env[v] for v, _ in typed)])
-            ground.append(_ground_action(g, name, at, ev_refs, events, kv.get(":observability-conditions"),
-                                         env, agents, line, EventAction))
+            tick(0)
+            add(act("_".join([aname, *[env[v] for v in pnames]]), env))
     return Task(name=pname, props=tuple(props), agents=agents, initial=model, actions=tuple(ground),
                 goal=goal_f, source=str(problem))
 
@@ -1052,13 +1102,35 @@ def _effects(g: _Ground, node, env) -> dict[str, Formula]:
     if node is not None:
         g.effects(node)(env, TOP, pos, neg)
     post: dict[str, Formula] = {}
-    for p in dict.fromkeys([*pos, *neg]):
-        pf, nf = mk_or(pos.get(p, [])), mk_or(neg.get(p, []))
-        post[p] = mk_or([pf, mk_and([g._prop(p), mk_not(nf)])])
+    for p, cs in pos.items():   # fluents made true first, then those only made false (as dict.fromkeys)
+        if len(cs) == 1 and type(cs[0]) is Top:   # an unconditional p: ⊤ ∨ … = ⊤
+            post[p] = TOP
+        else:
+            post[p] = mk_or([mk_or(cs), mk_and([g._prop(p), mk_not(mk_or(neg.get(p, [])))])])
+    for p, cs in neg.items():
+        if p in post:
+            continue
+        if len(cs) == 1 and type(cs[0]) is Top:   # an unconditional ¬p (and no p): ⊥ ∨ (p ∧ ¬⊤) = ⊥
+            post[p] = BOT
+        else:
+            post[p] = mk_or([BOT, mk_and([g._prop(p), mk_not(mk_or(cs))])])
     return post
 
 
-def _ground_event(g: _Ground, ref, events: dict[str, _Event], env) -> tuple[str, Formula, dict[str, Formula]]:
+def _deferred(build: Callable[..., Callable], *args) -> Callable:
+    """``build(*args)``, or, if building raises a ParseError, a function raising it when called: an error of
+    a construct is reported only when (and if) the construct is grounded."""
+    try:
+        return build(*args)
+    except ParseError as exc:
+        def fail(*_args, exc=exc):
+            raise exc
+        return fail
+
+
+def _event_grounder(g: _Ground, ref, events: dict[str, _Event]) -> Callable[[dict[str, str]], tuple]:
+    """The event reference ``ref`` of an action compiled: env -> (name, pre, post); an event with the same
+    arguments (in this or another action) is grounded once."""
     if isinstance(ref, Sym):
         name, args = str(ref), []
     elif isinstance(ref, Node) and ref and isinstance(ref[0], Sym):
@@ -1073,15 +1145,21 @@ def _ground_event(g: _Ground, ref, events: dict[str, _Event], env) -> tuple[str,
         typed = g.event_params[name] = g.typed_list(ev.params)[0]
     if len(typed) != len(args):
         raise g.err(f"event {name!r} takes {len(typed)} argument(s), got {len(args)}", ref)
-    vals = tuple(g.term(x, env) for x in args)
-    key = (name, vals)
-    got = g.ground_events.get(key)  # an event with the same arguments in another action: grounded once
-    if got is None:
-        eenv = {v: x for (v, _), x in zip(typed, vals, strict=True)}
-        pre = g.formula(ev.pre, eenv) if ev.pre is not None else TOP
-        post = _effects(g, ev.effects, eenv)
-        got = g.ground_events[key] = (atom_name(name, vals), pre, post)
-    return got
+    terms = g._terms(args)
+    names = [v for v, _ in typed]
+    cache = g.ground_events
+    pre_of = g.compile(ev.pre) if ev.pre is not None else None
+
+    def ground(env) -> tuple:
+        vals = terms(env)
+        key = (name, vals)
+        got = cache.get(key)
+        if got is None:
+            eenv = dict(zip(names, vals, strict=True))
+            pre = pre_of(eenv) if pre_of is not None else TOP
+            got = cache[key] = (atom_name(name, vals), pre, _effects(g, ev.effects, eenv))
+        return got
+    return ground
 
 
 def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]]:
@@ -1117,19 +1195,6 @@ def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]
     g.entities, g.where = saved
     g._by_type.clear()
     g.type_pairs[at.name] = got
-    return got
-
-
-def _obs_spec(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tuple[int, Formula]]]:
-    """agent -> [(obs type index, condition)] (plank's per-agent map, first statement per type wins); computed
-    once per observability conditions, action type and values of the variables they mention."""
-    names = g.node_vars.get(id(node))
-    if names is None:
-        names = g.node_vars[id(node)] = (node, sorted(_vars_in(node)) if node is not None else [])
-    key = (id(node), at.name, tuple(env.get(v) for v in names[1]))
-    got = g.obs_specs.get(key)
-    if got is None:
-        got = g.obs_specs[key] = _obs_spec_of(g, node, env, at, agents)
     return got
 
 
@@ -1214,13 +1279,57 @@ def _relation(n: int, pairs: list[tuple[int, int]]):
     return Relation.from_pairs(n, pairs)
 
 
-def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_node, env, agents, line,
-                   EventAction):
+def _action_grounder(g: _Ground, at: _ActType, ev_refs, events, obs_node, agents, line, EventAction):
+    """An action schema compiled: (ground name, env) -> EventAction. Per binding, in this order: its events
+    (each grounded once per arguments), the action type's relations (once per type), the observability
+    conditions (once per values of the variables they mention) — so errors come in the order of the
+    constructs."""
     from delkit.events import EventModel
 
-    evs = [_ground_event(g, r, events, env) for r in ev_refs]
-    rels = _type_relations(g, at)
-    obs = _obs_spec(g, obs_node, env, at, agents)
+    refs = [_deferred(_event_grounder, g, r, events) for r in ev_refs]
+    obs_vars = sorted(_vars_in(obs_node)) if obs_node is not None else []
+    obs_cache: dict[tuple, tuple] = {}   # values of obs_vars -> (conditions, agent -> [(relation, condition)])
+    where = f"{g.where}:{line}"
+    tname = at.name
+
+    def ground(name: str, env: dict[str, str]) -> EventAction:
+        evs = [r(env) for r in refs]
+        rels = _type_relations(g, at)
+        key = tuple([env.get(v) for v in obs_vars])
+        got = obs_cache.get(key)
+        if got is None:
+            got = obs_cache[key] = _obs_plan(_obs_spec_of(g, obs_node, env, at, agents), agents)
+        conds, plan = got
+        info = g.type_info.get(tname)
+        if info is None:
+            slots = tuple(e.lstrip("?") for e in at.events)
+            des = tuple(at.events.index(d) for d in at.designated)
+            type_rel = g.type_relations.get(tname)
+            if type_rel is None:
+                type_rel = g.type_relations[tname] = {t: _relation(len(slots), rels.get(t, []))
+                                                      for t in at.obs_types}
+            info = g.type_info[tname] = (slots, des, [type_rel[t] for t in at.obs_types])
+        slots, des, by_type = info
+        pre = tuple([e[1] for e in evs])
+        post = tuple([e[2] for e in evs])
+
+        def build(bits: tuple[bool, ...]) -> EventModel:
+            relations = {}
+            for a in agents:
+                t = 0
+                for tt, ci in plan[a]:
+                    if ci is None or bits[ci]:
+                        t = tt
+                relations[a] = by_type[t]
+            return EventModel(slots, agents, pre, post, relations, des, name)
+
+        return EventAction(name=name, build=build, conditions=conds, where=where, kind=tname)
+    return ground
+
+
+def _obs_plan(obs: dict[str, list[tuple[int, Formula]]], agents) -> tuple[tuple[Formula, ...], dict]:
+    """(conditions, agent -> [(obs type index, index of its condition or None for ⊤)]) of an observability
+    spec: each distinct condition once, in order of first use; a ⊥ condition never applies."""
     conds: list[Formula] = []
     cidx: dict[Formula, int] = {}
     plan: dict[str, list[tuple[int, int | None]]] = {}
@@ -1234,27 +1343,7 @@ def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_nod
                     cidx[c] = len(conds)
                     conds.append(c)
                 plan[a].append((t, cidx[c]))
-    slots = tuple(e.lstrip("?") for e in at.events)
-    pre = tuple(e[1] for e in evs)
-    post = tuple(e[2] for e in evs)
-    des = tuple(at.events.index(d) for d in at.designated)
-    n = len(slots)
-    type_rel = g.type_relations.get(at.name)
-    if type_rel is None:
-        type_rel = g.type_relations[at.name] = {t: _relation(n, rels.get(t, [])) for t in at.obs_types}
-
-    def build(bits: tuple[bool, ...]) -> EventModel:
-        relations = {}
-        for a in agents:
-            t = 0
-            for tt, ci in plan[a]:
-                if ci is None or bits[ci]:
-                    t = tt
-            relations[a] = type_rel[at.obs_types[t]]
-        return EventModel(slots, agents, pre, post, relations, des, name)
-
-    return EventAction(name=name, build=build, conditions=tuple(conds), where=f"{g.where}:{line}",
-                       kind=at.name)
+    return tuple(conds), plan
 
 
 def load_epddl2026(domain: str | Path, problem: str | Path, libraries: list[str | Path] = (), *,
