@@ -253,6 +253,7 @@ class _Ground:
         self._bc: dict[tuple, tuple] = {}
         self._ic: dict[int, tuple] = {}
         self._ec: dict[int, tuple] = {}
+        self._pc: dict[int, tuple] = {}
         # per action type (by name: unique in a run), event and observability conditions
         self.type_pairs: dict[str, dict[str, list[tuple[int, int]]]] = {}
         self.type_relations: dict[str, dict] = {}
@@ -501,6 +502,9 @@ class _Ground:
             facts = self.facts
             return lambda env: TOP if (name, *args(env)) in facts else BOT
         cache: dict[tuple[str, ...], Prop] = {}
+        xs = node[1:]
+        if 1 <= len(xs) <= 3 and all(isinstance(x, Sym) and x.startswith("?") for x in xs):
+            return self._fluent_of_vars(name, [str(x) for x in xs], args, cache)
 
         def fluent(env) -> Formula:
             a = args(env)
@@ -508,6 +512,48 @@ class _Ground:
             if p is None:
                 p = cache[a] = self._prop(atom_name(name, a))
             return p
+        return fluent
+
+    def _fluent_of_vars(self, name: str, vs: list[str], args: Callable, cache: dict) -> Callable:
+        """A fluent atom whose 1-3 arguments are variables, with its argument tuple built inline (an atom is
+        grounded once per binding); an unbound variable falls back to ``args`` (which reports it)."""
+        prop = self._prop
+        if len(vs) == 1:
+            (v0,) = vs
+
+            def fluent(env) -> Formula:
+                try:
+                    a = (env[v0],)
+                except KeyError:
+                    a = args(env)
+                p = cache.get(a)
+                if p is None:
+                    p = cache[a] = prop(atom_name(name, a))
+                return p
+        elif len(vs) == 2:
+            v0, v1 = vs
+
+            def fluent(env) -> Formula:
+                try:
+                    a = (env[v0], env[v1])
+                except KeyError:
+                    a = args(env)
+                p = cache.get(a)
+                if p is None:
+                    p = cache[a] = prop(atom_name(name, a))
+                return p
+        else:
+            v0, v1, v2 = vs
+
+            def fluent(env) -> Formula:
+                try:
+                    a = (env[v0], env[v1], env[v2])
+                except KeyError:
+                    a = args(env)
+                p = cache.get(a)
+                if p is None:
+                    p = cache[a] = prop(atom_name(name, a))
+                return p
         return fluent
 
     def formula(self, f, env: dict[str, str]) -> Formula:
@@ -682,6 +728,48 @@ class _Ground:
                     (pos if to_pos else neg).setdefault(p.name, []).append(mk_and([cond, mk_not(c)]))
             return iff
         return self._literal(node)
+
+    def posts(self, node) -> Callable[[dict[str, str]], dict[str, Formula]]:
+        """The effects ``node`` compiled into env -> {p: p'} (p' = pos ∨ (p ∧ ¬neg), see :func:`_effects`).
+        Effects made of literals only (in ``:and`` lists: no ``when``/``iff``/``:forall``, the usual case)
+        give ⊤ for a fluent made true and ⊥ for one only made false, without collecting conditions."""
+        got = self._pc.get(id(node))
+        return got[1] if got is not None else self._cached(self._pc, id(node), node, self._posts, node)
+
+    def _posts(self, node) -> Callable[[dict[str, str]], dict[str, Formula]]:
+        lits: list[tuple[Callable, bool, Node]] | None = [] if node is not None else None
+        todo = [node] if node is not None else []
+        while todo and lits is not None:
+            x = todo.pop()
+            if isinstance(x, Node) and x.kind == "(" and x.head() == ":and":
+                todo.extend(reversed(x[1:]))
+            elif isinstance(x, Node) and x.head() == "not" and len(x) == 2:
+                lits.append((self.atom_of(x[1]), False, x))
+            elif isinstance(x, Node) and x.head() in self.preds:
+                lits.append((self.atom_of(x), True, x))
+            else:   # a conditional effect, a :forall, or an error (reported by the general path, in order)
+                lits = None
+        if lits is None:
+            eff = self.effects(node) if node is not None else None
+            return lambda env: _effects(self, eff, env)
+        err = self.err
+
+        def post_of(env) -> dict[str, Formula]:
+            post: dict[str, Formula] = {}
+            negs = []
+            for atom, into_pos, x in lits:
+                f = atom(env)
+                if type(f) is not Prop:
+                    raise err("effects may not change a fact", x)
+                if into_pos:
+                    post[f.name] = TOP
+                else:
+                    negs.append(f.name)
+            for p in negs:
+                if p not in post:
+                    post[p] = BOT
+            return post
+        return post_of
 
     def _literal(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
         if isinstance(node, Node) and node.head() == "not" and len(node) == 2:
@@ -1095,12 +1183,12 @@ def _explicit_init(init: Node, g: _Ground, props: list[str], agents: tuple[str, 
     return KripkeModel(tuple(props), agents, val, rels, tuple(des), names=tuple(worlds))
 
 
-def _effects(g: _Ground, node, env) -> dict[str, Formula]:
-    """p ↦ p' of an event's effects (p' = pos ∨ (p ∧ ¬neg))."""
+def _effects(g: _Ground, eff: Callable | None, env) -> dict[str, Formula]:
+    """p ↦ p' of an event's compiled effects ``eff`` (p' = pos ∨ (p ∧ ¬neg))."""
     pos: dict[str, list[Formula]] = {}
     neg: dict[str, list[Formula]] = {}
-    if node is not None:
-        g.effects(node)(env, TOP, pos, neg)
+    if eff is not None:
+        eff(env, TOP, pos, neg)
     post: dict[str, Formula] = {}
     for p, cs in pos.items():   # fluents made true first, then those only made false (as dict.fromkeys)
         if len(cs) == 1 and type(cs[0]) is Top:   # an unconditional p: ⊤ ∨ … = ⊤
@@ -1149,6 +1237,7 @@ def _event_grounder(g: _Ground, ref, events: dict[str, _Event]) -> Callable[[dic
     names = [v for v, _ in typed]
     cache = g.ground_events
     pre_of = g.compile(ev.pre) if ev.pre is not None else None
+    post_of = g.posts(ev.effects)
 
     def ground(env) -> tuple:
         vals = terms(env)
@@ -1157,7 +1246,7 @@ def _event_grounder(g: _Ground, ref, events: dict[str, _Event]) -> Callable[[dic
         if got is None:
             eenv = dict(zip(names, vals, strict=True))
             pre = pre_of(eenv) if pre_of is not None else TOP
-            got = cache[key] = (atom_name(name, vals), pre, _effects(g, ev.effects, eenv))
+            got = cache[key] = (atom_name(name, vals), pre, post_of(eenv))
         return got
     return ground
 
