@@ -260,6 +260,7 @@ class _Ground:
         self.event_params: dict[str, list] = {}
         self.ground_events: dict[tuple, tuple] = {}
         self.type_info: dict[str, tuple] = {}
+        self.obs_leaves: dict[tuple, tuple] = {}
 
     def err(self, msg: str, node) -> ParseError:
         return ParseError(msg, source=self.where, line=getattr(node, "line", None))
@@ -1288,68 +1289,115 @@ def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]
 
 
 def _obs_spec_of(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tuple[int, Formula]]]:
-    tidx = {t: j for j, t in enumerate(at.obs_types)}
-    spec: dict[str, dict[int, Formula]] = {a: {} for a in agents}
+    """agent -> [(obs type index, condition)] (plank's per-agent map, first statement per type wins). One walk
+    over the list constructs collects the statements (and the ``default``, whose type is checked there);
+    each statement is then applied by its handler, compiled once per statement node (:func:`_obs_leaf`)."""
     if node is None:
         return {a: [(0, TOP)] for a in agents}
     default: list[int] = []
+    found: list[tuple[object, dict[str, str]]] = []
 
-    def tyid(x) -> int:
-        if str(x) not in tidx:
-            raise g.err(f"{x!r} is not an observability type of {at.name!r} ({', '.join(at.obs_types)})", x)
-        return tidx[str(x)]
-
-    def find_default(n, env) -> None:
-        if isinstance(n, Node) and n.head() == "default":
-            default.append(tyid(n[1]))
-    g.items(node, env, find_default)
-
-    def assign(a: str, t: int, c: Formula, where) -> None:
-        if t not in spec[a]:
-            spec[a][t] = c
-        elif spec[a][t] != c:
-            raise g.err(f"agent {a}: observability type {at.obs_types[t]} given twice with different conditions",
-                        where)
-
-    def leaf(n, env) -> None:
-        if not isinstance(n, Node) or len(n) != 2:
-            raise g.err("expected (agent Type), (agent (if ...)) or (default Type)", n)
-        if n[0] == "default":
-            return
-        a = g.agent(n[0], env)
-        body = n[1]
-        if isinstance(body, Sym):
-            assign(a, tyid(body), TOP, n)
-            return
-        if not (isinstance(body, Node) and body.head() == "if"):
-            raise g.err("expected an observability type or (if φ T else-if φ T ... else T)", body)
-        if len(body) < 3:
-            raise g.err("(if φ T else-if φ T ... else T)", body)
-        prev: list[Formula] = []
-        has_else = False
-        k = 0
-        while k < len(body):
-            w = body[k]
-            if w in ("if", "else-if") and k + 2 < len(body) and (w == "if") == (k == 0):
-                c = g.formula(body[k + 1], env)
-                assign(a, tyid(body[k + 2]), mk_and([*(mk_not(p) for p in prev), c]), body)
-                prev.append(c)
-                k += 3
-            elif w == "else" and k > 0 and k + 2 == len(body):
-                assign(a, tyid(body[k + 1]), mk_and(mk_not(p) for p in prev), body)
-                has_else = True
-                k += 2
-            else:
-                raise g.err(f"unexpected {w!r} in (if φ T else-if φ T ... else T)", body)
-        if not has_else and default:
-            assign(a, default[0], mk_and(mk_not(p) for p in prev), body)
-    g.items(node, env, leaf)
+    def collect(n, env) -> None:
+        if isinstance(n, Node) and n.head() == "default" and len(n) > 1:
+            default.append(_obs_type(g, n[1], at))
+        found.append((n, dict(env)))   # the environment is only valid during the call
+    g.items(node, env, collect)
+    spec: dict[str, dict[int, Formula]] = {a: {} for a in agents}
+    cache = g.obs_leaves
+    for n, e in found:
+        got = cache.get((id(n), at.name))
+        if got is None:
+            got = cache[(id(n), at.name)] = (n, _deferred(_obs_leaf, g, n, at))
+        got[1](e, spec, default)
     for a in agents:
         if not spec[a]:
             if not default:
                 raise g.err(f"no observability condition for agent {a} and no (default Type)", node)
             spec[a][default[0]] = TOP
     return {a: sorted(spec[a].items()) for a in agents}
+
+
+def _obs_type(g: _Ground, x, at: _ActType) -> int:
+    try:
+        return at.obs_types.index(str(x))
+    except ValueError:
+        raise g.err(f"{x!r} is not an observability type of {at.name!r} ({', '.join(at.obs_types)})", x) from None
+
+
+def _obs_type_or_error(g: _Ground, x, at: _ActType) -> int | ParseError:
+    try:
+        return _obs_type(g, x, at)
+    except ParseError as exc:
+        return exc
+
+
+def _obs_leaf(g: _Ground, n, at: _ActType) -> Callable[[dict[str, str], dict, list[int]], None]:
+    """One observability statement ``(agent Type)`` / ``(agent (if φ T else-if φ T ... else T))`` compiled:
+    (env, spec, default) -> None. Errors of the statement are raised when it is applied, in the order the
+    statement is read (agent, then each condition before its type, ...)."""
+    if not isinstance(n, Node) or len(n) != 2:
+        raise g.err("expected (agent Type), (agent (if ...)) or (default Type)", n)
+    if n[0] == "default":
+        return lambda env, spec, default: None
+    who, body = n[0], n[1]
+    names = at.obs_types
+
+    def assign(spec: dict, a: str, t: int, c: Formula, where) -> None:
+        got = spec[a]
+        if t not in got:
+            got[t] = c
+        elif got[t] != c:
+            raise g.err(f"agent {a}: observability type {names[t]} given twice with different conditions", where)
+
+    if isinstance(body, Sym):
+        t = _obs_type_or_error(g, body, at)
+
+        def fixed(env, spec, default) -> None:
+            a = g.agent(who, env)
+            if type(t) is not int:
+                raise t
+            assign(spec, a, t, TOP, n)
+        return fixed
+    bad = None
+    if not (isinstance(body, Node) and body.head() == "if"):
+        bad = g.err("expected an observability type or (if φ T else-if φ T ... else T)", body)
+    elif len(body) < 3:
+        bad = g.err("(if φ T else-if φ T ... else T)", body)
+    steps: list[tuple[Callable | None, int | ParseError]] = []   # (condition or None for else, type)
+    has_else = False
+    k = 0
+    while bad is None and k < len(body):
+        w = body[k]
+        if w in ("if", "else-if") and k + 2 < len(body) and (w == "if") == (k == 0):
+            steps.append((g.compile(body[k + 1]), _obs_type_or_error(g, body[k + 2], at)))
+            k += 3
+        elif w == "else" and k > 0 and k + 2 == len(body):
+            steps.append((None, _obs_type_or_error(g, body[k + 1], at)))
+            has_else = True
+            k += 2
+        else:
+            steps.append((None, g.err(f"unexpected {w!r} in (if φ T else-if φ T ... else T)", body)))
+            break
+
+    def chain(env, spec, default) -> None:
+        a = g.agent(who, env)
+        if bad is not None:
+            raise bad
+        prev: list[Formula] = []
+        for cond, t in steps:
+            if cond is not None:
+                c = cond(env)
+                if type(t) is not int:
+                    raise t
+                assign(spec, a, t, mk_and([*(mk_not(p) for p in prev), c]), body)
+                prev.append(c)
+            else:
+                if type(t) is not int:
+                    raise t
+                assign(spec, a, t, mk_and(mk_not(p) for p in prev), body)
+        if not has_else and default:
+            assign(spec, a, default[0], mk_and(mk_not(p) for p in prev), body)
+    return chain
 
 
 def _relation(n: int, pairs: list[tuple[int, int]]):
