@@ -1440,6 +1440,10 @@ def _action_grounder(g: _Ground, at: _ActType, ev_refs, events, obs_node, agents
         info = g.type_info.get(tname)
         if info is None:
             slots = tuple(e.lstrip("?") for e in at.events)
+            bad = [d for d in at.designated if d not in at.events]
+            if bad:
+                raise ParseError(f"action type {tname!r}: designated {' '.join(bad)} not among its events "
+                                 f"({' '.join(at.events)})", source=at.source, line=at.line)
             des = tuple(at.events.index(d) for d in at.designated)
             type_rel = g.type_relations.get(tname)
             if type_rel is None:

@@ -25,6 +25,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from delkit.errors import ParseError
 from planners.lang import shared_benchmarks
 from planners.lang.epddl2026 import load_epddl2026
 
@@ -88,6 +89,35 @@ def _digest(row: dict) -> str:
 def test_grounded_task_identical_to_reference(row: dict) -> None:
     want = json.loads(DIGESTS.read_text())
     assert _digest(row) == want[_key(row)]
+
+
+def _cb(tmp_path: Path, domain=lambda s: s, library=lambda s: s) -> tuple:
+    """Coin-in-the-Box problem_2 with its domain and library edited."""
+    base = BENCH / "epddl2026" / "plank"
+    dom, lib = tmp_path / "cb.epddl", tmp_path / "intermediate.epddl"
+    dom.write_text(domain((base / "domains/Coin-in-the-Box/cb.epddl").read_text()))
+    lib.write_text(library((base / "libraries/intermediate.epddl").read_text()))
+    return dom, base / "domains/Coin-in-the-Box/instances/problem_2.epddl", [lib]
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_default_without_a_type_is_a_statement_error(tmp_path) -> None:
+    """``(default)`` was an IndexError (found while rewriting the observability conditions)."""
+    files = _cb(tmp_path, domain=lambda s: s.replace("(default Oblivious)", "(default)", 1))
+    with pytest.raises(ParseError, match=r"cb.epddl:33: expected \(agent Type\).*\(default Type\)"):
+        load_epddl2026(*files)
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_designated_event_not_among_the_events_is_named(tmp_path) -> None:
+    """A designated event that is not an event of its action type was a ValueError."""
+    def edit(s: str) -> str:
+        i = s.index(":designated (?pos)", s.index("(:action-type private-ontic"))
+        return s[:i] + ":designated (?zz)" + s[i + len(":designated (?pos)"):]
+    files = _cb(tmp_path, library=edit)
+    with pytest.raises(ParseError, match=r"intermediate.epddl:18: action type 'private-ontic': designated \?zz "
+                                         r"not among its events \(\?pos \?nil\)"):
+        load_epddl2026(*files)
 
 
 def _main(argv: list[str]) -> None:
