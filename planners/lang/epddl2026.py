@@ -63,6 +63,7 @@ REQUIREMENTS = frozenset((
     ":typing :universal-formulas :universal-goals :universal-list-formulas :universal-obs-conditions "
     ":universal-postconditions :universal-preconditions").split())   # the guideline's (plank's lexer's) list
 _ENTITY, _OBJECT, _AGENT = "entity", "object", "agent"
+_NOT_ATOM = frozenset(("and", "or", "not", "imply", "forall", "exists", "=", "/=", "true", "false"))  # heads
 
 
 # ----------------------------------------------------------------------------- formula smart constructors
@@ -248,6 +249,7 @@ class _Ground:
         self.groups: dict[str, tuple[str, ...]] = {}
         self._is_static: dict[Node, bool] = {}
         self._props: dict[str, Prop] = {}
+        self._atoms: dict[str, dict[tuple[str, ...], Prop]] = {}
         self._fc: dict[int, tuple] = {}   # compiled formulas, atoms, bindings, list constructs, effects:
         self._ac: dict[int, tuple] = {}   # id(node) -> (node, closure)
         self._bc: dict[tuple, tuple] = {}
@@ -261,6 +263,14 @@ class _Ground:
         self.ground_events: dict[tuple, tuple] = {}
         self.type_info: dict[str, tuple] = {}
         self.obs_leaves: dict[tuple, tuple] = {}
+
+    def release(self) -> None:
+        """Drop the compiled closures and caches. They refer to this object (reference cycles), so without
+        this every load would leave thousands of objects for the cyclic garbage collector, whose passes
+        then cost a fifth of a small problem's load; the grounded task refers to none of them."""
+        for v in vars(self).values():
+            if isinstance(v, dict):
+                v.clear()
 
     def err(self, msg: str, node) -> ParseError:
         return ParseError(msg, source=self.where, line=getattr(node, "line", None))
@@ -489,8 +499,12 @@ class _Ground:
 
     def _atom(self, node: Node) -> Callable[[dict[str, str]], Formula]:
         pred = node[0]
-        args = self._terms(node[1:])
         decl = self.preds.get(pred)
+        xs = node[1:]
+        if decl is not None and not decl[1] and len(decl[0]) == len(xs) and 1 <= len(xs) <= 3 \
+                and all(type(x) is Sym and x[0] == "?" for x in xs):
+            return self._fluent_of_vars(str(pred), [str(x) for x in xs], xs)
+        args = self._terms(xs)
         if decl is None or len(decl[0]) != len(node) - 1:
             def bad(env):
                 args(env)  # an unbound variable is reported first
@@ -502,10 +516,7 @@ class _Ground:
         if decl[1]:
             facts = self.facts
             return lambda env: TOP if (name, *args(env)) in facts else BOT
-        cache: dict[tuple[str, ...], Prop] = {}
-        xs = node[1:]
-        if 1 <= len(xs) <= 3 and all(isinstance(x, Sym) and x.startswith("?") for x in xs):
-            return self._fluent_of_vars(name, [str(x) for x in xs], args, cache)
+        cache = self._atoms_of(name)
 
         def fluent(env) -> Formula:
             a = args(env)
@@ -515,10 +526,21 @@ class _Ground:
             return p
         return fluent
 
-    def _fluent_of_vars(self, name: str, vs: list[str], args: Callable, cache: dict) -> Callable:
+    def _atoms_of(self, pred: str) -> dict[tuple[str, ...], Prop]:
+        """arguments -> Prop of the fluent predicate ``pred``, shared by all its occurrences."""
+        got = self._atoms.get(pred)
+        if got is None:
+            got = self._atoms[pred] = {}
+        return got
+
+    def _fluent_of_vars(self, name: str, vs: list[str], xs: list) -> Callable:
         """A fluent atom whose 1-3 arguments are variables, with its argument tuple built inline (an atom is
-        grounded once per binding); an unbound variable falls back to ``args`` (which reports it)."""
+        grounded once per binding); an unbound variable falls back to :meth:`term` (which reports it)."""
         prop = self._prop
+        cache = self._atoms_of(name)
+
+        def args(env) -> tuple[str, ...]:
+            return tuple(self.term(x, env) for x in xs)
         if len(vs) == 1:
             (v0,) = vs
 
@@ -563,7 +585,13 @@ class _Ground:
     def compile(self, f) -> Callable[[dict[str, str]], Formula]:
         """The formula ``f`` compiled: env -> ground formula (see "compiled nodes")."""
         got = self._fc.get(id(f))
-        return got[1] if got is not None else self._cached(self._fc, id(f), f, self._formula, f)
+        if got is not None:
+            return got[1]
+        if type(f) is Node and f.kind == "(" and f and type(f[0]) is Sym and f[0] not in _NOT_ATOM \
+                and f[0][0] != ":":   # an atom, the most frequent node: as _formula would, one call less
+            got = self._fc[id(f)] = (f, self.atom_of(f))
+            return got[1]
+        return self._cached(self._fc, id(f), f, self._formula, f)
 
     def _formula(self, f) -> Callable[[dict[str, str]], Formula]:  # noqa: C901 - one clause per construct
         if isinstance(f, Sym):
@@ -862,11 +890,16 @@ _BASIC_TYPE = _ActType(BASIC, ["?e"], ["Fully"], None, ["?e"], 0, "<built-in>")
 def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
                     deadline: float | None = None):
     """Read, type and ground one EPDDL run into a :class:`planners.task.Task`."""
+    g = _Ground({}, deadline)
+    try:
+        return _parse(g, Path(domain), Path(problem), [Path(p) for p in libraries], deadline)
+    finally:
+        g.release()
+
+
+def _parse(g: _Ground, domain: Path, problem: Path, libraries: list[Path], deadline: float | None):
     from planners.task import EventAction, Task
 
-    domain, problem = Path(domain), Path(problem)
-    libraries = [Path(p) for p in libraries]
-    g = _Ground({}, deadline)
     g.where = str(domain)
     g.tick(0)
     dkind, dname, dsecs = _read_define(domain)
