@@ -95,6 +95,11 @@ def mk_and(parts) -> Formula:
             out.extend(p.args)
         else:
             out.append(p)
+    return _and_of(out)
+
+
+def _and_of(out: list[Formula]) -> Formula:
+    """The conjunction of ``out`` (no ⊤, ⊥ or And in it): one part as itself, duplicates dropped, x ∧ ¬x ⊥."""
     if len(out) < 2:
         return out[0] if out else TOP
     uniq = tuple(dict.fromkeys(out))
@@ -115,6 +120,11 @@ def mk_or(parts) -> Formula:
             out.extend(p.args)
         else:
             out.append(p)
+    return _or_of(out)
+
+
+def _or_of(out: list[Formula]) -> Formula:
+    """The disjunction of ``out`` (no ⊤, ⊥ or Or in it), as :func:`_and_of`."""
     if len(out) < 2:
         return out[0] if out else BOT
     uniq = tuple(dict.fromkeys(out))
@@ -123,9 +133,9 @@ def mk_or(parts) -> Formula:
     return uniq[0] if len(uniq) == 1 else Or(uniq)
 
 
+# Compiled and/or/forall/exists: mk_and/mk_or with the loop inlined over the parts' values (a conjunction is
+# grounded per binding), grounding no part after one that decides the whole (⊥ for and, ⊤ for or).
 def _lazy_and(parts: list[Callable]) -> Callable:
-    """env -> mk_and of the parts' values, grounding no part after one that is ⊥ (mk_and inlined: a
-    conjunction is grounded per binding)."""
     def conj(env) -> Formula:
         out: list[Formula] = []
         for part in parts:
@@ -139,17 +149,11 @@ def _lazy_and(parts: list[Callable]) -> Callable:
                 out.extend(p.args)
             else:
                 out.append(p)
-        if len(out) < 2:
-            return out[0] if out else TOP
-        uniq = tuple(dict.fromkeys(out))
-        if _contradicts(uniq):  # x ∧ ¬x
-            return BOT
-        return uniq[0] if len(uniq) == 1 else And(uniq)
+        return _and_of(out)
     return conj
 
 
 def _lazy_or(parts: list[Callable]) -> Callable:
-    """env -> mk_or of the parts' values, grounding no part after one that is ⊤."""
     def disj(env) -> Formula:
         out: list[Formula] = []
         for part in parts:
@@ -163,13 +167,44 @@ def _lazy_or(parts: list[Callable]) -> Callable:
                 out.extend(p.args)
             else:
                 out.append(p)
-        if len(out) < 2:
-            return out[0] if out else BOT
-        uniq = tuple(dict.fromkeys(out))
-        if _contradicts(uniq):  # x ∨ ¬x
-            return TOP
-        return uniq[0] if len(uniq) == 1 else Or(uniq)
+        return _or_of(out)
     return disj
+
+
+def _lazy_forall(binder: Callable, body: Callable) -> Callable:
+    def forall(env) -> Formula:
+        out: list[Formula] = []
+        for e in binder(env):
+            p = body(e)
+            t = type(p)
+            if t is Bot:
+                return BOT
+            if t is Top:
+                continue
+            if t is And:
+                out.extend(p.args)
+            else:
+                out.append(p)
+        return _and_of(out)
+    return forall
+
+
+def _lazy_exists(binder: Callable, body: Callable) -> Callable:
+    def exists(env) -> Formula:
+        out: list[Formula] = []
+        for e in binder(env):
+            p = body(e)
+            t = type(p)
+            if t is Top:
+                return TOP
+            if t is Bot:
+                continue
+            if t is Or:
+                out.extend(p.args)
+            else:
+                out.append(p)
+        return _or_of(out)
+    return exists
 
 
 def atom_name(pred: str, args: tuple[str, ...]) -> str:
@@ -620,17 +655,17 @@ class _Ground:
 
             def imply(env):
                 a, b = left(env), right(env)
-                if a == TOP or b == BOT:
+                if type(a) is Top or type(b) is Bot:   # as a == TOP / b == BOT (only ⊤ equals ⊤)
                     return mk_or([mk_not(a), b])
-                if a == BOT or b == TOP:
+                if type(a) is Bot or type(b) is Top:
                     return TOP
                 return Implies(a, b)
             return imply
         if h in ("forall", "exists"):
             self._arity(f, 2)
             params, body = f[1], self.compile(f[2])
-            mk = mk_and if h == "forall" else mk_or
-            return lambda env: mk(body(e) for e in self.bindings(params, env))
+            binder = self._cached(self._bc, (id(params), _OBJECT), params, self._binder, params, _OBJECT)
+            return _lazy_forall(binder, body) if h == "forall" else _lazy_exists(binder, body)
         if h in ("=", "/="):
             self._arity(f, 2)
             both = self._terms(f[1:])
@@ -694,6 +729,8 @@ class _Ground:
             f = phi(env)
             g = self.group(who, env)
             if op is None:
+                if len(g) == 1:   # mk_and of one K (or ¬K) is itself
+                    return K(g[0], f) if box else mk_not(K(g[0], mk_not(f)))
                 return mk_and(K(a, f) if box else mk_not(K(a, mk_not(f))) for a in g)
             if op == "Kw.":
                 if box:
