@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from delkit.errors import ParseError
-from delkit.formula import BOT, TOP, And, Bot, C, Formula, Implies, K, Kw, Not, Or, Prop, Top
+from delkit.formula import BOT, TOP, And, Bot, C, Formula, Iff, Implies, K, Kw, Not, Or, Prop, Top
 from planners.lang.initial import LoadTimeout
 from planners.lang.sexpr import Node, Sym, read
 
@@ -539,6 +539,14 @@ class _Ground:
         if decl is not None and not decl[1] and len(decl[0]) == len(xs) and 1 <= len(xs) <= 3 \
                 and all(type(x) is Sym and x[0] == "?" for x in xs):
             return self._fluent_of_vars(str(pred), [str(x) for x in xs], xs)
+        if decl is not None and not decl[1] and len(decl[0]) == len(xs) \
+                and all(type(x) is Sym and x[0] != "?" for x in xs):   # a ground fluent: its Prop now
+            a = tuple([str(x) for x in xs])
+            cache = self._atoms_of(str(pred))
+            p = cache.get(a)
+            if p is None:
+                p = cache[a] = self._prop(atom_name(str(pred), a))
+            return lambda env: p
         args = self._terms(xs)
         if decl is None or len(decl[0]) != len(node) - 1:
             def bad(env):
@@ -1185,12 +1193,31 @@ def _agent_groups(g: _Ground, sec: Node) -> None:
 
 
 def _prop(g: _Ground, node, env) -> Formula:
-    from delkit.formula import is_propositional
-
     f = g.formula(node, env)
-    if not is_propositional(f):
+    if not _is_propositional(f):
         raise g.err("a finitary-S5 theory allows only propositional formulas here", node)
     return f
+
+
+def _is_propositional(f: Formula) -> bool:
+    """``delkit.formula.is_propositional`` without collecting the subformulas (one walk, stops at the first
+    modal or dynamic operator)."""
+    todo = [f]
+    while todo:
+        x = todo.pop()
+        t = type(x)
+        if t is Prop or t is Top or t is Bot:
+            continue
+        if t is Not:
+            todo.append(x.arg)
+        elif t is And or t is Or:
+            todo.extend(x.args)
+        elif t is Implies or t is Iff:
+            todo.append(x.left)
+            todo.append(x.right)
+        else:
+            return False
+    return True
 
 
 def _explicit_init(init: Node, g: _Ground, props: list[str], agents: tuple[str, ...]):
@@ -1331,12 +1358,12 @@ def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]
         got = g.type_pairs[at.name] = {"Fully": [(0, 0)]}
         return got
     eidx = {e: j for j, e in enumerate(at.events)}
-    saved = (dict(g.entities), g.where)
+    saved = (dict(g.entities), g.where, g._by_type)   # the domains of types stay valid once restored
     g.where = at.source
     for e in at.events:
         g.entities[e] = "event"
     g.type_parent.setdefault("event", _ENTITY)
-    g._by_type.clear()
+    g._by_type = {}
     got = {t: [] for t in at.obs_types}
     rel = at.relations
     for j in range(0, len(rel), 2):
@@ -1352,8 +1379,7 @@ def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]
                 raise g.err(f"({a} {b}): not events of {at.name!r}", node)
             got[t].append((eidx[a], eidx[b]))
         g.items(rel[j + 1], {e: e for e in at.events}, pair)
-    g.entities, g.where = saved
-    g._by_type.clear()
+    g.entities, g.where, g._by_type = saved
     g.type_pairs[at.name] = got
     return got
 

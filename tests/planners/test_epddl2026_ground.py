@@ -24,10 +24,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
 
 from delkit.errors import ParseError
+from delkit.formula import is_propositional
+from delkit.testing import formulas
 from planners.lang import shared_benchmarks
-from planners.lang.epddl2026 import load_epddl2026
+from planners.lang.epddl2026 import _is_propositional, load_epddl2026
 
 BENCH = shared_benchmarks()
 DIGESTS = Path(__file__).with_name("epddl2026_ground.json")
@@ -89,6 +92,13 @@ def _digest(row: dict) -> str:
 def test_grounded_task_identical_to_reference(row: dict) -> None:
     want = json.loads(DIGESTS.read_text())
     assert _digest(row) == want[_key(row)]
+
+
+@settings(max_examples=300, deadline=None)
+@given(formulas(["p", "q"], ["a", "b"], max_depth=4))
+def test_is_propositional_as_delkits(f) -> None:
+    """The grounder's one-walk test for finitary-S5 theories agrees with delkit.formula.is_propositional."""
+    assert _is_propositional(f) == is_propositional(f)
 
 
 def _cb(tmp_path: Path, domain=lambda s: s, library=lambda s: s) -> tuple:
