@@ -937,7 +937,7 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
     """Read, type and ground one EPDDL run into a :class:`planners.task.Task`."""
     g = _Ground({}, deadline)
     try:
-        return _parse(g, Path(domain), Path(problem), [Path(p) for p in libraries], deadline)
+        return _parse(g, _path(domain), _path(problem), [_path(p) for p in libraries], deadline)
     finally:
         g.release()
 
@@ -1586,7 +1586,13 @@ def _obs_plan(obs: dict[str, list[tuple[int, Formula]]], agents) -> tuple[tuple[
 def load_epddl2026(domain: str | Path, problem: str | Path, libraries: list[str | Path] = (), *,
                    deadline: float | None = None):
     """Read an EPDDL (2026) run; ``deadline`` is a ``time.monotonic()`` instant (:class:`LoadTimeout`)."""
-    for p in (domain, problem, *libraries):
-        if not Path(p).exists():
-            raise ParseError("no such file", source=str(p))
-    return parse_epddl2026(Path(domain), Path(problem), [Path(x) for x in libraries], deadline=deadline)
+    given = (domain, problem, *libraries)
+    paths = [_path(p) for p in given]
+    for raw, p in zip(given, paths, strict=True):
+        if not p.exists():
+            raise ParseError("no such file", source=str(raw))
+    return parse_epddl2026(paths[0], paths[1], paths[2:], deadline=deadline)
+
+
+def _path(p: str | Path) -> Path:
+    return p if isinstance(p, Path) else Path(p)   # a Path re-made from a Path re-parses every part
