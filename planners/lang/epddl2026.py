@@ -468,7 +468,7 @@ class _Ground:
             if not v.startswith("?"):
                 raise self.err(f"expected a ?variable, got {v!r}", params)
         checks: list[list[Callable]] = [[] for _ in names]
-        if filt is not None:
+        if filt is not None and names:   # without variables the filter is tested once, whole (below)
             conjs = list(filt[1:]) if isinstance(filt, Node) and filt.head() == "and" else [filt]
             for c in conjs:
                 used = _vars_in(c)

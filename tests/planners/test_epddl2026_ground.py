@@ -130,6 +130,16 @@ def test_designated_event_not_among_the_events_is_named(tmp_path) -> None:
         load_epddl2026(*files)
 
 
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_filter_on_a_parameter_list_without_variables_is_grounded(tmp_path) -> None:
+    """``(:forall ( - agent | φ) ...)`` (no variable, a filter) was an IndexError; the filter is now tested
+    as a whole, here reporting its unbound variable."""
+    files = _cb(tmp_path, domain=lambda s: s.replace("(:forall (?j - agent | (/= ?i ?j))",
+                                                     "(:forall ( - agent | (/= ?x ?j))", 1))
+    with pytest.raises(ParseError, match=r"cb\.epddl:\d+: unbound variable \?x"):
+        load_epddl2026(*files)
+
+
 def _main(argv: list[str]) -> None:
     if argv[:1] == ["--write"]:
         DIGESTS.write_text(json.dumps({_key(r): _digest(r) for r in _rows()}, indent=1) + "\n")
