@@ -981,6 +981,8 @@ def _parse(g: _Ground, domain: Path, problem: Path, libraries: list[Path], deadl
                     raise g.err("expected (name ?x - type ...) or (:fact name ...)", p)
                 fact = p[0] == ":fact"
                 body = list(p[1:]) if fact else list(p)
+                if not body or not isinstance(body[0], Sym):   # was an IndexError / the repr of a tree
+                    raise g.err("expected (name ?x - type ...) or (:fact name ...)", p)
                 typed, _ = g.typed_list(body[1:], _ENTITY)
                 g.preds[str(body[0])] = (tuple(str(t) for _, t in typed), fact)
         elif key == ":event":

@@ -140,6 +140,15 @@ def test_filter_on_a_parameter_list_without_variables_is_grounded(tmp_path) -> N
         load_epddl2026(*files)
 
 
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+@pytest.mark.parametrize("decl", ["(:fact)", "(((deep)) ?i - agent)"])
+def test_predicate_without_a_name_is_refused(tmp_path, decl: str) -> None:
+    """``(:fact)`` was an IndexError, a bracketed predicate name a RecursionError when deeply nested."""
+    files = _cb(tmp_path, domain=lambda s: s.replace("(has-key ?i - agent)", f"(has-key ?i - agent) {decl}", 1))
+    with pytest.raises(ParseError, match=r"cb\.epddl:\d+: expected \(name \?x - type \.\.\.\) or \(:fact name"):
+        load_epddl2026(*files)
+
+
 def _main(argv: list[str]) -> None:
     if argv[:1] == ["--write"]:
         DIGESTS.write_text(json.dumps({_key(r): _digest(r) for r in _rows()}, indent=1) + "\n")
