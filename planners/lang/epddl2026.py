@@ -887,11 +887,16 @@ class _Ground:
 
 
 def _vars_in(x) -> set[str]:
-    if isinstance(x, Sym):
-        return {str(x)} if x.startswith("?") else set()
+    """The ?variables written anywhere in ``x`` (a Sym or a tree)."""
     out: set[str] = set()
-    for y in x:
-        out |= _vars_in(y)
+    todo = [x]
+    while todo:
+        y = todo.pop()
+        if isinstance(y, Sym):
+            if y.startswith("?"):
+                out.add(str(y))
+        else:
+            todo.extend(y)
     return out
 
 
