@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 from delkit.errors import ParseError
-from delkit.formula import BOT, TOP, And, Bot, C, Formula, Implies, K, Kw, Not, Or, Prop, Top
+from delkit.formula import BOT, TOP, And, Bot, C, Formula, Iff, Implies, K, Kw, Not, Or, Prop, Top
 from planners.lang.initial import LoadTimeout
 from planners.lang.sexpr import Node, Sym, read
 
@@ -63,6 +63,7 @@ REQUIREMENTS = frozenset((
     ":typing :universal-formulas :universal-goals :universal-list-formulas :universal-obs-conditions "
     ":universal-postconditions :universal-preconditions").split())   # the guideline's (plank's lexer's) list
 _ENTITY, _OBJECT, _AGENT = "entity", "object", "agent"
+_NOT_ATOM = frozenset(("and", "or", "not", "imply", "forall", "exists", "=", "/=", "true", "false"))  # heads
 
 
 # ----------------------------------------------------------------------------- formula smart constructors
@@ -94,6 +95,11 @@ def mk_and(parts) -> Formula:
             out.extend(p.args)
         else:
             out.append(p)
+    return _and_of(out)
+
+
+def _and_of(out: list[Formula]) -> Formula:
+    """The conjunction of ``out`` (no ⊤, ⊥ or And in it): one part as itself, duplicates dropped, x ∧ ¬x ⊥."""
     if len(out) < 2:
         return out[0] if out else TOP
     uniq = tuple(dict.fromkeys(out))
@@ -114,12 +120,91 @@ def mk_or(parts) -> Formula:
             out.extend(p.args)
         else:
             out.append(p)
+    return _or_of(out)
+
+
+def _or_of(out: list[Formula]) -> Formula:
+    """The disjunction of ``out`` (no ⊤, ⊥ or Or in it), as :func:`_and_of`."""
     if len(out) < 2:
         return out[0] if out else BOT
     uniq = tuple(dict.fromkeys(out))
     if _contradicts(uniq):  # x ∨ ¬x
         return TOP
     return uniq[0] if len(uniq) == 1 else Or(uniq)
+
+
+# Compiled and/or/forall/exists: mk_and/mk_or with the loop inlined over the parts' values (a conjunction is
+# grounded per binding), grounding no part after one that decides the whole (⊥ for and, ⊤ for or).
+def _lazy_and(parts: list[Callable]) -> Callable:
+    def conj(env) -> Formula:
+        out: list[Formula] = []
+        for part in parts:
+            p = part(env)
+            t = type(p)
+            if t is Bot:
+                return BOT
+            if t is Top:
+                continue
+            if t is And:
+                out.extend(p.args)
+            else:
+                out.append(p)
+        return _and_of(out)
+    return conj
+
+
+def _lazy_or(parts: list[Callable]) -> Callable:
+    def disj(env) -> Formula:
+        out: list[Formula] = []
+        for part in parts:
+            p = part(env)
+            t = type(p)
+            if t is Top:
+                return TOP
+            if t is Bot:
+                continue
+            if t is Or:
+                out.extend(p.args)
+            else:
+                out.append(p)
+        return _or_of(out)
+    return disj
+
+
+def _lazy_forall(binder: Callable, body: Callable) -> Callable:
+    def forall(env) -> Formula:
+        out: list[Formula] = []
+        for e in binder(env):
+            p = body(e)
+            t = type(p)
+            if t is Bot:
+                return BOT
+            if t is Top:
+                continue
+            if t is And:
+                out.extend(p.args)
+            else:
+                out.append(p)
+        return _and_of(out)
+    return forall
+
+
+def _lazy_exists(binder: Callable, body: Callable) -> Callable:
+    def exists(env) -> Formula:
+        out: list[Formula] = []
+        for e in binder(env):
+            p = body(e)
+            t = type(p)
+            if t is Top:
+                return TOP
+            if t is Bot:
+                continue
+            if t is Or:
+                out.extend(p.args)
+            else:
+                out.append(p)
+        return _or_of(out)
+    return exists
 
 
 def atom_name(pred: str, args: tuple[str, ...]) -> str:
@@ -199,18 +284,28 @@ class _Ground:
         self.groups: dict[str, tuple[str, ...]] = {}
         self._is_static: dict[Node, bool] = {}
         self._props: dict[str, Prop] = {}
+        self._atoms: dict[str, dict[tuple[str, ...], Prop]] = {}
         self._fc: dict[int, tuple] = {}   # compiled formulas, atoms, bindings, list constructs, effects:
         self._ac: dict[int, tuple] = {}   # id(node) -> (node, closure)
         self._bc: dict[tuple, tuple] = {}
         self._ic: dict[int, tuple] = {}
         self._ec: dict[int, tuple] = {}
+        self._pc: dict[int, tuple] = {}
         # per action type (by name: unique in a run), event and observability conditions
         self.type_pairs: dict[str, dict[str, list[tuple[int, int]]]] = {}
         self.type_relations: dict[str, dict] = {}
         self.event_params: dict[str, list] = {}
         self.ground_events: dict[tuple, tuple] = {}
-        self.node_vars: dict[int, tuple] = {}
-        self.obs_specs: dict[tuple, dict] = {}
+        self.type_info: dict[str, tuple] = {}
+        self.obs_leaves: dict[tuple, tuple] = {}
+
+    def release(self) -> None:
+        """Drop the compiled closures and caches. They refer to this object (reference cycles), so without
+        this every load would leave thousands of objects for the cyclic garbage collector, whose passes
+        then cost a fifth of a small problem's load; the grounded task refers to none of them."""
+        for v in vars(self).values():
+            if isinstance(v, dict):
+                v.clear()
 
     def err(self, msg: str, node) -> ParseError:
         return ParseError(msg, source=self.where, line=getattr(node, "line", None))
@@ -373,7 +468,7 @@ class _Ground:
             if not v.startswith("?"):
                 raise self.err(f"expected a ?variable, got {v!r}", params)
         checks: list[list[Callable]] = [[] for _ in names]
-        if filt is not None:
+        if filt is not None and names:   # without variables the filter is tested once, whole (below)
             conjs = list(filt[1:]) if isinstance(filt, Node) and filt.head() == "and" else [filt]
             for c in conjs:
                 used = _vars_in(c)
@@ -439,8 +534,20 @@ class _Ground:
 
     def _atom(self, node: Node) -> Callable[[dict[str, str]], Formula]:
         pred = node[0]
-        args = self._terms(node[1:])
         decl = self.preds.get(pred)
+        xs = node[1:]
+        if decl is not None and not decl[1] and len(decl[0]) == len(xs) and 1 <= len(xs) <= 3 \
+                and all(type(x) is Sym and x[0] == "?" for x in xs):
+            return self._fluent_of_vars(str(pred), [str(x) for x in xs], xs)
+        if decl is not None and not decl[1] and len(decl[0]) == len(xs) \
+                and all(type(x) is Sym and x[0] != "?" for x in xs):   # a ground fluent: its Prop now
+            a = tuple([str(x) for x in xs])
+            cache = self._atoms_of(str(pred))
+            p = cache.get(a)
+            if p is None:
+                p = cache[a] = self._prop(atom_name(str(pred), a))
+            return lambda env: p
+        args = self._terms(xs)
         if decl is None or len(decl[0]) != len(node) - 1:
             def bad(env):
                 args(env)  # an unbound variable is reported first
@@ -452,7 +559,7 @@ class _Ground:
         if decl[1]:
             facts = self.facts
             return lambda env: TOP if (name, *args(env)) in facts else BOT
-        cache: dict[tuple[str, ...], Prop] = {}
+        cache = self._atoms_of(name)
 
         def fluent(env) -> Formula:
             a = args(env)
@@ -462,13 +569,72 @@ class _Ground:
             return p
         return fluent
 
+    def _atoms_of(self, pred: str) -> dict[tuple[str, ...], Prop]:
+        """arguments -> Prop of the fluent predicate ``pred``, shared by all its occurrences."""
+        got = self._atoms.get(pred)
+        if got is None:
+            got = self._atoms[pred] = {}
+        return got
+
+    def _fluent_of_vars(self, name: str, vs: list[str], xs: list) -> Callable:
+        """A fluent atom whose 1-3 arguments are variables, with its argument tuple built inline (an atom is
+        grounded once per binding); an unbound variable falls back to :meth:`term` (which reports it)."""
+        prop = self._prop
+        cache = self._atoms_of(name)
+
+        def args(env) -> tuple[str, ...]:
+            return tuple(self.term(x, env) for x in xs)
+        if len(vs) == 1:
+            (v0,) = vs
+
+            def fluent(env) -> Formula:
+                try:
+                    a = (env[v0],)
+                except KeyError:
+                    a = args(env)
+                p = cache.get(a)
+                if p is None:
+                    p = cache[a] = prop(atom_name(name, a))
+                return p
+        elif len(vs) == 2:
+            v0, v1 = vs
+
+            def fluent(env) -> Formula:
+                try:
+                    a = (env[v0], env[v1])
+                except KeyError:
+                    a = args(env)
+                p = cache.get(a)
+                if p is None:
+                    p = cache[a] = prop(atom_name(name, a))
+                return p
+        else:
+            v0, v1, v2 = vs
+
+            def fluent(env) -> Formula:
+                try:
+                    a = (env[v0], env[v1], env[v2])
+                except KeyError:
+                    a = args(env)
+                p = cache.get(a)
+                if p is None:
+                    p = cache[a] = prop(atom_name(name, a))
+                return p
+        return fluent
+
     def formula(self, f, env: dict[str, str]) -> Formula:
         return self.compile(f)(env)
 
     def compile(self, f) -> Callable[[dict[str, str]], Formula]:
         """The formula ``f`` compiled: env -> ground formula (see "compiled nodes")."""
         got = self._fc.get(id(f))
-        return got[1] if got is not None else self._cached(self._fc, id(f), f, self._formula, f)
+        if got is not None:
+            return got[1]
+        if type(f) is Node and f.kind == "(" and f and type(f[0]) is Sym and f[0] not in _NOT_ATOM \
+                and f[0][0] != ":":   # an atom, the most frequent node: as _formula would, one call less
+            got = self._fc[id(f)] = (f, self.atom_of(f))
+            return got[1]
+        return self._cached(self._fc, id(f), f, self._formula, f)
 
     def _formula(self, f) -> Callable[[dict[str, str]], Formula]:  # noqa: C901 - one clause per construct
         if isinstance(f, Sym):
@@ -486,8 +652,7 @@ class _Ground:
             return self._modal(h, self.compile(f[1]))
         if h in ("and", "or"):
             parts = [self.compile(x) for x in self._static_first(f)]
-            mk = mk_and if h == "and" else mk_or
-            return lambda env: mk(p(env) for p in parts)   # lazy: mk stops at the first deciding operand
+            return _lazy_and(parts) if h == "and" else _lazy_or(parts)
         if h == "not":
             self._arity(f, 1)
             arg = self.compile(f[1])
@@ -498,17 +663,17 @@ class _Ground:
 
             def imply(env):
                 a, b = left(env), right(env)
-                if a == TOP or b == BOT:
+                if type(a) is Top or type(b) is Bot:   # as a == TOP / b == BOT (only ⊤ equals ⊤)
                     return mk_or([mk_not(a), b])
-                if a == BOT or b == TOP:
+                if type(a) is Bot or type(b) is Top:
                     return TOP
                 return Implies(a, b)
             return imply
         if h in ("forall", "exists"):
             self._arity(f, 2)
             params, body = f[1], self.compile(f[2])
-            mk = mk_and if h == "forall" else mk_or
-            return lambda env: mk(body(e) for e in self.bindings(params, env))
+            binder = self._cached(self._bc, (id(params), _OBJECT), params, self._binder, params, _OBJECT)
+            return _lazy_forall(binder, body) if h == "forall" else _lazy_exists(binder, body)
         if h in ("=", "/="):
             self._arity(f, 2)
             both = self._terms(f[1:])
@@ -572,6 +737,8 @@ class _Ground:
             f = phi(env)
             g = self.group(who, env)
             if op is None:
+                if len(g) == 1:   # mk_and of one K (or ¬K) is itself
+                    return K(g[0], f) if box else mk_not(K(g[0], mk_not(f)))
                 return mk_and(K(a, f) if box else mk_not(K(a, mk_not(f))) for a in g)
             if op == "Kw.":
                 if box:
@@ -636,6 +803,48 @@ class _Ground:
             return iff
         return self._literal(node)
 
+    def posts(self, node) -> Callable[[dict[str, str]], dict[str, Formula]]:
+        """The effects ``node`` compiled into env -> {p: p'} (p' = pos ∨ (p ∧ ¬neg), see :func:`_effects`).
+        Effects made of literals only (in ``:and`` lists: no ``when``/``iff``/``:forall``, the usual case)
+        give ⊤ for a fluent made true and ⊥ for one only made false, without collecting conditions."""
+        got = self._pc.get(id(node))
+        return got[1] if got is not None else self._cached(self._pc, id(node), node, self._posts, node)
+
+    def _posts(self, node) -> Callable[[dict[str, str]], dict[str, Formula]]:
+        lits: list[tuple[Callable, bool, Node]] | None = [] if node is not None else None
+        todo = [node] if node is not None else []
+        while todo and lits is not None:
+            x = todo.pop()
+            if isinstance(x, Node) and x.kind == "(" and x.head() == ":and":
+                todo.extend(reversed(x[1:]))
+            elif isinstance(x, Node) and x.head() == "not" and len(x) == 2:
+                lits.append((self.atom_of(x[1]), False, x))
+            elif isinstance(x, Node) and x.head() in self.preds:
+                lits.append((self.atom_of(x), True, x))
+            else:   # a conditional effect, a :forall, or an error (reported by the general path, in order)
+                lits = None
+        if lits is None:
+            eff = self.effects(node) if node is not None else None
+            return lambda env: _effects(self, eff, env)
+        err = self.err
+
+        def post_of(env) -> dict[str, Formula]:
+            post: dict[str, Formula] = {}
+            negs = []
+            for atom, into_pos, x in lits:
+                f = atom(env)
+                if type(f) is not Prop:
+                    raise err("effects may not change a fact", x)
+                if into_pos:
+                    post[f.name] = TOP
+                else:
+                    negs.append(f.name)
+            for p in negs:
+                if p not in post:
+                    post[p] = BOT
+            return post
+        return post_of
+
     def _literal(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
         if isinstance(node, Node) and node.head() == "not" and len(node) == 2:
             atom, into_pos = self.atom_of(node[1]), False
@@ -678,11 +887,16 @@ class _Ground:
 
 
 def _vars_in(x) -> set[str]:
-    if isinstance(x, Sym):
-        return {str(x)} if x.startswith("?") else set()
+    """The ?variables written anywhere in ``x`` (a Sym or a tree)."""
     out: set[str] = set()
-    for y in x:
-        out |= _vars_in(y)
+    todo = [x]
+    while todo:
+        y = todo.pop()
+        if isinstance(y, Sym):
+            if y.startswith("?"):
+                out.add(str(y))
+        else:
+            todo.extend(y)
     return out
 
 
@@ -726,11 +940,16 @@ _BASIC_TYPE = _ActType(BASIC, ["?e"], ["Fully"], None, ["?e"], 0, "<built-in>")
 def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
                     deadline: float | None = None):
     """Read, type and ground one EPDDL run into a :class:`planners.task.Task`."""
+    g = _Ground({}, deadline)
+    try:
+        return _parse(g, _path(domain), _path(problem), [_path(p) for p in libraries], deadline)
+    finally:
+        g.release()
+
+
+def _parse(g: _Ground, domain: Path, problem: Path, libraries: list[Path], deadline: float | None):
     from planners.task import EventAction, Task
 
-    domain, problem = Path(domain), Path(problem)
-    libraries = [Path(p) for p in libraries]
-    g = _Ground({}, deadline)
     g.where = str(domain)
     g.tick(0)
     dkind, dname, dsecs = _read_define(domain)
@@ -767,6 +986,8 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
                     raise g.err("expected (name ?x - type ...) or (:fact name ...)", p)
                 fact = p[0] == ":fact"
                 body = list(p[1:]) if fact else list(p)
+                if not body or not isinstance(body[0], Sym):   # was an IndexError / the repr of a tree
+                    raise g.err("expected (name ?x - type ...) or (:fact name ...)", p)
                 typed, _ = g.typed_list(body[1:], _ENTITY)
                 g.preds[str(body[0])] = (tuple(str(t) for _, t in typed), fact)
         elif key == ":event":
@@ -934,11 +1155,14 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
                              f"({' '.join(at.events)}), {len(ev_refs)} given", source=str(domain), line=sig.line)
         params = kv.get(":parameters") or []
         typed, _ = g.typed_list(params)
+        pnames = [v for v, _ in typed]
+        act = _action_grounder(g, at, ev_refs, events, kv.get(":observability-conditions"), agents, line,
+                               EventAction)
+        tick = g.tick
+        add = ground.append
         for env in g.bindings(params, {}):
-            g.tick(0)
-            name = "_".join([aname, *(env[v] for v, _ in typed)])
-            ground.append(_ground_action(g, name, at, ev_refs, events, kv.get(":observability-conditions"),
-                                         env, agents, line, EventAction))
+            tick(0)
+            add(act("_".join([aname, *[env[v] for v in pnames]]), env))
     return Task(name=pname, props=tuple(props), agents=agents, initial=model, actions=tuple(ground),
                 goal=goal_f, source=str(problem))
 
@@ -976,12 +1200,31 @@ def _agent_groups(g: _Ground, sec: Node) -> None:
 
 
 def _prop(g: _Ground, node, env) -> Formula:
-    from delkit.formula import is_propositional
-
     f = g.formula(node, env)
-    if not is_propositional(f):
+    if not _is_propositional(f):
         raise g.err("a finitary-S5 theory allows only propositional formulas here", node)
     return f
+
+
+def _is_propositional(f: Formula) -> bool:
+    """``delkit.formula.is_propositional`` without collecting the subformulas (one walk, stops at the first
+    modal or dynamic operator)."""
+    todo = [f]
+    while todo:
+        x = todo.pop()
+        t = type(x)
+        if t is Prop or t is Top or t is Bot:
+            continue
+        if t is Not:
+            todo.append(x.arg)
+        elif t is And or t is Or:
+            todo.extend(x.args)
+        elif t is Implies or t is Iff:
+            todo.append(x.left)
+            todo.append(x.right)
+        else:
+            return False
+    return True
 
 
 def _explicit_init(init: Node, g: _Ground, props: list[str], agents: tuple[str, ...]):
@@ -1045,20 +1288,42 @@ def _explicit_init(init: Node, g: _Ground, props: list[str], agents: tuple[str, 
     return KripkeModel(tuple(props), agents, val, rels, tuple(des), names=tuple(worlds))
 
 
-def _effects(g: _Ground, node, env) -> dict[str, Formula]:
-    """p ↦ p' of an event's effects (p' = pos ∨ (p ∧ ¬neg))."""
+def _effects(g: _Ground, eff: Callable | None, env) -> dict[str, Formula]:
+    """p ↦ p' of an event's compiled effects ``eff`` (p' = pos ∨ (p ∧ ¬neg))."""
     pos: dict[str, list[Formula]] = {}
     neg: dict[str, list[Formula]] = {}
-    if node is not None:
-        g.effects(node)(env, TOP, pos, neg)
+    if eff is not None:
+        eff(env, TOP, pos, neg)
     post: dict[str, Formula] = {}
-    for p in dict.fromkeys([*pos, *neg]):
-        pf, nf = mk_or(pos.get(p, [])), mk_or(neg.get(p, []))
-        post[p] = mk_or([pf, mk_and([g._prop(p), mk_not(nf)])])
+    for p, cs in pos.items():   # fluents made true first, then those only made false (as dict.fromkeys)
+        if len(cs) == 1 and type(cs[0]) is Top:   # an unconditional p: ⊤ ∨ … = ⊤
+            post[p] = TOP
+        else:
+            post[p] = mk_or([mk_or(cs), mk_and([g._prop(p), mk_not(mk_or(neg.get(p, [])))])])
+    for p, cs in neg.items():
+        if p in post:
+            continue
+        if len(cs) == 1 and type(cs[0]) is Top:   # an unconditional ¬p (and no p): ⊥ ∨ (p ∧ ¬⊤) = ⊥
+            post[p] = BOT
+        else:
+            post[p] = mk_or([BOT, mk_and([g._prop(p), mk_not(mk_or(cs))])])
     return post
 
 
-def _ground_event(g: _Ground, ref, events: dict[str, _Event], env) -> tuple[str, Formula, dict[str, Formula]]:
+def _deferred(build: Callable[..., Callable], *args) -> Callable:
+    """``build(*args)``, or, if building raises a ParseError, a function raising it when called: an error of
+    a construct is reported only when (and if) the construct is grounded."""
+    try:
+        return build(*args)
+    except ParseError as exc:
+        def fail(*_args, exc=exc):
+            raise exc
+        return fail
+
+
+def _event_grounder(g: _Ground, ref, events: dict[str, _Event]) -> Callable[[dict[str, str]], tuple]:
+    """The event reference ``ref`` of an action compiled: env -> (name, pre, post); an event with the same
+    arguments (in this or another action) is grounded once."""
     if isinstance(ref, Sym):
         name, args = str(ref), []
     elif isinstance(ref, Node) and ref and isinstance(ref[0], Sym):
@@ -1073,15 +1338,22 @@ def _ground_event(g: _Ground, ref, events: dict[str, _Event], env) -> tuple[str,
         typed = g.event_params[name] = g.typed_list(ev.params)[0]
     if len(typed) != len(args):
         raise g.err(f"event {name!r} takes {len(typed)} argument(s), got {len(args)}", ref)
-    vals = tuple(g.term(x, env) for x in args)
-    key = (name, vals)
-    got = g.ground_events.get(key)  # an event with the same arguments in another action: grounded once
-    if got is None:
-        eenv = {v: x for (v, _), x in zip(typed, vals, strict=True)}
-        pre = g.formula(ev.pre, eenv) if ev.pre is not None else TOP
-        post = _effects(g, ev.effects, eenv)
-        got = g.ground_events[key] = (atom_name(name, vals), pre, post)
-    return got
+    terms = g._terms(args)
+    names = [v for v, _ in typed]
+    cache = g.ground_events
+    pre_of = g.compile(ev.pre) if ev.pre is not None else None
+    post_of = g.posts(ev.effects)
+
+    def ground(env) -> tuple:
+        vals = terms(env)
+        key = (name, vals)
+        got = cache.get(key)
+        if got is None:
+            eenv = dict(zip(names, vals, strict=True))
+            pre = pre_of(eenv) if pre_of is not None else TOP
+            got = cache[key] = (atom_name(name, vals), pre, post_of(eenv))
+        return got
+    return ground
 
 
 def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]]:
@@ -1093,12 +1365,12 @@ def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]
         got = g.type_pairs[at.name] = {"Fully": [(0, 0)]}
         return got
     eidx = {e: j for j, e in enumerate(at.events)}
-    saved = (dict(g.entities), g.where)
+    saved = (dict(g.entities), g.where, g._by_type)   # the domains of types stay valid once restored
     g.where = at.source
     for e in at.events:
         g.entities[e] = "event"
     g.type_parent.setdefault("event", _ENTITY)
-    g._by_type.clear()
+    g._by_type = {}
     got = {t: [] for t in at.obs_types}
     rel = at.relations
     for j in range(0, len(rel), 2):
@@ -1114,88 +1386,121 @@ def _type_relations(g: _Ground, at: _ActType) -> dict[str, list[tuple[int, int]]
                 raise g.err(f"({a} {b}): not events of {at.name!r}", node)
             got[t].append((eidx[a], eidx[b]))
         g.items(rel[j + 1], {e: e for e in at.events}, pair)
-    g.entities, g.where = saved
-    g._by_type.clear()
+    g.entities, g.where, g._by_type = saved
     g.type_pairs[at.name] = got
     return got
 
 
-def _obs_spec(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tuple[int, Formula]]]:
-    """agent -> [(obs type index, condition)] (plank's per-agent map, first statement per type wins); computed
-    once per observability conditions, action type and values of the variables they mention."""
-    names = g.node_vars.get(id(node))
-    if names is None:
-        names = g.node_vars[id(node)] = (node, sorted(_vars_in(node)) if node is not None else [])
-    key = (id(node), at.name, tuple(env.get(v) for v in names[1]))
-    got = g.obs_specs.get(key)
-    if got is None:
-        got = g.obs_specs[key] = _obs_spec_of(g, node, env, at, agents)
-    return got
-
-
 def _obs_spec_of(g: _Ground, node, env, at: _ActType, agents) -> dict[str, list[tuple[int, Formula]]]:
-    tidx = {t: j for j, t in enumerate(at.obs_types)}
-    spec: dict[str, dict[int, Formula]] = {a: {} for a in agents}
+    """agent -> [(obs type index, condition)] (plank's per-agent map, first statement per type wins). One walk
+    over the list constructs collects the statements (and the ``default``, whose type is checked there);
+    each statement is then applied by its handler, compiled once per statement node (:func:`_obs_leaf`)."""
     if node is None:
         return {a: [(0, TOP)] for a in agents}
     default: list[int] = []
+    found: list[tuple[object, dict[str, str]]] = []
 
-    def tyid(x) -> int:
-        if str(x) not in tidx:
-            raise g.err(f"{x!r} is not an observability type of {at.name!r} ({', '.join(at.obs_types)})", x)
-        return tidx[str(x)]
-
-    def find_default(n, env) -> None:
-        if isinstance(n, Node) and n.head() == "default":
-            default.append(tyid(n[1]))
-    g.items(node, env, find_default)
-
-    def assign(a: str, t: int, c: Formula, where) -> None:
-        if t not in spec[a]:
-            spec[a][t] = c
-        elif spec[a][t] != c:
-            raise g.err(f"agent {a}: observability type {at.obs_types[t]} given twice with different conditions",
-                        where)
-
-    def leaf(n, env) -> None:
-        if not isinstance(n, Node) or len(n) != 2:
-            raise g.err("expected (agent Type), (agent (if ...)) or (default Type)", n)
-        if n[0] == "default":
-            return
-        a = g.agent(n[0], env)
-        body = n[1]
-        if isinstance(body, Sym):
-            assign(a, tyid(body), TOP, n)
-            return
-        if not (isinstance(body, Node) and body.head() == "if"):
-            raise g.err("expected an observability type or (if φ T else-if φ T ... else T)", body)
-        if len(body) < 3:
-            raise g.err("(if φ T else-if φ T ... else T)", body)
-        prev: list[Formula] = []
-        has_else = False
-        k = 0
-        while k < len(body):
-            w = body[k]
-            if w in ("if", "else-if") and k + 2 < len(body) and (w == "if") == (k == 0):
-                c = g.formula(body[k + 1], env)
-                assign(a, tyid(body[k + 2]), mk_and([*(mk_not(p) for p in prev), c]), body)
-                prev.append(c)
-                k += 3
-            elif w == "else" and k > 0 and k + 2 == len(body):
-                assign(a, tyid(body[k + 1]), mk_and(mk_not(p) for p in prev), body)
-                has_else = True
-                k += 2
-            else:
-                raise g.err(f"unexpected {w!r} in (if φ T else-if φ T ... else T)", body)
-        if not has_else and default:
-            assign(a, default[0], mk_and(mk_not(p) for p in prev), body)
-    g.items(node, env, leaf)
+    def collect(n, env) -> None:
+        if isinstance(n, Node) and n.head() == "default" and len(n) > 1:
+            default.append(_obs_type(g, n[1], at))
+        found.append((n, dict(env)))   # the environment is only valid during the call
+    g.items(node, env, collect)
+    spec: dict[str, dict[int, Formula]] = {a: {} for a in agents}
+    cache = g.obs_leaves
+    for n, e in found:
+        got = cache.get((id(n), at.name))
+        if got is None:
+            got = cache[(id(n), at.name)] = (n, _deferred(_obs_leaf, g, n, at))
+        got[1](e, spec, default)
     for a in agents:
         if not spec[a]:
             if not default:
                 raise g.err(f"no observability condition for agent {a} and no (default Type)", node)
             spec[a][default[0]] = TOP
     return {a: sorted(spec[a].items()) for a in agents}
+
+
+def _obs_type(g: _Ground, x, at: _ActType) -> int:
+    try:
+        return at.obs_types.index(str(x))
+    except ValueError:
+        raise g.err(f"{x!r} is not an observability type of {at.name!r} ({', '.join(at.obs_types)})", x) from None
+
+
+def _obs_type_or_error(g: _Ground, x, at: _ActType) -> int | ParseError:
+    try:
+        return _obs_type(g, x, at)
+    except ParseError as exc:
+        return exc
+
+
+def _obs_leaf(g: _Ground, n, at: _ActType) -> Callable[[dict[str, str], dict, list[int]], None]:
+    """One observability statement ``(agent Type)`` / ``(agent (if φ T else-if φ T ... else T))`` compiled:
+    (env, spec, default) -> None. Errors of the statement are raised when it is applied, in the order the
+    statement is read (agent, then each condition before its type, ...)."""
+    if not isinstance(n, Node) or len(n) != 2:
+        raise g.err("expected (agent Type), (agent (if ...)) or (default Type)", n)
+    if n[0] == "default":
+        return lambda env, spec, default: None
+    who, body = n[0], n[1]
+    names = at.obs_types
+
+    def assign(spec: dict, a: str, t: int, c: Formula, where) -> None:
+        got = spec[a]
+        if t not in got:
+            got[t] = c
+        elif got[t] != c:
+            raise g.err(f"agent {a}: observability type {names[t]} given twice with different conditions", where)
+
+    if isinstance(body, Sym):
+        t = _obs_type_or_error(g, body, at)
+
+        def fixed(env, spec, default) -> None:
+            a = g.agent(who, env)
+            if type(t) is not int:
+                raise t
+            assign(spec, a, t, TOP, n)
+        return fixed
+    bad = None
+    if not (isinstance(body, Node) and body.head() == "if"):
+        bad = g.err("expected an observability type or (if φ T else-if φ T ... else T)", body)
+    elif len(body) < 3:
+        bad = g.err("(if φ T else-if φ T ... else T)", body)
+    steps: list[tuple[Callable | None, int | ParseError]] = []   # (condition or None for else, type)
+    has_else = False
+    k = 0
+    while bad is None and k < len(body):
+        w = body[k]
+        if w in ("if", "else-if") and k + 2 < len(body) and (w == "if") == (k == 0):
+            steps.append((g.compile(body[k + 1]), _obs_type_or_error(g, body[k + 2], at)))
+            k += 3
+        elif w == "else" and k > 0 and k + 2 == len(body):
+            steps.append((None, _obs_type_or_error(g, body[k + 1], at)))
+            has_else = True
+            k += 2
+        else:
+            steps.append((None, g.err(f"unexpected {w!r} in (if φ T else-if φ T ... else T)", body)))
+            break
+
+    def chain(env, spec, default) -> None:
+        a = g.agent(who, env)
+        if bad is not None:
+            raise bad
+        prev: list[Formula] = []
+        for cond, t in steps:
+            if cond is not None:
+                c = cond(env)
+                if type(t) is not int:
+                    raise t
+                assign(spec, a, t, mk_and([*(mk_not(p) for p in prev), c]), body)
+                prev.append(c)
+            else:
+                if type(t) is not int:
+                    raise t
+                assign(spec, a, t, mk_and(mk_not(p) for p in prev), body)
+        if not has_else and default:
+            assign(spec, a, default[0], mk_and(mk_not(p) for p in prev), body)
+    return chain
 
 
 def _relation(n: int, pairs: list[tuple[int, int]]):
@@ -1214,13 +1519,62 @@ def _relation(n: int, pairs: list[tuple[int, int]]):
     return Relation.from_pairs(n, pairs)
 
 
-def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_node, env, agents, line,
-                   EventAction):
+def _action_grounder(g: _Ground, at: _ActType, ev_refs, events, obs_node, agents, line, EventAction):
+    """An action schema compiled: (ground name, env) -> EventAction. Per binding, in this order: its events
+    (each grounded once per arguments), the action type's relations (once per type), the observability
+    conditions (once per values of the variables they mention) — so errors come in the order of the
+    constructs."""
     from delkit.events import EventModel
 
-    evs = [_ground_event(g, r, events, env) for r in ev_refs]
-    rels = _type_relations(g, at)
-    obs = _obs_spec(g, obs_node, env, at, agents)
+    refs = [_deferred(_event_grounder, g, r, events) for r in ev_refs]
+    obs_vars = sorted(_vars_in(obs_node)) if obs_node is not None else []
+    obs_cache: dict[tuple, tuple] = {}   # values of obs_vars -> (conditions, agent -> [(relation, condition)])
+    where = f"{g.where}:{line}"
+    tname = at.name
+
+    def ground(name: str, env: dict[str, str]) -> EventAction:
+        evs = [r(env) for r in refs]
+        rels = _type_relations(g, at)
+        key = tuple([env.get(v) for v in obs_vars])
+        got = obs_cache.get(key)
+        if got is None:
+            got = obs_cache[key] = _obs_plan(_obs_spec_of(g, obs_node, env, at, agents), agents)
+        conds, plan = got
+        info = g.type_info.get(tname)
+        if info is None:
+            slots = tuple(e.lstrip("?") for e in at.events)
+            bad = [d for d in at.designated if d not in at.events]
+            if bad:
+                raise ParseError(f"action type {tname!r}: designated {' '.join(bad)} not among its events "
+                                 f"({' '.join(at.events)})", source=at.source, line=at.line)
+            des = tuple(at.events.index(d) for d in at.designated)
+            type_rel = g.type_relations.get(tname)
+            if type_rel is None:
+                type_rel = g.type_relations[tname] = {t: _relation(len(slots), rels.get(t, []))
+                                                      for t in at.obs_types}
+            info = g.type_info[tname] = (slots, des, [type_rel[t] for t in at.obs_types])
+        slots, des, by_type = info
+        pre = tuple([e[1] for e in evs])
+        post = tuple([e[2] for e in evs])
+
+        def build(bits: tuple[bool, ...]) -> EventModel:
+            relations = {}
+            for a in agents:
+                t = 0
+                for tt, ci in plan[a]:
+                    if ci is None or bits[ci]:
+                        t = tt
+                relations[a] = by_type[t]
+            return EventModel(slots, agents, pre, post, relations, des, name)
+
+        return EventAction(name=name, build=build, conditions=conds, where=where, kind=tname,
+                           designated_pre=tuple([pre[d] for d in des]))
+    return ground
+
+
+def _obs_plan(obs: dict[str, list[tuple[int, Formula]]], agents) -> tuple[tuple[Formula, ...], dict]:
+    """(conditions, agent -> [(obs type index, index of its condition or None for ⊤)]) of an observability
+    spec: each distinct condition once, in order of first use; a ⊥ condition never applies."""
     conds: list[Formula] = []
     cidx: dict[Formula, int] = {}
     plan: dict[str, list[tuple[int, int | None]]] = {}
@@ -1234,33 +1588,19 @@ def _ground_action(g: _Ground, name: str, at: _ActType, ev_refs, events, obs_nod
                     cidx[c] = len(conds)
                     conds.append(c)
                 plan[a].append((t, cidx[c]))
-    slots = tuple(e.lstrip("?") for e in at.events)
-    pre = tuple(e[1] for e in evs)
-    post = tuple(e[2] for e in evs)
-    des = tuple(at.events.index(d) for d in at.designated)
-    n = len(slots)
-    type_rel = g.type_relations.get(at.name)
-    if type_rel is None:
-        type_rel = g.type_relations[at.name] = {t: _relation(n, rels.get(t, [])) for t in at.obs_types}
-
-    def build(bits: tuple[bool, ...]) -> EventModel:
-        relations = {}
-        for a in agents:
-            t = 0
-            for tt, ci in plan[a]:
-                if ci is None or bits[ci]:
-                    t = tt
-            relations[a] = type_rel[at.obs_types[t]]
-        return EventModel(slots, agents, pre, post, relations, des, name)
-
-    return EventAction(name=name, build=build, conditions=tuple(conds), where=f"{g.where}:{line}",
-                       kind=at.name, designated_pre=tuple(pre[d] for d in des))
+    return tuple(conds), plan
 
 
 def load_epddl2026(domain: str | Path, problem: str | Path, libraries: list[str | Path] = (), *,
                    deadline: float | None = None):
     """Read an EPDDL (2026) run; ``deadline`` is a ``time.monotonic()`` instant (:class:`LoadTimeout`)."""
-    for p in (domain, problem, *libraries):
-        if not Path(p).exists():
-            raise ParseError("no such file", source=str(p))
-    return parse_epddl2026(Path(domain), Path(problem), [Path(x) for x in libraries], deadline=deadline)
+    given = (domain, problem, *libraries)
+    paths = [_path(p) for p in given]
+    for raw, p in zip(given, paths, strict=True):
+        if not p.exists():
+            raise ParseError("no such file", source=str(raw))
+    return parse_epddl2026(paths[0], paths[1], paths[2:], deadline=deadline)
+
+
+def _path(p: str | Path) -> Path:
+    return p if isinstance(p, Path) else Path(p)   # a Path re-made from a Path re-parses every part
