@@ -36,6 +36,7 @@ import itertools
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from operator import itemgetter
 from pathlib import Path
 
 import numpy as np
@@ -133,77 +134,25 @@ def _or_of(out: list[Formula]) -> Formula:
     return uniq[0] if len(uniq) == 1 else Or(uniq)
 
 
-# Compiled and/or/forall/exists: mk_and/mk_or with the loop inlined over the parts' values (a conjunction is
-# grounded per binding), grounding no part after one that decides the whole (⊥ for and, ⊤ for or).
+# Compiled and/or/forall/exists: mk_and/mk_or over the parts' values, produced lazily (a conjunction is grounded
+# per binding): no part is grounded after one that decides the whole (⊥ for and, ⊤ for or).
 def _lazy_and(parts: list[Callable]) -> Callable:
-    def conj(env) -> Formula:
-        out: list[Formula] = []
-        for part in parts:
-            p = part(env)
-            t = type(p)
-            if t is Bot:
-                return BOT
-            if t is Top:
-                continue
-            if t is And:
-                out.extend(p.args)
-            else:
-                out.append(p)
-        return _and_of(out)
-    return conj
+    return lambda env: mk_and(part(env) for part in parts)
 
 
 def _lazy_or(parts: list[Callable]) -> Callable:
-    def disj(env) -> Formula:
-        out: list[Formula] = []
-        for part in parts:
-            p = part(env)
-            t = type(p)
-            if t is Top:
-                return TOP
-            if t is Bot:
-                continue
-            if t is Or:
-                out.extend(p.args)
-            else:
-                out.append(p)
-        return _or_of(out)
-    return disj
+    return lambda env: mk_or(part(env) for part in parts)
 
 
 def _lazy_forall(binder: Callable, body: Callable) -> Callable:
-    def forall(env) -> Formula:
-        out: list[Formula] = []
-        for e in binder(env):
-            p = body(e)
-            t = type(p)
-            if t is Bot:
-                return BOT
-            if t is Top:
-                continue
-            if t is And:
-                out.extend(p.args)
-            else:
-                out.append(p)
-        return _and_of(out)
+    def forall(env):
+        return mk_and(map(body, binder(env)))
     return forall
 
 
 def _lazy_exists(binder: Callable, body: Callable) -> Callable:
-    def exists(env) -> Formula:
-        out: list[Formula] = []
-        for e in binder(env):
-            p = body(e)
-            t = type(p)
-            if t is Top:
-                return TOP
-            if t is Bot:
-                continue
-            if t is Or:
-                out.extend(p.args)
-            else:
-                out.append(p)
-        return _or_of(out)
+    def exists(env):
+        return mk_or(map(body, binder(env)))
     return exists
 
 
@@ -584,42 +533,18 @@ class _Ground:
 
         def args(env) -> tuple[str, ...]:
             return tuple(self.term(x, env) for x in xs)
-        if len(vs) == 1:
-            (v0,) = vs
+        get = itemgetter(*vs)  # the argument tuple in one C call (a single value for one variable)
+        one = len(vs) == 1
 
-            def fluent(env) -> Formula:
-                try:
-                    a = (env[v0],)
-                except KeyError:
-                    a = args(env)
-                p = cache.get(a)
-                if p is None:
-                    p = cache[a] = prop(atom_name(name, a))
-                return p
-        elif len(vs) == 2:
-            v0, v1 = vs
-
-            def fluent(env) -> Formula:
-                try:
-                    a = (env[v0], env[v1])
-                except KeyError:
-                    a = args(env)
-                p = cache.get(a)
-                if p is None:
-                    p = cache[a] = prop(atom_name(name, a))
-                return p
-        else:
-            v0, v1, v2 = vs
-
-            def fluent(env) -> Formula:
-                try:
-                    a = (env[v0], env[v1], env[v2])
-                except KeyError:
-                    a = args(env)
-                p = cache.get(a)
-                if p is None:
-                    p = cache[a] = prop(atom_name(name, a))
-                return p
+        def fluent(env) -> Formula:
+            try:
+                a = (get(env),) if one else get(env)
+            except KeyError:
+                a = args(env)
+            p = cache.get(a)
+            if p is None:
+                p = cache[a] = prop(atom_name(name, a))
+            return p
         return fluent
 
     def formula(self, f, env: dict[str, str]) -> Formula:
