@@ -62,7 +62,7 @@ from delkit.formula import (
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
-__all__ = ["CompactState", "CompactEngine", "refine_key"]
+__all__ = ["CompactState", "CompactEngine", "refine_key", "bit_positions"]
 
 _PROP, _TOP, _BOT, _NOT, _AND, _OR, _IFF, _K, _C, _DYN = range(10)
 
@@ -102,7 +102,7 @@ class CompactState:
     def succ(self) -> tuple[tuple[tuple[int, ...], ...], ...]:
         """Per agent index, per world: the successors as a tuple of worlds."""
         if self._succ is None:
-            self._succ = tuple(tuple(_bits(m) for m in per) for per in self.masks)
+            self._succ = tuple(tuple(bit_positions(m) for m in per) for per in self.masks)
         return self._succ
 
     @property
@@ -130,14 +130,14 @@ class CompactState:
                     k = intern[m] = len(intern)
                 ids.append(k)
             cid_l.append(tuple(ids))
-            cls_l.append(tuple(_bits(m) for m in intern))
+            cls_l.append(tuple(bit_positions(m) for m in intern))
         self._cid, self._classes = tuple(cid_l), tuple(cls_l)
 
 
 _BITS: dict[int, tuple[int, ...]] = {}
 
 
-def _bits(m: int) -> tuple[int, ...]:
+def bit_positions(m: int) -> tuple[int, ...]:
     """The positions of the set bits of ``m``, ascending (cached: successor masks repeat across states)."""
     out = _BITS.get(m)
     if out is None:
@@ -474,12 +474,6 @@ class CompactEngine:
                     return False
         return fn
 
-    def truth(self, i: int, v: int) -> bool:
-        """A propositional node at a valuation (memoised per valuation)."""
-        tab = self._ptab[i]
-        t = tab[v]  # type: ignore[index]
-        return t
-
     def _agent(self, a: str) -> int:
         try:
             return self.aidx[a]
@@ -598,9 +592,7 @@ class CompactEngine:
         if missing:
             raise ModelError(f"event model {em.name!r} has no relation for agent(s) {missing}")
         q = [self._successor_rows(em.relations[ag], k) for ag in self.agents]
-        for g in self.groups:
-            per = [q[self.aidx[a]] for a in g]
-            q.append([tuple(sorted(set.intersection(*(set(p[e]) for p in per)))) for e in range(k)])
+        q += [_group_rows([q[self.aidx[a]] for a in g], k) for g in self.groups]
         tabs, lits, npre, nposts = [], [], [], []
         for e in range(k):
             posts = [(self.pidx[p], self.cid(f)) for p, f in em.post[e].items() if f != Prop(p)]
@@ -620,7 +612,7 @@ class CompactEngine:
                     None if ppre is None else self.pfun_slow(ppre), ~_mask([pi for pi, _ in posts]),
                     tuple((1 << pi, self.pfun_slow(j)) for pi, j in posts)),
                 lambda ppre=ppre, posts=posts: self._transition(ppre, posts)))
-            lits.append(self.literals(pre))
+            lits.append(self.formula_literals(em.pre[e]))
         des = tuple(em.designated)
         others = tuple(e for e in range(k) if e not in set(des))
         # the shape of an update depends on the event model only through its frame (events, relations,
@@ -639,15 +631,7 @@ class CompactEngine:
         hit = self._rows.get(id(r))
         if hit is not None and hit[0] is r:
             return hit[1]
-        if r.labels is not None:
-            labels = r.labels.tolist()
-            members: dict[int, list[int]] = {}
-            for e, lab in enumerate(labels):
-                members.setdefault(lab, []).append(e)
-            cls = {lab: tuple(m) for lab, m in members.items()}
-            rows = [cls[lab] for lab in labels]
-        else:
-            rows = [tuple(int(x) for x in r.successors(e)) for e in range(k)]
+        rows = _relation_rows(r, k)
         self._rows[id(r)] = (r, rows)  # the relation is kept alive so that its id is not reused
         return rows
 
@@ -684,16 +668,10 @@ class CompactEngine:
                 return False
         return True
 
-    def literals(self, i: int) -> tuple[int, int]:
-        """(pos, neg): bit masks of the literals among the conjuncts of node ``i`` — necessary for it to hold
-        at a world (a conjunction of literals: exactly its truth)."""
-        node = self._nodes[i]
-        pos, neg, _ = self._literal_masks(node[1] if node[0] == _AND else (i,))
-        return pos, neg
-
     def formula_literals(self, f: Formula) -> tuple[int, int]:
-        """:meth:`literals` of a formula read from the formula itself (nothing is compiled): the masks of its
-        positive and negated propositions among its conjuncts (propositions outside the vocabulary ignored)."""
+        """(pos, neg): bit masks of the propositions that occur positively / negated among the conjuncts of
+        ``f`` — necessary for it to hold at a world (a conjunction of literals: exactly its truth). Read from
+        the formula itself (nothing is compiled); propositions outside the vocabulary are ignored."""
         pos = neg = 0
         pidx = self.pidx
         for g in f.args if isinstance(f, And) else (f,):
@@ -807,7 +785,7 @@ class CompactEngine:
                     for f in q[a][e]:
                         m = mw & okm[f]
                         if m:
-                            for v in _bits(m):
+                            for v in bit_positions(m):
                                 pk = v * k + f
                                 t = idx[pk]
                                 if t < 0:
@@ -867,6 +845,24 @@ def _transition_closure(pre: Any, keep: int, posts: tuple) -> Any:
     return fn
 
 
+def _relation_rows(r: Relation, n: int) -> list[tuple[int, ...]]:
+    """The successors of each of the n points of ``r``, ascending; a partition's members share one tuple per
+    class (callers compute per-class work once, keyed by the tuple's identity)."""
+    if r.labels is None:
+        return [tuple(int(x) for x in r.successors(w)) for w in range(n)]
+    labels = r.labels.tolist()
+    members: dict[int, list[int]] = {}
+    for w, lab in enumerate(labels):
+        members.setdefault(lab, []).append(w)
+    cls = {lab: tuple(ws) for lab, ws in members.items()}
+    return [cls[lab] for lab in labels]
+
+
+def _group_rows(rows: Sequence[Sequence[Sequence[int]]], n: int) -> list[tuple[int, ...]]:
+    """A group's intersection relation ⋂_{a∈G} R_a from the members' successor rows (same layout)."""
+    return [tuple(sorted(set.intersection(*(set(p[w]) for p in rows)))) for w in range(n)]
+
+
 def _box(masks: Sequence[int], t: int) -> int:
     bad = ~t
     out = 0
@@ -911,7 +907,7 @@ def _common_at(s: CompactState, ags: Sequence[int], t: int) -> bool:
         if front & bad:
             return False
         nxt = 0
-        for w in _bits(front):
+        for w in bit_positions(front):
             for m in rel:
                 nxt |= m[w]
         front = nxt & ~seen
@@ -944,19 +940,8 @@ def from_kripke(m: KripkeModel, groups: Sequence[tuple[str, ...]] = ()) -> Compa
     for j in range(len(m.props)):
         for w in np.flatnonzero(m.valuation[:, j]):
             vals[int(w)] |= 1 << j
-    succ = []
-    for ag in m.agents:
-        r = m.relations[ag]
-        if r.labels is not None:  # partition: one shared successor list per class
-            classes: dict[int, list[int]] = {}
-            for w, lab in enumerate(r.labels.tolist()):
-                classes.setdefault(lab, []).append(w)
-            succ.append([classes[lab] for lab in r.labels.tolist()])
-        else:
-            succ.append([[int(x) for x in r.successors(w)] for w in range(n)])
-    for g in groups:
-        per = [succ[m.agents.index(a)] for a in g]
-        succ.append([sorted(set.intersection(*(set(p[w]) for p in per))) for w in range(n)])
+    succ = [_relation_rows(m.relations[ag], n) for ag in m.agents]
+    succ += [_group_rows([succ[m.agents.index(a)] for a in g], n) for g in groups]
     # generated submodel of the designated worlds (the key must not see unreachable worlds)
     seen: dict[int, int] = {}
     order: list[int] = []

@@ -29,7 +29,7 @@ from collections.abc import Hashable, Iterator
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
-from delkit.compact import CompactEngine, CompactState
+from delkit.compact import CompactEngine, CompactState, bit_positions
 from delkit.errors import PlanningError
 from delkit.events import EventModel
 from delkit.formula import Formula, Top, is_propositional, props_of
@@ -141,7 +141,7 @@ class CompactSpace:
             lits = tuple(map(eng.formula_literals, dp))
             if len(lits) == 1 and lits[0][0]:
                 pos, neg = lits[0]
-                j = min(_bit_list(pos), key=lambda b: len(watch.get(b, ())))
+                j = min(bit_positions(pos), key=lambda b: len(watch.get(b, ())))
                 watch.setdefault(j, []).append((i, pos, neg))
             else:
                 always.append((i, lits))
@@ -360,11 +360,6 @@ class CompactSpace:
 
 
 _MISSING = object()
-
-
-def _bit_list(m: int) -> list[int]:
-    """The positions of the set bits of ``m``."""
-    return [j for j in range(m.bit_length()) if (m >> j) & 1]
 
 
 def _valuation_view(v: int, n_agents: int) -> CompactState:
