@@ -330,12 +330,7 @@ class _Ground:
     def _cached(self, cache: dict, key, node, build: Callable[..., Callable], *args) -> Callable:
         got = cache.get(key)
         if got is None:
-            try:
-                fn = build(*args)
-            except ParseError as exc:
-                def fn(*_args, exc=exc):
-                    raise exc
-            got = cache[key] = (node, fn)
+            got = cache[key] = (node, _deferred(build, *args))
         return got[1]
 
     def _prop(self, name: str) -> Prop:
@@ -361,21 +356,13 @@ class _Ground:
         if not all(isinstance(x, Sym) for x in xs):
             return lambda env: tuple(self.term(x, env) for x in xs)
         spec = [(x.startswith("?"), str(x)) for x in xs]
-        if all(v for v, _ in spec):
-            names = [n for _, n in spec]
-            if len(names) == 1:
-                only = names[0]
-
-                def one(env):
-                    try:
-                        return (env[only],)
-                    except KeyError:
-                        return tuple(self.term(x, env) for x in xs)
-                return one
+        if spec and all(v for v, _ in spec):
+            get = itemgetter(*[n for _, n in spec])  # the tuple in one C call (a single value for one variable)
+            one = len(spec) == 1
 
             def all_vars(env):
                 try:
-                    return tuple([env[n] for n in names])
+                    return (get(env),) if one else get(env)
                 except KeyError:
                     return tuple(self.term(x, env) for x in xs)
             return all_vars
@@ -469,9 +456,6 @@ class _Ground:
             raise self.err("a '|' filter may only use equality and facts (it depends on a fluent)", f)
         return test
 
-    def static(self, f, env) -> bool:
-        return self._static_test(f)(env)
-
     # formulas -------------------------------------------------------------
     def atom(self, node: Node, env) -> Formula:
         return self.atom_of(node)(env)
@@ -485,17 +469,6 @@ class _Ground:
         pred = node[0]
         decl = self.preds.get(pred)
         xs = node[1:]
-        if decl is not None and not decl[1] and len(decl[0]) == len(xs) and 1 <= len(xs) <= 3 \
-                and all(type(x) is Sym and x[0] == "?" for x in xs):
-            return self._fluent_of_vars(str(pred), [str(x) for x in xs], xs)
-        if decl is not None and not decl[1] and len(decl[0]) == len(xs) \
-                and all(type(x) is Sym and x[0] != "?" for x in xs):   # a ground fluent: its Prop now
-            a = tuple([str(x) for x in xs])
-            cache = self._atoms_of(str(pred))
-            p = cache.get(a)
-            if p is None:
-                p = cache[a] = self._prop(atom_name(str(pred), a))
-            return lambda env: p
         args = self._terms(xs)
         if decl is None or len(decl[0]) != len(node) - 1:
             def bad(env):
@@ -516,6 +489,9 @@ class _Ground:
             if p is None:
                 p = cache[a] = self._prop(atom_name(name, a))
             return p
+        if all(type(x) is Sym and x[0] != "?" for x in xs):   # a ground fluent: its Prop now
+            ground = fluent({})
+            return lambda env: ground
         return fluent
 
     def _atoms_of(self, pred: str) -> dict[tuple[str, ...], Prop]:
@@ -524,28 +500,6 @@ class _Ground:
         if got is None:
             got = self._atoms[pred] = {}
         return got
-
-    def _fluent_of_vars(self, name: str, vs: list[str], xs: list) -> Callable:
-        """A fluent atom whose 1-3 arguments are variables, with its argument tuple built inline (an atom is
-        grounded once per binding); an unbound variable falls back to :meth:`term` (which reports it)."""
-        prop = self._prop
-        cache = self._atoms_of(name)
-
-        def args(env) -> tuple[str, ...]:
-            return tuple(self.term(x, env) for x in xs)
-        get = itemgetter(*vs)  # the argument tuple in one C call (a single value for one variable)
-        one = len(vs) == 1
-
-        def fluent(env) -> Formula:
-            try:
-                a = (get(env),) if one else get(env)
-            except KeyError:
-                a = args(env)
-            p = cache.get(a)
-            if p is None:
-                p = cache[a] = prop(atom_name(name, a))
-            return p
-        return fluent
 
     def formula(self, f, env: dict[str, str]) -> Formula:
         return self.compile(f)(env)
@@ -672,9 +626,6 @@ class _Ground:
             return C(g, f) if box else mk_not(C(g, mk_not(f)))
         return modal
 
-    def modal(self, m: Node, phi: Formula, env) -> Formula:
-        return self._modal(m, lambda _env: phi)(env)
-
     # effects -------------------------------------------------------------------
     def effects(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
         """The effects ``node`` compiled: (env, condition, pos, neg) -> None, appending to pos[p] (neg[p]) the
@@ -742,10 +693,8 @@ class _Ground:
             x = todo.pop()
             if isinstance(x, Node) and x.kind == "(" and x.head() == ":and":
                 todo.extend(reversed(x[1:]))
-            elif isinstance(x, Node) and x.head() == "not" and len(x) == 2:
-                lits.append((self.atom_of(x[1]), False, x))
-            elif isinstance(x, Node) and x.head() in self.preds:
-                lits.append((self.atom_of(x), True, x))
+            elif (lit := self._literal_atom(x)) is not None:
+                lits.append((*lit, x))
             else:   # a conditional effect, a :forall, or an error (reported by the general path, in order)
                 lits = None
         if lits is None:
@@ -770,13 +719,19 @@ class _Ground:
             return post
         return post_of
 
-    def _literal(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
+    def _literal_atom(self, node) -> tuple[Callable[[dict[str, str]], Formula], bool] | None:
+        """(compiled atom, True for p / False for (not p)) of an effect literal; None if ``node`` is none."""
         if isinstance(node, Node) and node.head() == "not" and len(node) == 2:
-            atom, into_pos = self.atom_of(node[1]), False
-        elif isinstance(node, Node) and node.head() in self.preds:
-            atom, into_pos = self.atom_of(node), True
-        else:
+            return self.atom_of(node[1]), False
+        if isinstance(node, Node) and node.head() in self.preds:
+            return self.atom_of(node), True
+        return None
+
+    def _literal(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
+        lit = self._literal_atom(node)
+        if lit is None:
             raise self.err("expected an effect: a literal, (when φ effects) or (iff φ literal)", node)
+        atom, into_pos = lit
 
         def literal(env, cond, pos, neg) -> None:
             f = atom(env)
