@@ -131,12 +131,8 @@ class _Explainer:
                         continue
                     tried.add(int(prev[v]))
                     chi, chi_vec = self._cover(v, avoid)
-                    if diamond:
-                        f = Not(K(a, _negate(chi))) if chi != TOP else Not(K(a, BOT))
-                        vec = rel.diamond(chi_vec)
-                    else:
-                        f = K(a, _negate(chi))
-                        vec = rel.box(~chi_vec)
+                    f = split_formula(a, chi, diamond)
+                    vec = rel.diamond(chi_vec) if diamond else rel.box(~chi_vec)
                     size = formula_size(f)
                     if best is None or size < best[0]:
                         best = (size, f, vec)
@@ -147,6 +143,15 @@ class _Explainer:
 
 def _negate(f: Formula) -> Formula:
     return f.arg if isinstance(f, Not) else Not(f)
+
+
+def split_formula(a: str, chi: Formula, diamond: bool) -> Formula:
+    """The modal step of a distinguishing formula: ``◇_a χ`` written ``¬K_a ¬χ`` (``¬K_a ⊥`` for χ = ⊤) when
+    the world it must hold at sees a χ-world the other does not, else ``K_a ¬χ`` (shared with
+    :mod:`delkit.bisimulation_symbolic`)."""
+    if diamond:
+        return Not(K(a, _negate(chi))) if chi != TOP else Not(K(a, BOT))
+    return K(a, _negate(chi))
 
 
 @dataclass(frozen=True)

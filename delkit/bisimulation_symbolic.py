@@ -31,9 +31,9 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from delkit.bisimulation import Diff, formula_size
+from delkit.bisimulation import Diff, formula_size, split_formula
 from delkit.errors import ModelError
-from delkit.formula import BOT, TOP, Formula, K, Not, Prop, conj, disj
+from delkit.formula import Formula, Not, Prop, conj, disj
 
 __all__ = ["symbolic_diff", "SymbolicUnion"]
 
@@ -247,8 +247,7 @@ class _Explainer:
                 if cand == self.su.bdd.false:
                     continue
                 chi = self._cover(self.pick(cand), other)
-                neg = chi.arg if type(chi) is Not else Not(chi)
-                f = (Not(K(a, neg)) if chi != TOP else Not(K(a, BOT))) if diamond else K(a, neg)
+                f = split_formula(a, chi, diamond)
                 if best is None or formula_size(f) < formula_size(best):
                     best = f
         if best is None:

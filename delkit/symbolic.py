@@ -63,6 +63,7 @@ from delkit.formula import (
     Prop,
     Top,
     Update,
+    children,
     conj,
     disj,
     parse,
@@ -571,16 +572,7 @@ def _in_props(f: Formula, props: dict) -> bool:
 def _children_propositional(f: Formula, props: dict) -> bool:
     """Whether every immediate subformula of the Boolean formula ``f`` has its truth set in ``props``
     (negations are not cached, see :meth:`KnowledgeStructure.evaluate`: their argument is looked up)."""
-    kind = type(f)
-    if kind is And or kind is Or:
-        kids: Iterable[Formula] = f.args
-    elif kind is Not:
-        kids = (f.arg,)
-    elif kind is Implies or kind is Iff:
-        kids = (f.left, f.right)
-    else:
-        return True  # ⊤, ⊥
-    return all(_in_props(c, props) for c in kids)
+    return all(_in_props(c, props) for c in children(f))   # ⊤, ⊥: no children
 
 
 _DISPATCH: dict[type, Any] = {
