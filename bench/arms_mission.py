@@ -32,8 +32,8 @@ sys.path.insert(0, str(ROOT))
 
 
 def one(goal: str, colors: int, seed: int, fault: str) -> dict:
+    from arms.cli.epico_run import run_mission
     from arms.mission import parse_fault
-    from delkit.cli.epico_run import run_mission
 
     faults = () if fault == "none" else (parse_fault(fault),)
     t0, c0 = time.perf_counter(), time.process_time()

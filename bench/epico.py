@@ -63,7 +63,7 @@ def classical_engines(repeat: int = 20) -> list[dict]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    from delkit.cli.epico_cmd import format_tables
+    from planners.cli.epico_cmd import format_tables
     from planners.epico import GOALS, generate
     from planners.hierarchy import solve, table_cell
 

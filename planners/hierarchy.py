@@ -158,8 +158,8 @@ def solve(instance: Instance, *, macros: bool = True, known: Mapping[str, Iterab
 
 
 def _check_primitive(obj: dict) -> None:
-    from arms.plan import parse_plan, symbolic_trace
-    from arms.world import ArmsError
+    from planners.blocks import ArmsError
+    from planners.primitive import parse_plan, symbolic_trace
 
     try:
         symbolic_trace(parse_plan(obj, source="e-PICO primitive plan"))

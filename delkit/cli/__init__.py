@@ -1,8 +1,10 @@
 """The single ``delkit`` command.
 
-Sub-commands live in their own modules and import the heavy layers (planners, sim, arms) lazily, inside
-the command functions, so that ``delkit --help`` stays fast. A :class:`delkit.errors.DelkitError` is
-printed as one line on stderr with exit status 2, never as a traceback.
+The core's own commands (``demo``, ``version``, ``puzzle``, ``model``, ``smcdel``, ``prove``) live here; every
+other command is registered by the package that owns it through the ``delkit.commands`` entry-point group
+(:mod:`delkit.cli.plugins`), so the core imports nothing from the layers above it. Commands import their
+heavy dependencies inside the command functions, so that ``delkit --help`` stays fast. A
+:class:`delkit.errors.DelkitError` is printed as one line on stderr with exit status 2, never as a traceback.
 """
 
 from __future__ import annotations
@@ -21,19 +23,10 @@ if "numpy" not in sys.modules:
 
 
 def _build_app():
+    """The typer app: the core's own commands, then every ``delkit.commands`` plugin (see :mod:`.plugins`)."""
     import typer
 
-    from delkit.cli import (
-        arms_cmd,
-        consistency_cmd,
-        core_cmd,
-        epico_cmd,
-        explore_cmd,
-        model_cmd,
-        plan_cmd,
-        puzzle_cmd,
-        smcdel_cmd,
-    )
+    from delkit.cli import core_cmd, model_cmd, plugins, puzzle_cmd, smcdel_cmd
 
     app = typer.Typer(
         name="delkit",
@@ -50,12 +43,9 @@ def _build_app():
     core_cmd.register(app)
     puzzle_cmd.register(app)
     model_cmd.register(app)
-    plan_cmd.register(app)
-    consistency_cmd.register(app)
-    explore_cmd.register(app)
-    arms_cmd.register(app)
-    epico_cmd.register(app)
     smcdel_cmd.register(app)
+    for _, module in plugins.plugin_modules():
+        module.register(app)
     return app
 
 
@@ -74,12 +64,14 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _fast_path(args: list[str]):
-    """The direct call for a plain ``plan``/``check`` command line, or None (see ``plan_cmd.fast_args``)."""
-    if not FAST_PATH:
+    """The direct call for a plain command line that a plugin handles without typer (``delkit.fast`` entry
+    points, e.g. ``plan``/``check``), or None."""
+    if not FAST_PATH or not args or args[0].startswith("-"):
         return None
-    from delkit.cli.plan_cmd import fast_args
+    from delkit.cli.plugins import fast_entry
 
-    return fast_args(args)
+    fast_args = fast_entry(args[0])
+    return None if fast_args is None else fast_args(args)
 
 
 FAST_PATH = True  # tests switch it off to compare the two paths

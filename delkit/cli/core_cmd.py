@@ -34,64 +34,10 @@ def _verify(out: Path) -> dict[str, Any]:
     return verify_demo(out / "verify")
 
 
-def _planner(out: Path) -> dict[str, Any]:
-    from planners.demo import run_demo as planner_demo
-
-    return planner_demo(out)
-
-
-def _consistency(out: Path) -> dict[str, Any]:
-    from sim.sar import SARConfig, run_episode
-
-    cfg = SARConfig(epochs=200, seed=1)
-    runs = {alg: run_episode(cfg, alg) for alg in ("enforce", "baseline1", "baseline2")}
-    (out / "consistency.json").write_text(json.dumps({k: v.as_dict() for k, v in runs.items()}, default=str))
-    e, b1, b2 = runs["enforce"], runs["baseline1"], runs["baseline2"]
-    ok = e.not_ac == 0 and e.violations == 0 and e.comms < b1.comms
-    summary = (f"search-and-rescue, 2 robots, 200 steps: ENFORCEAC Not-AC {e.not_ac} with {e.comms} one-way "
-               f"messages vs Baseline-I {b1.comms} ({100 * (1 - e.comms / b1.comms):.0f}% fewer); Baseline-II "
-               f"(never talks) Not-AC {b2.not_ac}; Theorem 3.3 violations {e.violations}; {e.time_s:.2f} s")
-    return {"ok": ok, "summary": summary}
-
-
-def _explore(out: Path) -> dict[str, Any]:
-    from sim.demo import run_demo as explore_demo
-
-    row = explore_demo(out)
-    checks = row.get("epistemic_checks", {})
-    ok = all(str(v).split("/")[0] == str(v).split("/")[-1] for v in checks.values())
-    summary = ", ".join(f"{k}={row[k]}" for k in ("mission_time", "distance", "tasks_done", "communications")
-                        if k in row)
-    row.setdefault("ok", ok)
-    row["summary"] = f"{summary}; picture {row.get('png')}"
-    return row
-
-
-def _arms(out: Path) -> dict[str, Any]:
-    from arms.demo import run_demo as arms_demo
-
-    res = arms_demo(out / "arms")
-    res["ok"] = bool(res.get("success"))
-    res["summary"] = (f"built-in two-robot plan {'succeeded' if res['ok'] else 'FAILED'}; max block error "
-                      f"{1000 * float(res.get('max_block_error_m', 0.0)):.2f} mm; "
-                      f"{res.get('realtime_factor', 0):.1f}x real time; picture: {res.get('png') or res.get('note')}")
-    return res
-
-
-def _epico(out: Path) -> dict[str, Any]:
-    from planners.hierarchy import run_demo as epico_demo
-
-    return epico_demo(out)
-
-
-SECTIONS: list[tuple[str, Callable[[Path], dict[str, Any]]]] = [
-    ("DEL puzzles (literature answers)", _puzzles),
-    ("z3 proofs and counter-models", _verify),
-    ("Epistemic planning + plan check", _planner),
-    ("Action consistency (VERIFYAC/ENFORCEAC)", _consistency),
-    ("Exploration with epistemic task allocation", _explore),
-    ("Two Franka Pandas execute a plan", _arms),
-    ("e-PICO: epistemic plan to primitive arm actions", _epico),
+#: the core's demo sections; the layers above add theirs (``DEMO_SECTIONS`` of a ``delkit.commands`` plugin)
+DEMO_SECTIONS: list[tuple[float, str, Callable[[Path], dict[str, Any]]]] = [
+    (10, "DEL puzzles (literature answers)", _puzzles),
+    (20, "z3 proofs and counter-models", _verify),
 ]
 
 
@@ -99,14 +45,16 @@ def run_demo(out: Path, only: list[str] | None = None) -> list[dict[str, Any]]:
     """Run the demo sections; returns one record per section (title, ok, seconds, result)."""
     from rich.console import Console
 
+    from delkit.cli.plugins import demo_sections
     from delkit.errors import DelkitError
 
+    sections = [(title, fn) for _, title, fn in demo_sections()]
     if any(not o.strip() for o in only or ()):  # '' is in every title: it would run everything
         raise DelkitError("--only needs a word of a section title, e.g. --only puzzles; it was empty")
-    unmatched = [o for o in only or () if not any(o.lower() in title.lower() for title, _ in SECTIONS)]
+    unmatched = [o for o in only or () if not any(o.lower() in title.lower() for title, _ in sections)]
     if unmatched:  # a typo would otherwise run nothing and report success
         raise DelkitError(f"--only {unmatched[0]!r} matches no demo section; sections: "
-                          f"{'; '.join(title for title, _ in SECTIONS)}")
+                          f"{'; '.join(title for title, _ in sections)}")
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
@@ -114,7 +62,7 @@ def run_demo(out: Path, only: list[str] | None = None) -> list[dict[str, Any]]:
                           f"--out directory") from None
     console = Console(stderr=True)
     records: list[dict[str, Any]] = []
-    for title, fn in SECTIONS:
+    for title, fn in sections:
         if only and not any(o.lower() in title.lower() for o in only):
             continue
         console.rule(f"[bold]{title}")

@@ -14,7 +14,7 @@ from arms.world import ArmsError
 
 pytest.importorskip("planners.hierarchy")
 
-from delkit.cli import epico_run  # noqa: E402
+from arms.cli import epico_run  # noqa: E402
 
 
 def _check_mission(res, m) -> None:

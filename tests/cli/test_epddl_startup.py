@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from delkit.cli.plan_cmd import fast_args
+from planners.cli.plan_cmd import fast_args
 from planners.lang import shared_benchmarks
 
 ROOT = Path(__file__).resolve().parents[2]

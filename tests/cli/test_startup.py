@@ -16,7 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import delkit.cli as cli
-from delkit.cli.plan_cmd import fast_args
+from planners.cli.plan_cmd import fast_args
 from planners.demo import specs_dir
 from planners.lang import shared_benchmarks
 

@@ -130,6 +130,10 @@ def register(epico_app: typer.Typer) -> None:
             as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Plan an e-PICO goal and execute it on the two simulated arms, re-sensing and replanning on
         divergences; report per task what was planned, done and observed."""
+        from arms.cli import EXTRA, REQUIRES
+        from delkit.cli.plugins import require_extra
+
+        require_extra(EXTRA, *REQUIRES, what="delkit epico run")
         from arms.mission import parse_fault
         from arms.world import ArmsError
         from delkit.resources import deadline
@@ -142,7 +146,7 @@ def register(epico_app: typer.Typer) -> None:
                 out.mkdir(parents=True, exist_ok=True)
             except OSError as exc:
                 raise ArmsError(f"{out}: cannot create the output directory: {exc.strerror}") from None
-        from delkit.cli.arms_cmd import _progress_cb
+        from arms.cli.arms_cmd import _progress_cb
 
         cb, stop = _progress_cb(0, "mission")
         with deadline(timeout, f"epico run --goal {goal} --colors {colors}"):

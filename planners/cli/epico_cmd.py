@@ -11,12 +11,10 @@ import typer
 
 def register(app: typer.Typer) -> None:
     """Attach the ``epico`` sub-app."""
-    sub = typer.Typer(help="e-PICO (seed 004): epistemic plan → macros flattened → classical breakdown → "
-                           "primitive plan for the arms.", no_args_is_help=True)
-    app.add_typer(sub, name="epico")
-    from delkit.cli import epico_run  # `delkit epico run`: the plan executed in closed loop on the arms
+    from delkit.cli.plugins import group
 
-    epico_run.register(sub)
+    sub = group(app, "epico", help="e-PICO (Soldà, Fabiano, Dovier): epistemic plan → macros flattened → "
+                                   "classical breakdown → primitive plan for the arms.")
 
     @sub.command("generate")
     def generate_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),

@@ -65,6 +65,14 @@ def register(app: typer.Typer) -> None:
     sub = typer.Typer(help="Two simulated Franka Pandas (MuJoCo + mink/pinocchio IK) executing plans.",
                       no_args_is_help=True)
 
+    @sub.callback()
+    def _needs_arms_extra() -> None:
+        """Two simulated Franka Pandas (MuJoCo + mink/pinocchio IK) executing plans."""
+        from arms.cli import EXTRA, REQUIRES
+        from delkit.cli.plugins import require_extra
+
+        require_extra(EXTRA, *REQUIRES, what="delkit arms")
+
     @sub.command("run")
     def run(plan: Path = typer.Argument(..., help="primitive-plan JSON (format: arms/README.md)"),
             out: Path | None = typer.Option(None, "--out", help="directory for scene.xml, result.json, "

@@ -1,0 +1,38 @@
+"""The planning layer's commands: ``delkit plan``, ``check``, ``convert`` and ``delkit epico`` (generate, solve,
+macros, table; ``epico run`` is added by the arms layer). Registered through the ``delkit.commands`` entry
+point ``planners``; ``plan`` and ``check`` also have a typer-free fast path (``delkit.fast``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from planners.cli.plan_cmd import fast_args
+
+__all__ = ["register", "fast_args", "DEMO_SECTIONS"]
+
+
+def register(app: Any) -> None:
+    """Attach the planning layer's commands to the top-level app."""
+    from planners.cli import epico_cmd, plan_cmd
+
+    plan_cmd.register(app)
+    epico_cmd.register(app)
+
+
+def _planner(out: Path) -> dict[str, Any]:
+    from planners.demo import run_demo as planner_demo
+
+    return planner_demo(out)
+
+
+def _epico(out: Path) -> dict[str, Any]:
+    from planners.hierarchy import run_demo as epico_demo
+
+    return epico_demo(out)
+
+
+DEMO_SECTIONS = [
+    (30, "Epistemic planning + plan check", _planner),
+    (70, "e-PICO: epistemic plan to primitive arm actions", _epico),
+]
