@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 __version__ = "0.1.0"
 
 _EXPORTS: dict[str, tuple[str, ...]] = {
-    "delkit.bisim": ("bisimilar", "canonical_hash", "contract"),
+    "delkit.bisimulation": ("bisimilar", "canonical_hash", "contract"),
     "delkit.compose": ("compose", "compose_all"),
     "delkit.errors": ("DelkitError", "ModelError", "ParseError", "UnknownSymbolError"),
     "delkit.events": ("EventModel", "action", "announcement", "ontic", "private_announcement",
@@ -46,7 +46,7 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # static analysers see the eager imports
-    from delkit.bisim import bisimilar, canonical_hash, contract  # noqa: F401
+    from delkit.bisimulation import bisimilar, canonical_hash, contract  # noqa: F401
     from delkit.compose import compose, compose_all  # noqa: F401
     from delkit.errors import DelkitError, ModelError, ParseError, UnknownSymbolError  # noqa: F401
     from delkit.events import (  # noqa: F401

@@ -241,7 +241,7 @@ def prove_macro(task: Task, macro: MacroSpec, model: KripkeModel | None = None, 
     """Prove with z3 that the composed event model of ``macro`` in ``model`` (default: the initial state; the
     macro must be applicable there) equals the sequence of its steps. ``composed`` checks a given event
     model (events named ``e1;e2;…`` like the composition's) instead of building it."""
-    from delkit.bisim import bisimilar
+    from delkit.bisimulation import bisimilar
     from delkit.compose import compose_all
     from delkit.update import product_update
     from delkit.verify import check_macro
@@ -323,7 +323,7 @@ def check_handwritten(task: Task, hand: Sequence[ActionSpec], macros: Sequence[M
     steps: for each state s, each macro m and each grounding h of the hand-written action whose name
     extends m's arguments, h must be applicable iff m is, and then M ⊗ E_h ≅ M ⊗ (E_1;…;E_n). Returns the
     first difference (with a plan that reaches the state) and the symbolic differences (``check_macro``)."""
-    from delkit.bisim import bisimilar, contract
+    from delkit.bisimulation import bisimilar, contract
     from delkit.compose import compose_all
     from delkit.update import product_update
     from delkit.verify import check_macro

@@ -3,8 +3,8 @@
 The planner does not implement DEL: it picks a delkit backend and asks it to apply event models.
 
 * :class:`CompactSpace` — the compact bit-set backend (:mod:`delkit.compact`), the default;
-* :class:`DelSpace` — the numpy backend: ``delkit.update.product_update`` + ``delkit.bisim.contract`` +
-  ``delkit.bisim.canonical_form`` on :class:`~delkit.kripke.KripkeModel` (reference semantics,
+* :class:`DelSpace` — the numpy backend: ``delkit.update.product_update`` + ``delkit.bisimulation.contract`` +
+  ``delkit.bisimulation.canonical_form`` on :class:`~delkit.kripke.KripkeModel` (reference semantics,
   ``--engine del``).
 
 Both accept the three kinds of grounded actions of :mod:`planners.task`:
@@ -56,7 +56,7 @@ class DelSpace:
         """(state, key): contracted, keyed by its canonical form. With groups whose D matters the state is
         kept as it is (no contraction: D_G is not bisimulation-invariant) and keyed by the canonical form of
         the model extended with one relation ⋂_{a∈G} R_a per group (collective bisimulation)."""
-        from delkit.bisim import canonical_form, contract
+        from delkit.bisimulation import canonical_form, contract
 
         if not self._groups:
             c = contract(m)

@@ -1,6 +1,6 @@
 """Plan and property checker: replay a plan in DEL semantics and say why it fails.
 
-The replay uses the numpy backend (``delkit.update.product_update`` and ``delkit.bisim.contract``, which
+The replay uses the numpy backend (``delkit.update.product_update`` and ``delkit.bisimulation.contract``, which
 keeps every formula's truth and keeps the replay small; no contraction at all when the task mentions
 distributed knowledge of a group), not the planner's compact backend, so a plan found by the planner is
 checked independently of the planner's own state code. A macro is replayed as its steps.
@@ -25,7 +25,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from delkit.bisim import contract
+from delkit.bisimulation import contract
 from delkit.errors import DelkitError, ParseError, io_reason
 from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Or, Prop, show, subformulas
 from delkit.kripke import KripkeModel

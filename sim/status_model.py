@@ -21,7 +21,7 @@ process of accepting new information that may contradict initial beliefs").
 * :meth:`announce_local` gives eq. 18: B_i B_j σ_i ∧ B_i B_j B_i σ_i for (i, j) in the group, outsiders'
   beliefs unchanged; :meth:`announce_global` gives eq. 14: K_i σ_i ∧ K_i K_j σ_j ∧ K_i K_j K_k σ_k.
 
-Every update is ``delkit.update.product_update`` followed by bisimulation contraction (``delkit.bisim``).
+Every update is ``delkit.update.product_update`` followed by bisimulation contraction (``delkit.bisimulation``).
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from delkit.bisim import contract
+from delkit.bisimulation import contract
 from delkit.events import EventModel, action, sensing
 from delkit.formula import BOT, TOP, Formula, K, Prop, conj
 from delkit.kripke import KripkeModel

@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.bisim import bisimilar, contract
+from delkit.bisimulation import bisimilar, contract
 from delkit.compact import CompactEngine
 from delkit.errors import ModelError
 from delkit.formula import D, Not, subformulas

@@ -3,7 +3,7 @@
 Properties on random models of every frame class: either the models are bisimilar — then the returned
 relation is a bisimulation (atoms, zig, zag, designated worlds covered) and random formulas up to modal
 depth 3 cannot tell them apart — or the formula is checked by the model checker to be true in one model
-and false in the other. The verdict is compared with ``delkit.bisim.bisimilar`` (a separate implementation
+and false in the other. The verdict is compared with ``bisimilar`` (a separate refinement in the same module,
 with hashed signatures).
 """
 
@@ -18,8 +18,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from delkit import KripkeModel
-from delkit.bisim import bisimilar, contract
-from delkit.bisimulation import as_kripke, diff, distinguishing_formula, formula_size
+from delkit.bisimulation import as_kripke, bisimilar, contract, diff, distinguishing_formula, formula_size
 from delkit.cli import main
 from delkit.formula import modal_depth
 from delkit.io import dumps

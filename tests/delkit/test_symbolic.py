@@ -7,7 +7,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from delkit.bisim import bisimilar
+from delkit.bisimulation import bisimilar
 from delkit.errors import ModelError, UnknownSymbolError
 from delkit.events import EventModel, ontic, public_announcement, semi_private_announcement
 from delkit.formula import (

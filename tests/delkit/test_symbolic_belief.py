@@ -7,7 +7,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from delkit.bisim import bisimilar
+from delkit.bisimulation import bisimilar
 from delkit.errors import ModelError
 from delkit.formula import K, Not, Prop, parse
 from delkit.symbolic_belief import BeliefStructure, belief_from_kripke

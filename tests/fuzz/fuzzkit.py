@@ -174,7 +174,7 @@ def _load_input_model(argv: list[str]):
 
 
 def _bisimilar(a, b) -> bool:
-    from delkit.bisim import canonical_form
+    from delkit.bisimulation import canonical_form
 
     return canonical_form(a, exact=True) == canonical_form(b, exact=True)
 
@@ -196,7 +196,7 @@ def _oracle_model_roundtrip(case: Case, argv: list[str], rc: int, out: str, d: s
 
 def _oracle_model_check(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
     """The truth value must be the same on the bisimulation contraction of the model."""
-    from delkit.bisim import contract
+    from delkit.bisimulation import contract
     from delkit.formula import parse
 
     m = _load_input_model(argv)
@@ -211,7 +211,7 @@ def _oracle_model_check(case: Case, argv: list[str], rc: int, out: str, d: str) 
 
 def _oracle_model_check_event(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
     """[E,e]φ: the truth value must equal that of φ on the product update (contracted), computed directly."""
-    from delkit.bisim import contract
+    from delkit.bisimulation import contract
     from delkit.formula import Update, parse
     from delkit.io import load_event_model
     from delkit.update import product_update
@@ -234,16 +234,16 @@ def _oracle_model_check_event(case: Case, argv: list[str], rc: int, out: str, d:
 
 
 def _oracle_model_diff(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
-    """``model diff``: a bisimulation must be one (same verdict as ``delkit.bisim``); a distinguishing formula
+    """``model diff``: a bisimulation must be one (same verdict as ``delkit.bisimulation``); a distinguishing formula
     must hold in the side it names and fail in the other, as the model checker says."""
-    from delkit.bisim import bisimilar
+    from delkit.bisimulation import bisimilar
     from delkit.formula import parse as parse_formula
     from delkit.io import load
 
     res = json.loads(out)
     a, b = (load(Path(d) / n) for n in ("a.json", "b.json"))
     if res["bisimilar"] != bisimilar(a, b):
-        return f"model diff says bisimilar={res['bisimilar']}, delkit.bisim says the opposite"
+        return f"model diff says bisimilar={res['bisimilar']}, delkit.bisimulation says the opposite"
     if res["bisimilar"]:
         return ""
     f = parse_formula(res["formula"])

@@ -8,7 +8,7 @@ import csv
 
 import pytest
 
-from delkit.bisim import bisimilar, contract
+from delkit.bisimulation import bisimilar, contract
 from delkit.update import product_update
 from planners.epistemic import Limits, plan
 from planners.lang import shared_benchmarks

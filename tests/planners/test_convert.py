@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from delkit.bisim import bisimilar
+from delkit.bisimulation import bisimilar
 from delkit.cli import main
 from delkit.errors import PlanningError
 from planners.demo import specs_dir

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.bisim import bisimilar, contract
+from delkit.bisimulation import bisimilar, contract
 from delkit.compact import from_kripke
 from delkit.formula import D as Dist
 from delkit.testing import formulas

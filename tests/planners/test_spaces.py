@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.bisim import bisimilar, contract
+from delkit.bisimulation import bisimilar, contract
 from delkit.events import sensing
 from delkit.kripke import KripkeModel
 from planners.demo import specs_dir
