@@ -1,17 +1,20 @@
-# The two set-up commands of the README: `make demo` and `make test`.
-# Both create .venv with the machine's python3 and install delkit with everything it needs.
+# The set-up commands of the README: `make demo` and `make test`.
+# Both create .venv with the machine's python3 and install delkit with every extra (`.[all]`) plus the
+# test and docs tools. `make test-core` checks the light install: `pip install .` (no extras) in a fresh
+# venv, its size, the core's tests and a plan + check + smcdel + draw there (bench/packaging.py).
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 PYTEST_WORKERS ?= 2
+CORE_VENV ?= build/core-venv
 
-.PHONY: demo test test-slow bench lint install clean
+.PHONY: demo test test-slow test-core docs bench lint install clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e '.[test,dask]'
+	$(PY) -m pip install --quiet -e '.[all,test,docs]'
 	touch $(STAMP)
 
 install: $(STAMP)
@@ -24,6 +27,14 @@ test: $(STAMP)
 
 test-slow: $(STAMP)
 	$(PY) -m pytest -q -n $(PYTEST_WORKERS) -m slow
+
+# the bare `pip install .` in a fresh venv (built from the wheels pip has cached or can reach)
+test-core: $(STAMP)
+	$(PY) bench/packaging.py --venv $(CORE_VENV) --python $(PYTHON)
+
+# the API reference, generated from the docstrings (pdoc) into build/api; fails on any pdoc warning
+docs: $(STAMP)
+	$(PY) docs/api.py --out build/api
 
 lint: $(STAMP)
 	$(VENV)/bin/ruff check delkit planners sim arms tests bench

@@ -48,7 +48,7 @@ def compose(e1: EventModel, e2: EventModel, *, name: str | None = None, prune: b
         posts.append(post)
     keep = np.ones(len(pairs), dtype=bool)
     if prune:
-        from delkit.verify import satisfiable
+        from delkit.propositional import satisfiable
 
         for k, f in enumerate(pres):
             if is_propositional(f) and not satisfiable(f):

@@ -246,20 +246,18 @@ def _tex(s: str) -> str:
 
 
 def picture(obj: Any, *, max_worlds: int = 64, layout: str = "auto", seed: int = 0) -> Picture:
-    """The picture of a Kripke model, an event model, or a knowledge/belief structure."""
+    """The picture of a Kripke model, an event model, or a knowledge/belief structure.
+
+    The kind is told by what the object offers (a Kripke model its worlds' names and valuation, an event
+    model its events with pre- and postconditions, a structure its vocabulary and Kripke model), so this
+    module imports none of the model classes: they import it, for their ``_repr_svg_``."""
     from delkit.errors import DelkitError
-    from delkit.events import EventModel
-    from delkit.kripke import KripkeModel
 
     if layout not in ("auto", "circle", "spring", "kamada-kawai"):
         raise DelkitError(f"layout {layout!r}: use auto, circle, spring or kamada-kawai")
-    if isinstance(obj, KripkeModel):
-        names = [obj.world_name(w) for w in range(obj.n_worlds)]
-        labels = [[names[w], ", ".join(sorted(obj.true_props(w))) or "∅"] for w in range(obj.n_worlds)]
-        pic = _graph(labels, names, set(obj.designated), obj.relations, obj.agents, layout, seed)
-        pic.summary = f"{obj.n_worlds} world(s), agents {', '.join(obj.agents)}"
-        return pic
-    if isinstance(obj, EventModel):
+    if hasattr(obj, "world_name") and hasattr(obj, "valuation"):
+        return _kripke(obj, [obj.world_name(w) for w in range(obj.n_worlds)], layout, seed)
+    if hasattr(obj, "events") and hasattr(obj, "pre") and hasattr(obj, "post"):
         from delkit.formula import show
 
         labels = []
@@ -275,9 +273,15 @@ def picture(obj: Any, *, max_worlds: int = 64, layout: str = "auto", seed: int =
     raise DelkitError(f"cannot draw a {type(obj).__name__}: give a Kripke model, an event model or a structure")
 
 
-def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
-    from delkit.kripke import KripkeModel
+def _kripke(m: Any, names: list[str], layout: str, seed: int) -> Picture:
+    """A Kripke model's picture, its worlds called ``names``."""
+    labels = [[names[w], ", ".join(sorted(m.true_props(w))) or "∅"] for w in range(m.n_worlds)]
+    pic = _graph(labels, names, set(m.designated), m.relations, m.agents, layout, seed)
+    pic.summary = f"{m.n_worlds} world(s), agents {', '.join(m.agents)}"
+    return pic
 
+
+def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
     belief = hasattr(obj, "relations") and not hasattr(obj, "observed")
     header = [f"{'belief' if belief else 'knowledge'} structure", "V = {" + ", ".join(obj.vocabulary) + "}",
               "θ = " + _bdd_text(obj, obj.law)]
@@ -294,8 +298,7 @@ def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
     m = obj.to_kripke()
     states = obj.states()
     names = ["{" + ",".join(v for v in obj.vocabulary if s[v]) + "}" for s in states]
-    named = KripkeModel(m.props, m.agents, m.valuation, m.relations, m.designated, tuple(names))
-    pic = picture(named, layout=layout, seed=seed)
+    pic = _kripke(m, names, layout, seed)
     for node in pic.nodes:  # the name already lists the true variables
         node.lines = node.lines[:1]
         node.r = max(22.0, len(node.name) * 3.3 + 6)

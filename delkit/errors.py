@@ -48,9 +48,38 @@ class UnknownSymbolError(ModelError):
     """A formula names an agent or proposition that the model does not have."""
 
 
+class VerificationError(DelkitError):
+    """A formula outside the fragment a verification tool handles, or a solver answer that failed the
+    explicit re-check (the latter is a bug: please report it with the formula)."""
+
+
 class PlanningError(DelkitError):
     """A planning task that cannot be built or searched (the *result* of a failed search is not an error)."""
 
 
 class SimulationError(DelkitError):
     """Invalid set-up of a simulation or experiment."""
+
+
+class MissingExtraError(DelkitError):
+    """A feature whose optional dependencies (a pip extra of delkit) are not installed."""
+
+
+def require_extra(extra: str, *modules: str, what: str = "this command") -> None:
+    """Raise a one-line :class:`MissingExtraError` naming ``delkit[extra]`` when one of ``modules`` is missing
+    (``pip install delkit`` is the core; the heavy parts are extras: arms, sim, asp, dask, all)."""
+    import sys
+    from importlib.util import find_spec
+
+    def missing(module: str) -> bool:
+        if module in sys.modules:
+            return False
+        try:
+            return find_spec(module) is None
+        except (ImportError, ValueError):
+            return True
+
+    absent = [m for m in modules if missing(m)]
+    if absent:
+        raise MissingExtraError(f"{what} needs the optional dependencies of delkit[{extra}] (missing: "
+                                f"{', '.join(absent)}); install them with: pip install 'delkit[{extra}]'")

@@ -17,21 +17,33 @@ then ``&``, ``|``, ``->`` (right associative), ``<->``.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import TYPE_CHECKING, Any
+from typing import Any, Protocol
 
 from delkit.errors import ParseError
-
-if TYPE_CHECKING:  # pragma: no cover
-    from delkit.events import EventModel
 
 __all__ = [
     "Formula", "Top", "Bot", "Prop", "Not", "And", "Or", "Implies", "Iff", "K", "Kw", "E", "C", "D",
     "Announce", "Update", "TOP", "BOT", "parse", "show", "conj", "disj", "props_of", "agents_of",
     "subformulas", "substitute", "is_propositional", "modal_depth",
 ]
+
+
+class EventModelLike(Protocol):
+    """What the formula language needs of the event model E of an update formula [E,e]ψ: its event names,
+    preconditions and postconditions. :class:`delkit.events.EventModel` is one; formulas do not import
+    it (event models are built from formulas, so the dependency points from events to formulas)."""
+
+    @property
+    def events(self) -> Sequence[str]: ...
+
+    @property
+    def pre(self) -> Sequence[Formula]: ...
+
+    @property
+    def post(self) -> Sequence[Mapping[str, Formula]]: ...
 
 
 class Formula:
@@ -188,7 +200,7 @@ class Update(Formula):
     ``event`` is an event index or name of ``model``; ``name`` is how the model is written in text.
     """
 
-    model: EventModel
+    model: EventModelLike
     event: int
     arg: Formula
     name: str = "E"
@@ -487,7 +499,7 @@ def _token_name(name: str) -> str:
         return name
 
 
-def parse(text: str, *, events: Mapping[str, EventModel] | None = None, source: str = "<formula>",
+def parse(text: str, *, events: Mapping[str, EventModelLike] | None = None, source: str = "<formula>",
           line_offset: int = 0, column_offset: int = 0) -> Formula:
     """Parse the text syntax into a :class:`Formula`.
 
@@ -527,7 +539,7 @@ def parse(text: str, *, events: Mapping[str, EventModel] | None = None, source: 
 
 
 class _Build:
-    def __init__(self, events: Mapping[str, EventModel], source: str) -> None:
+    def __init__(self, events: Mapping[str, EventModelLike], source: str) -> None:
         self.events = events
         self.source = source
 

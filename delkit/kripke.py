@@ -3,14 +3,17 @@
 A model has worlds 0..n-1, a valuation (boolean matrix worlds × propositions), one accessibility
 :class:`~delkit.relation.Relation` per agent (a partition for S5, a sparse matrix otherwise) and a set of
 designated (actual) worlds. Models are immutable; operations return new models. Truth of formulas is
-computed by :mod:`delkit.semantics` and memoised per model.
+computed by :mod:`delkit.semantics` and memoised per model; the product M ⊗ E with an event model is
+:meth:`KripkeModel.product` (the public function is :func:`delkit.update.product_update`). Truth of [E,e]ψ
+needs the product and the product needs the truth of preconditions: the two meet in the model object
+(:mod:`delkit.semantics` calls ``m.product``), so neither module imports the other.
 """
 
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -18,6 +21,9 @@ from delkit._lazy import lazy_module
 from delkit.errors import ModelError, UnknownSymbolError
 from delkit.formula import Formula, agents_of, props_of
 from delkit.relation import Relation, RelationError
+
+if TYPE_CHECKING:
+    from delkit.events import EventModel
 
 sp = lazy_module("scipy.sparse")  # imported on first use (start-up time)
 
@@ -212,6 +218,53 @@ class KripkeModel:
     def announce(self, formula: Formula | str) -> KripkeModel:
         """Public announcement M|φ: keep the worlds where φ holds."""
         return self.restrict(self.check(formula))
+
+    def preconditions(self, events: EventModel) -> np.ndarray:
+        """Boolean matrix worlds × events: M, w ⊨ pre(e)."""
+        out = np.empty((self.n_worlds, events.n_events), dtype=bool)
+        for j, pre in enumerate(events.pre):
+            out[:, j] = self.check(pre)
+        return out
+
+    def product(self, events: EventModel, *, designated: str = "product") -> tuple[KripkeModel, np.ndarray]:
+        """M ⊗ E and the (k, 2) array of (world, event) of each new world (see :mod:`delkit.update`).
+
+        ``designated="product"`` keeps the pairs of designated worlds and events; ``designated="all"`` keeps
+        every designated world of M paired with any event (used for [E,e]φ).
+        """
+        missing = [a for a in self.agents if a not in events.relations]
+        if missing:
+            raise ModelError(f"event model {events.name!r} has no relation for agent(s) {missing} of the model; "
+                             f"give every agent a relation (oblivious agents map events to the skip event)")
+        unknown = sorted({p for m in events.post for p in m} - set(self.props))
+        if unknown:
+            raise ModelError(f"event model {events.name!r} assigns unknown proposition(s) {unknown}; the model "
+                             f"has {list(self.props)}")
+        pre = self.preconditions(events)
+        w_idx, e_idx = np.nonzero(pre)  # row-major: sorted by world then event
+        pairs = np.stack([w_idx, e_idx], axis=1).astype(np.int64)
+        val = self.valuation[w_idx].copy()
+        for j, post in enumerate(events.post):
+            if not post:
+                continue
+            rows = np.flatnonzero(e_idx == j)
+            if rows.size == 0:
+                continue
+            for p, f in post.items():
+                val[rows, self.prop_index(p)] = self.check(f)[w_idx[rows]]
+        rels = {a: self.relations[a].product(events.relations[a], pairs) for a in self.agents}
+        des_w = np.zeros(self.n_worlds, dtype=bool)
+        des_w[list(self.designated)] = True
+        if designated == "all":
+            keep = des_w[w_idx]
+        else:
+            des_e = np.zeros(events.n_events, dtype=bool)
+            des_e[list(events.designated)] = True
+            keep = des_w[w_idx] & des_e[e_idx]
+        names = None
+        if self.names is not None:
+            names = tuple(f"{self.names[w]}.{events.events[e]}" for w, e in pairs)
+        return KripkeModel(self.props, self.agents, val, rels, tuple(np.flatnonzero(keep)), names), pairs
 
     def reachable(self, sources: Iterable[int] | None = None, agents: Iterable[str] | None = None) -> np.ndarray:
         """Mask of worlds reachable (in zero or more steps of the agents' relations) from ``sources``."""

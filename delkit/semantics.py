@@ -115,13 +115,11 @@ def _eval(m, f: Formula) -> np.ndarray:  # noqa: C901 - one clause per operator
             out[np.flatnonzero(pre)] = evaluate(sub, f.arg)
         return out
     if isinstance(f, Update):
-        from delkit.update import product_update
-
         model_e = f.model
         pre = evaluate(m, model_e.pre[f.event])
         out = np.ones(n, dtype=bool)
         if pre.any():
-            new, pairs = product_update(m, model_e, return_pairs=True, designated="all")
+            new, pairs = m.product(model_e, designated="all")  # M ⊗ E (delkit.update), via the model
             sel = np.flatnonzero(pairs[:, 1] == f.event)
             out[pairs[sel, 0]] = evaluate(new, f.arg)[sel]
         return out

@@ -4,6 +4,8 @@ Four tools, all returning plain data (frozen dataclasses) and never trusting z3 
 
 1. **Propositional validity / satisfiability** (:func:`valid`, :func:`satisfiable`, :func:`equivalent`,
    :func:`counterexample`) of pre- and postconditions. Exact (z3 is a decision procedure for SAT).
+   Defined in :mod:`delkit.propositional` (which :mod:`delkit.compose` uses to prune macros) and
+   re-exported here.
 
 2. **Macro check** (:func:`check_macro`): a macro (a composed event model E₁;…;Eₙ, see
    :func:`delkit.compose.compose`) is compared with the sequence it replaces. Events are matched by name
@@ -48,7 +50,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from delkit.errors import DelkitError
+from delkit.errors import VerificationError
 from delkit.events import EventModel
 from delkit.formula import (
     And,
@@ -70,104 +72,19 @@ from delkit.formula import (
     agents_of,
     conj,
     is_propositional,
-    parse,
     show,
     subformulas,
 )
 from delkit.kripke import KripkeModel
+from delkit.propositional import _f, counterexample, equivalent, satisfiable, to_z3, valid
 from delkit.relation import Relation
 
 __all__ = [
     "VerificationError", "Verdict", "MacroCheck", "valid", "satisfiable", "equivalent", "counterexample",
-    "to_z3", "reduce", "check_macro", "find_model", "prove", "s5_single_agent_bound", "run_demo", "LOGICS",
+    "to_z3", "reduce", "check_macro", "find_model", "prove", "s5_single_agent_bound", "LOGICS",
 ]
 
 LOGICS = ("S5", "KD45", "K")
-
-
-class VerificationError(DelkitError):
-    """A formula outside the fragment a verification tool handles, or a solver answer that failed the
-    explicit re-check (the latter is a bug: please report it with the formula)."""
-
-
-def _f(x: Formula | str) -> Formula:
-    return parse(x) if isinstance(x, str) else x
-
-
-# ============================================================================ propositional (z3)
-
-
-def to_z3(formula: Formula | str, variables: dict[str, object] | None = None):
-    """Translate a propositional formula into a z3 Boolean expression.
-
-    ``variables`` maps proposition names to z3 Booleans; missing ones are created (``z3.Bool(name)``)
-    and added to the dict.
-    """
-    import z3
-
-    f = _f(formula)
-    env: dict[str, object] = {} if variables is None else variables
-    memo: dict[Formula, object] = {}
-
-    def go(g: Formula):
-        hit = memo.get(g)
-        if hit is not None:
-            return hit
-        if isinstance(g, Top):
-            out = z3.BoolVal(True)
-        elif isinstance(g, Bot):
-            out = z3.BoolVal(False)
-        elif isinstance(g, Prop):
-            if g.name not in env:
-                env[g.name] = z3.Bool(g.name)
-            out = env[g.name]
-        elif isinstance(g, Not):
-            out = z3.Not(go(g.arg))
-        elif isinstance(g, And):
-            out = z3.And([go(a) for a in g.args]) if g.args else z3.BoolVal(True)
-        elif isinstance(g, Or):
-            out = z3.Or([go(a) for a in g.args]) if g.args else z3.BoolVal(False)
-        elif isinstance(g, Implies):
-            out = z3.Implies(go(g.left), go(g.right))
-        elif isinstance(g, Iff):
-            out = go(g.left) == go(g.right)
-        else:
-            raise VerificationError(f"{show(f)}: not propositional (contains {show(g)}); reduce dynamic "
-                                    f"operators with delkit.verify.reduce or use delkit.verify.prove for modal "
-                                    f"formulas")
-        memo[g] = out
-        return out
-
-    return go(f)
-
-
-def counterexample(formula: Formula | str) -> dict[str, bool] | None:
-    """A valuation (proposition ↦ bool) falsifying a propositional formula, or None if it is valid."""
-    import z3
-
-    env: dict[str, object] = {}
-    expr = to_z3(formula, env)
-    s = z3.Solver()
-    s.add(z3.Not(expr))
-    if s.check() != z3.sat:
-        return None
-    m = s.model()
-    return {p: bool(z3.is_true(m.eval(v, model_completion=True))) for p, v in sorted(env.items())}
-
-
-def valid(formula: Formula | str) -> bool:
-    """⊨ φ for a propositional φ (exact)."""
-    return counterexample(formula) is None
-
-
-def satisfiable(formula: Formula | str) -> bool:
-    """Is the propositional φ satisfiable? (Used by ``compose(..., prune=True)``.)"""
-    return not valid(Not(_f(formula)))
-
-
-def equivalent(a: Formula | str, b: Formula | str) -> bool:
-    """⊨ a ↔ b for propositional a, b."""
-    return valid(Iff(_f(a), _f(b)))
 
 
 # ============================================================================ reduction axioms
@@ -689,46 +606,3 @@ def prove(formula: Formula | str, *, logic: str = "S5", worlds: int = 4, props: 
     exact = prop or m is not None or (bound is not None and bound <= k)
     return Verdict(f, m is None, m, logic.upper(), k, exact=exact,
                    stats={"seconds": round(seconds, 4), "small_model_bound": bound})
-
-
-# ============================================================================ demo
-
-
-def run_demo(out) -> dict:
-    """The z3 layer end to end, for ``delkit demo``: prove the S5 axioms (exact for one agent), refute
-    truth of belief on KD45 and "mutual ⇒ common knowledge" on S5 with minimal counter-models (written to
-    ``out`` as JSON and DOT, re-checked explicitly), check a sensing;ontic macro against its steps, and
-    check the reduction of an mA* update against the explicit checker. Returns ``{"ok", "summary", …}``."""
-    from pathlib import Path
-
-    from delkit.compose import compose
-    from delkit.events import ontic, sensing
-    from delkit.io import save, save_dot
-
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    axioms = ["K_a p -> p", "K_a p -> K_a K_a p", "~K_a p -> K_a ~K_a p", "K_a (p -> q) -> K_a p -> K_a q"]
-    proved = [prove(a, logic="S5", worlds=4) for a in axioms]
-    kd45 = prove("K_a p -> p", logic="KD45", worlds=3)
-    mutual = prove("K_a p & K_b p -> C{a,b} p", logic="S5", worlds=4)
-    for name, v in (("kd45_false_belief", kd45), ("mutual_not_common", mutual)):
-        if v.counter_model is not None:
-            save(v.counter_model, out / f"{name}.json")
-            save_dot(v.counter_model, out / f"{name}.dot")
-    look = sensing("p", ["a", "b"], full=["a"], partial=["b"], name="look")
-    flip = ontic({"q": "p"}, ["a", "b"], full=["a"], name="copy")
-    macro = check_macro(compose(look, flip, prune=True), [look, flip])
-    f = Update(flip, 0, parse("K_a q & ~K_b q & K_b (q | ~q)"))
-    from delkit.kripke import KripkeModel
-
-    m = KripkeModel.build([{"p"}, set()], {"a": [[0], [1]], "b": [[0, 1]]}, props=["p", "q"])
-    reduction_ok = bool((m.check(f) == m.check(reduce(f))).all())
-    ok = (all(v.valid and v.exact for v in proved) and not kd45.valid and not mutual.valid
-          and macro.equivalent and reduction_ok)
-    summary = (f"S5 axioms T,4,5,K proved ({sum(v.valid for v in proved)}/4, exact); KD45 false-belief "
-               f"counter-model {kd45.counter_model.n_worlds if kd45.counter_model else '-'} worlds; "
-               f"mutual≠common counter-model {mutual.counter_model.n_worlds if mutual.counter_model else '-'} "
-               f"worlds; macro look;copy {'equals' if macro.equivalent else 'DIFFERS from'} its steps; "
-               f"reduction {'agrees' if reduction_ok else 'DISAGREES'} with the explicit checker")
-    return {"ok": ok, "summary": summary, "macro_problems": list(macro.problems),
-            "files": sorted(str(p) for p in out.glob("*_*.json"))}

@@ -194,7 +194,10 @@ def _q(name: str) -> str:
 
 def solve_classical(state: CState, goal: CGoal, *, max_steps: int = 30, timeout: float = 10.0) -> ClassicalResult:
     """An optimal (fewest actions) plan for ``goal`` from ``state`` with clingo; :class:`PlanningError` if
-    there is none within ``max_steps`` actions or ``timeout`` seconds."""
+    there is none within ``max_steps`` actions or ``timeout`` seconds. Needs ``delkit[asp]`` (clingo)."""
+    from delkit.errors import require_extra
+
+    require_extra("asp", "clingo", what="the clingo classical planner")
     import clingo
 
     t0 = time.perf_counter()

@@ -1,5 +1,6 @@
 """The layers of docs/design.md: imports only point down (delkit ← planners ← {sim, arms}; sim and arms do
-not import each other). Every import statement of every module counts, lazy ones inside functions too."""
+not import each other), and no module imports itself through others (no import circle). Every import
+statement of every module counts: lazy ones inside functions and the ones under ``if TYPE_CHECKING:`` too."""
 
 from __future__ import annotations
 
@@ -48,3 +49,126 @@ def test_the_checker_sees_a_lazy_upward_import(tmp_path, monkeypatch):
     (tmp_path / "delkit" / "x.py").write_text("def f():\n    from planners.task import Task\n    return Task\n")
     monkeypatch.setattr(f"{__name__}.ROOT", tmp_path)
     assert upward_imports("delkit") == ["delkit/x.py:2 imports planners"]
+
+
+# ------------------------------------------------------------------------------------------ import circles
+#: circles being broken elsewhere; each entry is exactly the set of modules of one circle
+KNOWN_CIRCLES: list[set[str]] = [
+    # planners/epico.py <-> planners/hierarchy.py is being broken on the epico20 branch; the lead removes
+    # this exemption when merging it (a circle with any other module in it still fails)
+    {"planners.epico", "planners.hierarchy"},
+]
+
+
+def module_files(root: Path) -> dict[str, Path]:
+    """Dotted module name ↦ file, for every module of the four packages (a package is its __init__)."""
+    out = {}
+    for package in PACKAGES:
+        for path in sorted((root / package).rglob("*.py")):
+            parts = list(path.relative_to(root).with_suffix("").parts)
+            if parts[-1] == "__init__":
+                parts.pop()
+            out[".".join(parts)] = path
+    return out
+
+
+def import_graph(root: Path) -> dict[str, dict[str, int]]:
+    """module ↦ {imported module of the four packages ↦ line of the first such import}.
+
+    ``from a.b import c`` is an import of ``a.b.c`` when that is a module, else of ``a.b``; relative imports
+    are resolved; an import of ``a.b.c`` where only ``a.b`` is a module counts as ``a.b``. Importing a module
+    also runs its packages' ``__init__``, but that is not an edge here: a package re-exporting its
+    submodules would otherwise make every submodule that imports a sibling part of a circle."""
+    files = module_files(root)
+
+    def known(name: str) -> str | None:
+        while name and name not in files:
+            name = name.rpartition(".")[0]
+        return name or None
+
+    graph: dict[str, dict[str, int]] = {}
+    for mod, path in files.items():
+        edges = graph.setdefault(mod, {})
+        package = mod.split(".") if path.name == "__init__.py" else mod.split(".")[:-1]
+        for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+            targets: list[str] = []
+            if isinstance(node, ast.Import):
+                targets = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom):
+                base = node.module or ""
+                if node.level:
+                    up = package[:len(package) - (node.level - 1)]
+                    base = ".".join(up + ([node.module] if node.module else []))
+                targets = [f"{base}.{a.name}" if f"{base}.{a.name}" in files else base for a in node.names]
+            elif isinstance(node, ast.Call) and getattr(node.func, "attr", getattr(node.func, "id", "")) in (
+                    "import_module", "__import__") and node.args and isinstance(node.args[0], ast.Constant) \
+                    and isinstance(node.args[0].value, str):
+                targets = [node.args[0].value]
+            for target in targets:
+                hit = known(target)
+                if hit is not None and hit != mod:
+                    edges.setdefault(hit, node.lineno)
+    return graph
+
+
+def circles(graph: dict[str, dict[str, int]]) -> list[list[str]]:
+    """The import circles: strongly connected components of more than one module (Tarjan), each sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    out: list[list[str]] = []
+
+    def visit(v: str) -> None:  # recursion depth = length of an import chain: a few dozen at most
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in graph.get(v, {}):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return sorted(out)
+
+
+def describe(graph: dict[str, dict[str, int]], circle: list[str]) -> str:
+    inside = set(circle)
+    return "; ".join(f"{m} -> {t} (line {line})" for m in circle for t, line in sorted(graph[m].items())
+                     if t in inside)
+
+
+def test_no_import_circle():
+    graph = import_graph(ROOT)
+    found = [c for c in circles(graph) if set(c) not in KNOWN_CIRCLES]
+    assert found == [], "\n".join(describe(graph, c) for c in found)
+
+
+def test_the_circle_finder_sees_lazy_relative_and_type_checking_imports(tmp_path, monkeypatch):
+    pkg = tmp_path / "delkit"
+    (pkg / "sub").mkdir(parents=True)
+    (pkg / "__init__.py").write_text("")
+    (pkg / "a.py").write_text("def f():\n    from delkit.b import g\n    return g\n")
+    (pkg / "b.py").write_text("from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n    from delkit.sub import c\n")
+    (pkg / "sub" / "__init__.py").write_text("")
+    (pkg / "sub" / "c.py").write_text("from .. import a\n")
+    (pkg / "d.py").write_text("import delkit.a\n")  # imports into the circle but is not part of it
+    monkeypatch.setattr(f"{__name__}.PACKAGES", ("delkit",))
+    graph = import_graph(tmp_path)
+    assert circles(graph) == [["delkit.a", "delkit.b", "delkit.sub.c"]]
+    (pkg / "a.py").write_text("")
+    assert circles(import_graph(tmp_path)) == []

@@ -9,8 +9,7 @@ from typing import Any
 
 __all__ = ["register", "DEMO_SECTIONS", "EXTRA", "REQUIRES"]
 
-EXTRA = "arms"
-REQUIRES = ("mujoco", "mink", "pinocchio")
+from arms.cli.extra import EXTRA, REQUIRES
 
 
 def register(app: Any) -> None:
@@ -23,7 +22,7 @@ def register(app: Any) -> None:
 
 
 def _arms(out: Path) -> dict[str, Any]:
-    from delkit.cli.plugins import require_extra
+    from delkit.errors import require_extra
 
     require_extra(EXTRA, *REQUIRES, what="the arms demo")
     from arms.demo import run_demo as arms_demo

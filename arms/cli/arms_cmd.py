@@ -68,8 +68,8 @@ def register(app: typer.Typer) -> None:
     @sub.callback()
     def _needs_arms_extra() -> None:
         """Two simulated Franka Pandas (MuJoCo + mink/pinocchio IK) executing plans."""
-        from arms.cli import EXTRA, REQUIRES
-        from delkit.cli.plugins import require_extra
+        from arms.cli.extra import EXTRA, REQUIRES
+        from delkit.errors import require_extra
 
         require_extra(EXTRA, *REQUIRES, what="delkit arms")
 

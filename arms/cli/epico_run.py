@@ -130,8 +130,8 @@ def register(epico_app: typer.Typer) -> None:
             as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Plan an e-PICO goal and execute it on the two simulated arms, re-sensing and replanning on
         divergences; report per task what was planned, done and observed."""
-        from arms.cli import EXTRA, REQUIRES
-        from delkit.cli.plugins import require_extra
+        from arms.cli.extra import EXTRA, REQUIRES
+        from delkit.errors import require_extra
 
         require_extra(EXTRA, *REQUIRES, what="delkit epico run")
         from arms.mission import parse_fault

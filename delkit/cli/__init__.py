@@ -32,12 +32,20 @@ def _build_app():
         name="delkit",
         help="delkit: dynamic epistemic logic for multi-agent robotics.",
         no_args_is_help=True,
-        add_completion=False,
+        add_completion=True,  # --install-completion / --show-completion (bash, zsh, fish, PowerShell)
         pretty_exceptions_enable=False,
     )
 
+    def _print_version(value: bool) -> None:
+        if value:
+            from delkit import __version__
+
+            typer.echo(f"delkit {__version__}")
+            raise typer.Exit(0)
+
     @app.callback()
-    def _root() -> None:
+    def _root(version: bool = typer.Option(False, "--version", callback=_print_version, is_eager=True,
+                                           help="Print the delkit version and exit.")) -> None:
         """delkit: dynamic epistemic logic for multi-agent robotics (run `delkit COMMAND --help`)."""
 
     core_cmd.register(app)
@@ -49,6 +57,25 @@ def _build_app():
     return app
 
 
+def _plain_flags(command) -> None:
+    """Show on/off options as flags in the help (``--json``, ``--macros / --no-macros``), without the
+    ``<bool>`` type column that typer adds to them; recursively for every sub-command."""
+    for param in getattr(command, "params", ()):
+        if getattr(param, "is_flag", False) and param.metavar is None:
+            param.metavar = ""
+    make_help = command.get_help_option
+
+    def help_option(ctx):  # click makes --help per command on demand: the same for it
+        option = make_help(ctx)
+        if option is not None and option.metavar is None:
+            option.metavar = ""
+        return option
+
+    command.get_help_option = help_option
+    for sub in getattr(command, "commands", {}).values():
+        _plain_flags(sub)
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI and return its exit status (0 ok, 1 a negative answer such as an invalid plan, 2 bad input)."""
     args = list(sys.argv[1:] if argv is None else argv)
@@ -56,8 +83,11 @@ def main(argv: list[str] | None = None) -> int:
         fast = _fast_path(args)
         if fast is not None:  # a plain `plan` / `check` line: run without importing typer (start-up time)
             return fast()
-        application = _build_app()
-        result = application(args=args, prog_name="delkit", standalone_mode=False)
+        import typer.main
+
+        command = typer.main.get_command(_build_app())
+        _plain_flags(command)
+        result = command.main(args=args, prog_name="delkit", standalone_mode=False)
     except BaseException as exc:  # noqa: BLE001 - each kind is mapped to its exit status below
         return _exit_status(exc)
     return result if isinstance(result, int) else 0

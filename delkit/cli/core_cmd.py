@@ -11,34 +11,10 @@ from __future__ import annotations
 
 import json
 import time
-from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 import typer
-
-
-def _puzzles(out: Path) -> dict[str, Any]:
-    from delkit.puzzles import summary_table
-
-    rows = summary_table()
-    (out / "puzzles.json").write_text(json.dumps(rows, indent=2, default=str))
-    ok = all(r["ok"] for r in rows)
-    text = "; ".join(f"{r['puzzle']}: {r['answer']}" for r in rows)
-    return {"ok": ok, "rows": rows, "summary": text}
-
-
-def _verify(out: Path) -> dict[str, Any]:
-    from delkit.verify import run_demo as verify_demo
-
-    return verify_demo(out / "verify")
-
-
-#: the core's demo sections; the layers above add theirs (``DEMO_SECTIONS`` of a ``delkit.commands`` plugin)
-DEMO_SECTIONS: list[tuple[float, str, Callable[[Path], dict[str, Any]]]] = [
-    (10, "DEL puzzles (literature answers)", _puzzles),
-    (20, "z3 proofs and counter-models", _verify),
-]
 
 
 def run_demo(out: Path, only: list[str] | None = None) -> list[dict[str, Any]]:

@@ -13,7 +13,7 @@ The entry point names a *module* with
   more than one package adds to, e.g. ``delkit epico``);
 * optionally ``DEMO_SECTIONS`` — ``(order, title, function(out_dir) -> dict)`` run by ``delkit demo``;
 * optionally ``EXTRA`` and ``REQUIRES`` — the pip extra the layer needs and the modules it needs from it
-  (:func:`require_extra` turns a missing one into one line naming the extra).
+  (:func:`delkit.errors.require_extra` turns a missing one into one line naming the extra).
 
 A second group, ``delkit.fast``, maps a command name to a ``fast_args(argv) -> callable | None`` function
 for command lines that must start without importing typer (``delkit plan``/``check``: start-up time). It is
@@ -28,6 +28,8 @@ import os
 import sys
 from collections.abc import Callable
 from typing import Any
+
+from delkit.errors import require_extra  # re-exported: the plugins' way to name a missing extra
 
 __all__ = ["COMMANDS", "FAST", "plugin_modules", "group", "demo_sections", "fast_entry", "require_extra"]
 
@@ -76,33 +78,12 @@ def group(app: Any, name: str, help: str | None = None) -> Any:
 
 def demo_sections() -> list[tuple[float, str, Callable[..., dict]]]:
     """Every installed plugin's demo sections, in their order."""
-    from delkit.cli import core_cmd
+    from delkit.demo import DEMO_SECTIONS
 
-    sections = list(core_cmd.DEMO_SECTIONS)
+    sections = list(DEMO_SECTIONS)
     for _, module in plugin_modules():
         sections += list(getattr(module, "DEMO_SECTIONS", ()))
     return sorted(sections, key=lambda s: s[0])
-
-
-def require_extra(extra: str, *modules: str, what: str = "this command") -> None:
-    """Raise a one-line :class:`DelkitError` naming ``delkit[extra]`` when one of ``modules`` is missing."""
-    from importlib.util import find_spec
-
-    missing = [m for m in modules if _missing(m, find_spec)]
-    if missing:
-        from delkit.errors import DelkitError
-
-        raise DelkitError(f"{what} needs the optional dependencies of delkit[{extra}] (missing: "
-                          f"{', '.join(missing)}); install them with: pip install 'delkit[{extra}]'")
-
-
-def _missing(module: str, find_spec) -> bool:
-    if module in sys.modules:
-        return False
-    try:
-        return find_spec(module) is None
-    except (ImportError, ValueError):
-        return True
 
 
 # ------------------------------------------------------------------------------------------ fast path

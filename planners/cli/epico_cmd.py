@@ -69,6 +69,10 @@ def register(app: typer.Typer) -> None:
 
         if classical not in ("bfs", "clingo"):
             raise EpicoError(f"--classical {classical!r}: use bfs or clingo")
+        if classical == "clingo":  # say so before the epistemic search, not after it
+            from delkit.errors import require_extra
+
+            require_extra("asp", "clingo", what="--classical clingo")
         layout = None
         if world is not None:
             try:

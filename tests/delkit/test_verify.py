@@ -270,10 +270,10 @@ def test_satisfiable_is_what_compose_prune_uses():
 
 
 def test_run_demo(tmp_path):
+    from delkit.demo import proofs
     from delkit.io import load_model
-    from delkit.verify import run_demo
 
-    res = run_demo(tmp_path)
+    res = proofs(tmp_path)
     assert res["ok"], res
     assert "KD45 false-belief counter-model 2 worlds" in res["summary"]
     assert "mutual≠common counter-model 3 worlds" in res["summary"]
