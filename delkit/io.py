@@ -55,7 +55,7 @@ from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
 __all__ = [
-    "ModelFileError", "SCHEMA_VERSION", "model_to_dict", "model_from_dict", "event_model_to_dict",
+    "ModelFileError", "MODEL_FORMATS", "sniff", "not_this_format", "SCHEMA_VERSION", "model_to_dict", "model_from_dict", "event_model_to_dict",
     "event_model_from_dict", "to_dict", "from_dict", "dumps", "loads", "save", "load", "load_model",
     "load_event_model", "to_dot", "from_dot", "save_dot", "load_dot",
 ]
@@ -404,12 +404,68 @@ def save(obj: KripkeModel | EventModel, path: str | Path) -> None:
     Path(path).write_text(dumps(obj) + "\n", encoding="utf-8")
 
 
-def load(path: str | Path) -> KripkeModel | EventModel:
-    """Read a model file: JSON, or the DOT that :func:`to_dot` writes (by extension ``.dot``/``.gv``)."""
+#: what :func:`load` reads, for messages about a file in another format
+MODEL_FORMATS = "delkit's JSON model format (.json) or DOT (.dot/.gv)"
+
+
+def sniff(text: str) -> str | None:
+    """Which input language ``text`` is in, told by its first words: ``"json"``, ``"dot"``, ``"smcdel"``
+    (SMCDEL's ``VARS … LAW …``), ``"pddl"`` (an E-PDDL/EPDDL domain or problem), ``"mastar"`` (an mA* task)
+    or None (none of these)."""
+    import re
+
+    body = "\n".join(line for line in text.splitlines() if not line.lstrip().startswith(("--", "%", ";", "//")))
+    head = body.lstrip()[:1]
+    if head in ("{", "["):
+        return "json"
+    if re.match(r"\s*(strict\s+)?(di)?graph\b", body, re.IGNORECASE):
+        return "dot"
+    if re.search(r"^\s*VARS\b", body, re.MULTILINE) and re.search(r"\bLAW\b", body):
+        return "smcdel"
+    if re.match(r"\s*\(\s*define\b", body, re.IGNORECASE):
+        return "pddl"
+    if re.search(r"^\s*(fluent|action|agent)s?\b", body, re.MULTILINE):
+        return "mastar"
+    return None
+
+
+_KIND = {
+    "smcdel": ("SMCDEL's input language", "`delkit smcdel FILE` answers its queries; `delkit model draw` and "
+                                          "`model diff` read it too"),
+    "pddl": ("an E-PDDL/EPDDL planning domain or problem", "`delkit plan`, `check` and `convert` read it"),
+    "mastar": ("an mA* planning task", "`delkit plan`, `check` and `convert` read it"),
+}
+
+
+def not_this_format(path: str | Path, text: str, formats: str) -> ModelFileError | None:
+    """The one-line error for a file that is not in one of ``formats`` but in a language delkit knows
+    elsewhere (which command reads it), or None when the file may be meant as JSON."""
+    kind = sniff(text)
+    if kind not in _KIND:
+        return None
+    what, hint = _KIND[kind]
+    return ModelFileError(f"{path}: this is {what}, not a model file; this command reads {formats} ({hint})")
+
+
+def load(path: str | Path, *, formats: str = MODEL_FORMATS) -> KripkeModel | EventModel:
+    """Read a model file: JSON, or the DOT that :func:`to_dot` writes (by extension ``.dot``/``.gv``, or by
+    its first word ``digraph``). A file in another language delkit reads (SMCDEL, E-PDDL/EPDDL, mA*) is
+    refused with a :class:`ModelFileError` naming ``formats`` and the command that reads it."""
     p = Path(path)
     text = _read(p)
     if p.suffix.lower() in (".dot", ".gv"):
         return from_dot(text, source=str(p))
+    kind = sniff(text)
+    if kind == "dot":
+        return from_dot(text, source=str(p))
+    if kind != "json" and p.suffix.lower() != ".json":
+        wrong = not_this_format(p, text, formats)
+        if wrong is not None:
+            raise wrong
+        first = next((line.strip() for line in text.splitlines() if line.strip()), "")
+        raise ModelFileError(f"{p}: not a file this command reads ({formats}): it starts with "
+                             f"{first[:40]!r}, not '{{' (JSON) or 'digraph' (DOT)" if first else
+                             f"{p}: the file is empty; this command reads {formats}")
     return loads(text, source=str(p))
 
 

@@ -308,8 +308,10 @@ def check_macro(macro: EventModel, sequence: Sequence[EventModel], *, logic: str
                     if bool(mm[m_idx[x], m_idx[y]]) != bool(rm[r_idx[x], r_idx[y]]):
                         problems.append(f"relation of {a!r} differs on ({x!r}, {y!r})")
     des_m = {macro.events[d] for d in macro.designated}
-    des_r = {ref.events[d] for d in ref.designated if ref.events[d] in m_idx}
-    if des_m != des_r:
+    des_r = {ref.events[d] for d in ref.designated}
+    # the macro designates nothing the sequence does not, and every designated event of the sequence that it
+    # keeps (one it leaves out must be impossible, checked above); the message shows both whole sets
+    if des_m - des_r or (des_r & set(common)) - des_m:
         problems.append(f"designated events differ: macro {sorted(des_m)} vs sequence {sorted(des_r)}")
     return MacroCheck(not problems, tuple(problems), len(common), bounded)
 

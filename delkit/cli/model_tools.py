@@ -19,9 +19,22 @@ def is_smcdel(path: str) -> bool:
     return str(path).lower().endswith(".smcdel.txt")
 
 
+#: what :func:`load_any` reads (``model draw``, ``model diff``, ``model show``)
+ANY_FORMATS = "delkit's JSON model format (.json), DOT (.dot/.gv) or SMCDEL's language (.smcdel.txt)"
+
+
 def load_any(path: str) -> Any:
-    """A KripkeModel or EventModel (JSON/DOT), or a knowledge/belief structure (``.smcdel.txt``)."""
-    if is_smcdel(path):
+    """A KripkeModel or EventModel (JSON/DOT), or a knowledge/belief structure (SMCDEL's language: a
+    ``.smcdel.txt`` file, or one whose text starts ``VARS … LAW …``)."""
+    from delkit.io import load, sniff
+
+    smcdel = is_smcdel(path)
+    if not smcdel and Path(path).suffix.lower() not in (".json", ".dot", ".gv"):
+        try:
+            smcdel = sniff(Path(path).read_text(encoding="utf-8")) == "smcdel"
+        except (OSError, UnicodeDecodeError):
+            smcdel = False  # load() below says what is wrong with the file
+    if smcdel:
         from delkit.errors import ParseError
         from delkit.smcdel import parse_smcdel, structure
 
@@ -30,9 +43,7 @@ def load_any(path: str) -> Any:
         except UnicodeDecodeError:
             raise ParseError("not UTF-8 text; is it an SMCDEL file?", source=str(path)) from None
         return structure(parse_smcdel(text, source=str(path)))
-    from delkit.io import load
-
-    return load(path)
+    return load(path, formats=ANY_FORMATS)
 
 
 def _state_name(state: dict[str, bool], vocabulary) -> str:

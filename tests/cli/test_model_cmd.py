@@ -138,3 +138,33 @@ def test_macro_check(tmp_path, capsys):
     d = json.loads(capsys.readouterr().out)
     assert d["equivalent"] is False and any("not an event of the sequence" in p for p in d["problems"])
     assert main(["model", "macro", str(tmp_path / "good.json"), str(tmp_path / "nope.json")]) == 2
+
+
+SPECS = __import__("pathlib").Path(__file__).resolve().parents[2] / "specs"
+
+
+@pytest.mark.parametrize("args, language, reads", [
+    (["model", "check", "{smcdel}", "1"], "SMCDEL's input language", "JSON model format (.json) or DOT"),
+    (["model", "contract", "{smcdel}"], "SMCDEL's input language", "JSON model format (.json) or DOT"),
+    (["model", "draw", "{epddl}", "-o", "{tmp}/x.svg"], "E-PDDL/EPDDL planning", "SMCDEL's language"),
+    (["model", "diff", "{epddl}", "{smcdel}"], "E-PDDL/EPDDL planning", "SMCDEL's language"),
+    (["model", "macro", "{epddl}", "{smcdel}"], "E-PDDL/EPDDL planning", "JSON model format (.json) or DOT"),
+    (["model", "check", "{text}", "p"], "not a file this command reads", "it starts with 'hello world'"),
+])
+def test_a_file_in_another_language_is_named_with_the_formats_read(args, language, reads, tmp_path, capsys):
+    """Regression: `model check FILE.smcdel.txt` and `model draw problem.epddl` said `invalid JSON: Expecting
+    value`; now the message says what the file is, which formats the command reads and what reads it."""
+    (tmp_path / "t.txt").write_text("hello world\n")
+    files = {"smcdel": SPECS / "smcdel" / "muddy3.smcdel.txt", "epddl": SPECS / "coin_in_the_box" / "problem.epddl",
+             "text": tmp_path / "t.txt", "tmp": tmp_path}
+    assert main([a.format(**files) for a in args]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "invalid JSON" not in err
+    assert language in err and reads in err
+
+
+def test_smcdel_text_is_drawn_whatever_its_file_name(tmp_path, capsys):
+    copy = tmp_path / "muddy.txt"  # SMCDEL's language, told by its VARS/LAW, not by a .smcdel.txt name
+    copy.write_text((SPECS / "smcdel" / "muddy3.smcdel.txt").read_text())
+    assert main(["model", "draw", str(copy), "-o", str(tmp_path / "m.svg")]) == 0
+    assert (tmp_path / "m.svg").read_text().startswith("<svg")

@@ -279,3 +279,24 @@ def test_run_demo(tmp_path):
     assert "mutual≠common counter-model 3 worlds" in res["summary"]
     m = load_model(tmp_path / "mutual_not_common.json")
     assert m.holds("K_a p & K_b p & ~C{a,b} p")
+
+
+def test_macro_designated_events_are_reported_whole():
+    """Regression: a macro whose events are not the sequence's was told the sequence designates [] (the
+    sequence's designated events were filtered by the macro's names before being printed)."""
+    look = sensing("p", AG, full=["a"], name="look")
+    flip = ontic({"q": "p"}, AG, full=AG, name="copy")
+    ref = compose(look, flip)
+    seq_des = sorted(ref.events[d] for d in ref.designated)
+    assert len(seq_des) == 2  # both outcomes of sensing are designated
+    renamed = EventModel(tuple(f"x{i}" for i in range(ref.n_events)), ref.agents, ref.pre, ref.post,
+                         ref.relations, ref.designated)
+    res = check_macro(renamed, [look, flip])
+    line = [p for p in res.problems if p.startswith("designated events differ")]
+    assert line == [f"designated events differ: macro {sorted(renamed.events[d] for d in renamed.designated)} "
+                    f"vs sequence {seq_des}"]
+    # one designated event dropped from the designated set, the events kept: caught on the common events
+    fewer = EventModel(ref.events, ref.agents, ref.pre, ref.post, ref.relations, ref.designated[:1])
+    res = check_macro(fewer, [look, flip])
+    assert f"designated events differ: macro {[ref.events[ref.designated[0]]]} vs sequence {seq_des}" in res.problems
+    assert check_macro(ref, [look, flip]).equivalent
