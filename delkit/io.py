@@ -55,7 +55,8 @@ from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
 __all__ = [
-    "ModelFileError", "MODEL_FORMATS", "sniff", "not_this_format", "SCHEMA_VERSION", "model_to_dict", "model_from_dict", "event_model_to_dict",
+    "ModelFileError", "MODEL_FORMATS", "sniff", "not_this_format", "SCHEMA_VERSION", "model_to_dict",
+    "model_from_dict", "event_model_to_dict",
     "event_model_from_dict", "to_dict", "from_dict", "dumps", "loads", "save", "load", "load_model",
     "load_event_model", "to_dot", "from_dot", "save_dot", "load_dot",
 ]
