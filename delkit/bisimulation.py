@@ -30,7 +30,7 @@ bisimulation inequivalence*, CAV 1990):
   possible), and among the candidate agents/successors the smallest formula is kept.
 
 So the formula has the least modal depth that can separate the two worlds, and a small size. ``◇_a χ``
-is written ``~K_a ~χ`` (delkit's formulas have no diamond). Multi-pointed models are compared by their
+is written ``~K_a ~χ`` (``show(f, diamonds=True)`` prints it ``M_a χ``). Multi-pointed models are compared by their
 designated sets (as :func:`bisimilar`): they are bisimilar iff every designated world of each
 has a bisimilar designated world in the other; otherwise the formula holds at every designated world of
 one model and fails at a designated world of the other.

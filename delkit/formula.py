@@ -5,13 +5,17 @@ Grammar of the text syntax (see :func:`parse`; :func:`show` prints it back so th
 
     φ ::= p | T | F | ~φ | φ & φ | φ | φ | φ -> φ | φ <-> φ | (φ)
         | K_a φ | B_a φ | Kw_a φ          knowledge / belief (box) of agent a, knowing whether
+        | M_a φ | <a> φ                   a considers φ possible (diamond: ~K_a ~φ)
         | E{a,b} φ | C{a,b} φ | D{a,b} φ  everybody / common / distributed knowledge of a group
-        | [!φ] φ                          public announcement  [!φ]ψ
-        | [E,e] φ                         update with event e of the event model named E
+        | [!φ] φ | <!φ> φ                public announcement  [!φ]ψ, and its diamond ~[!φ]~ψ
+        | [E,e] φ | <E,e> φ               update with event e of the event model named E, and its diamond
 
-Agent names after ``K_`` are letters and digits; other names are written in braces: ``K{robot_1} p``.
-``B_a`` is read as ``K_a`` (on KD45 models the box is belief). Binding: unary operators bind tightest,
-then ``&``, ``|``, ``->`` (right associative), ``<->``.
+Agent names after ``K_`` (``B_``, ``Kw_``, ``M_``, ``<…>``) are letters and digits; other names are written in
+braces: ``K{robot_1} p``, ``M{robot_1} p``, ``<{robot_1}> p``. ``B_a`` is read as ``K_a`` (on KD45 models the
+box is belief). ``~`` may also be written ``!`` or ``¬``. The diamonds are abbreviations: ``M_a φ`` is parsed
+to ``~K_a ~φ`` (so every backend evaluates it), and :func:`show` prints that back as ``~K_a ~φ`` unless asked
+for ``diamonds=True``. Binding: unary operators bind tightest, then ``&``, ``|``, ``->`` (right associative),
+``<->``; ``&``, ``|`` and ``<->`` chains are flat (``<->`` groups to the left).
 """
 
 from __future__ import annotations
@@ -386,8 +390,31 @@ def _prec(f: Formula) -> int:
     return _PREC.get(type(f), _ATOMIC)
 
 
-def show(f: Formula) -> str:
-    """Print a formula in the text syntax; :func:`parse` reads it back to an equal formula."""
+def show(f: Formula, *, diamonds: bool = False) -> str:
+    """Print a formula in the text syntax; :func:`parse` reads it back to an equal formula.
+
+    With ``diamonds=True`` the duals are printed as diamonds: ``~K_a ~φ`` as ``M_a φ``, ``~[!ψ]~φ`` as
+    ``<!ψ> φ``, ``~[E,e]~φ`` as ``<E,e> φ`` (the default keeps the boxes, as delkit has always printed)."""
+    return _show(f, diamonds)
+
+
+def _event_text(f: Update) -> str:
+    ev = f.model.events[f.event]
+    if not _EVENT_NAME.match(ev):
+        import json
+
+        ev = json.dumps(ev)
+    return ev
+
+
+def _show(f: Formula, dia: bool) -> str:
+    if dia and isinstance(f, Not) and isinstance(f.arg, (K, Announce, Update)) and isinstance(f.arg.arg, Not):
+        box, inner = f.arg, f.arg.arg.arg
+        if isinstance(box, K):
+            return "M" + _agent(box.agent) + " " + _wrap(inner, _ATOMIC, dia)
+        if isinstance(box, Announce):
+            return "<!" + _show(box.announced, dia) + "> " + _wrap(inner, _ATOMIC, dia)
+        return f"<{box.name},{_event_text(box)}> " + _wrap(inner, _ATOMIC, dia)
     if isinstance(f, Top):
         return "T"
     if isinstance(f, Bot):
@@ -395,43 +422,38 @@ def show(f: Formula) -> str:
     if isinstance(f, Prop):
         return f.name
     if isinstance(f, Not):
-        return "~" + _wrap(f.arg, _ATOMIC)
+        return "~" + _wrap(f.arg, _ATOMIC, dia)
     if isinstance(f, And):
         if not f.args:
             return "T"
         if len(f.args) == 1:
-            return "(" + show(f.args[0]) + " & T)"
-        return " & ".join(_wrap(a, _PREC[And] + 1) for a in f.args)
+            return "(" + _show(f.args[0], dia) + " & T)"
+        return " & ".join(_wrap(a, _PREC[And] + 1, dia) for a in f.args)
     if isinstance(f, Or):
         if not f.args:
             return "F"
         if len(f.args) == 1:
-            return "(" + show(f.args[0]) + " | F)"
-        return " | ".join(_wrap(a, _PREC[Or] + 1) for a in f.args)
+            return "(" + _show(f.args[0], dia) + " | F)"
+        return " | ".join(_wrap(a, _PREC[Or] + 1, dia) for a in f.args)
     if isinstance(f, Implies):
-        return _wrap(f.left, _PREC[Implies] + 1) + " -> " + _wrap(f.right, _PREC[Implies])
+        return _wrap(f.left, _PREC[Implies] + 1, dia) + " -> " + _wrap(f.right, _PREC[Implies], dia)
     if isinstance(f, Iff):
-        return _wrap(f.left, _PREC[Iff] + 1) + " <-> " + _wrap(f.right, _PREC[Iff] + 1)
+        return _wrap(f.left, _PREC[Iff] + 1, dia) + " <-> " + _wrap(f.right, _PREC[Iff] + 1, dia)
     if isinstance(f, K):
-        return "K" + _agent(f.agent) + " " + _wrap(f.arg, _ATOMIC)
+        return "K" + _agent(f.agent) + " " + _wrap(f.arg, _ATOMIC, dia)
     if isinstance(f, Kw):
-        return "Kw" + _agent(f.agent) + " " + _wrap(f.arg, _ATOMIC)
+        return "Kw" + _agent(f.agent) + " " + _wrap(f.arg, _ATOMIC, dia)
     if isinstance(f, (E, C, D)):
-        return type(f).__name__ + _group_text(f.group) + " " + _wrap(f.arg, _ATOMIC)
+        return type(f).__name__ + _group_text(f.group) + " " + _wrap(f.arg, _ATOMIC, dia)
     if isinstance(f, Announce):
-        return "[!" + show(f.announced) + "] " + _wrap(f.arg, _ATOMIC)
+        return "[!" + _show(f.announced, dia) + "] " + _wrap(f.arg, _ATOMIC, dia)
     if isinstance(f, Update):
-        ev = f.model.events[f.event]
-        if not _EVENT_NAME.match(ev):
-            import json
-
-            ev = json.dumps(ev)
-        return f"[{f.name},{ev}] " + _wrap(f.arg, _ATOMIC)
+        return f"[{f.name},{_event_text(f)}] " + _wrap(f.arg, _ATOMIC, dia)
     raise TypeError(f"not a formula: {f!r}")
 
 
-def _wrap(f: Formula, min_prec: int) -> str:
-    text = show(f)
+def _wrap(f: Formula, min_prec: int, dia: bool) -> str:
+    text = _show(f, dia)
     return text if _prec(f) >= min_prec else "(" + text + ")"
 
 
@@ -451,6 +473,12 @@ _GRAMMAR = r"""
       | GROUPOP agents "}" unary  -> grp
       | "[" "!" iff "]" unary     -> announce
       | "[" NAME "," (NAME | QUOTED) "]" unary -> update
+      | MOP unary                 -> m
+      | DIAOP unary               -> m_angle
+      | MBRACE agentname "}" unary  -> mbrace
+      | DIABRACE agentname "}" ">" unary -> mbrace
+      | "<" "!" iff ">" unary     -> announce_dia
+      | "<" NAME "," (NAME | QUOTED) ">" unary -> update_dia
       | atom
 ?atom: "T"                        -> top
      | "F"                        -> bot
@@ -467,6 +495,10 @@ KWOP.4: /Kw_[A-Za-z0-9]+/
 KBRACE.3: /(K|B)\{/
 KWBRACE.4: /Kw\{/
 GROUPOP.3: /[ECD]\{/
+MOP.3: /M_[A-Za-z0-9]+/
+MBRACE.3: /M\{/
+DIAOP.3: /<[A-Za-z0-9]+>/
+DIABRACE.3: /<\{/
 NAME: /[A-Za-z_][A-Za-z0-9_.']*/
 QUOTED: /"([^"\\]|\\.)*"/
 %ignore /[ \t\r\n]+/
@@ -483,7 +515,8 @@ def _parser() -> Any:
 
 _TOKEN_NAMES = {
     "NOT": "~", "KOP": "K_a", "KWOP": "Kw_a", "KBRACE": "K{agent}", "KWBRACE": "Kw{agent}",
-    "GROUPOP": "C{a,b}/E{..}/D{..}", "NAME": "a name", "LPAR": "(", "RPAR": ")", "LSQB": "[",
+    "GROUPOP": "C{a,b}/E{..}/D{..}", "MOP": "M_a", "MBRACE": "M{agent}", "DIAOP": "<a>", "DIABRACE": "<{agent}>",
+    "LESSTHAN": "<", "MORETHAN": ">", "NAME": "a name", "LPAR": "(", "RPAR": ")", "LSQB": "[",
     "RSQB": "]", "AMPERSAND": "&", "VBAR": "|", "COMMA": ",", "RBRACE": "}", "BANG": "!",
     "$END": "end of formula", "T": "T", "F": "F", "TRUE": "true", "FALSE": "false",
 }
@@ -575,9 +608,18 @@ class _Build:
                 raise ParseError(f"{op}{{}} needs at least one agent", source=self.source,
                                  line=ch[0].line, column=ch[0].column)
             return {"E": E, "C": C, "D": D}[op](group, self.build(ch[2]))
+        if d == "m":
+            return Not(K(str(ch[0])[2:], Not(self.build(ch[1]))))
+        if d == "m_angle":
+            return Not(K(str(ch[0])[1:-1], Not(self.build(ch[1]))))
+        if d == "mbrace":
+            return Not(K(self._agent(ch[1]), Not(self.build(ch[-1]))))
         if d == "announce":
             return Announce(self.build(ch[0]), self.build(ch[1]))
-        if d == "update":
+        if d == "announce_dia":
+            return Not(Announce(self.build(ch[0]), Not(self.build(ch[1]))))
+        if d in ("update", "update_dia"):
+            dia = d == "update_dia"
             name, ev = str(ch[0]), str(ch[1])
             if ch[1].type == "QUOTED":
                 import json
@@ -597,6 +639,8 @@ class _Build:
                 raise ParseError(f"event model {name!r} has no event {ev!r} (events: "
                                  f"{', '.join(model.events)})", source=self.source, line=ch[1].line,
                                  column=ch[1].column)
+            if dia:
+                return Not(Update(model, model.events.index(ev), Not(self.build(ch[2])), name))
             return Update(model, model.events.index(ev), self.build(ch[2]), name)
         if d == "and_chain":
             return And(self.build(c) for c in ch)

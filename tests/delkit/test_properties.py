@@ -290,6 +290,7 @@ def test_contraction_of_partitions_when_bisimilar_worlds_sit_in_different_classe
 @given(formulas(PROPS + ("r_1",), AGENTS + ("robot_2",), 4, allow_announce=True))
 def test_parse_show_round_trip(phi):
     assert parse(show(phi)) == phi
+    assert parse(show(phi, diamonds=True)) == phi  # M_a / <!ψ> / <E,e> read back to the same formula
 
 
 @FEW
@@ -298,6 +299,9 @@ def test_parse_show_round_trip_with_event_model(phi, em, data):
     e = data.draw(st.integers(0, em.n_events - 1))
     f = Update(em, e, phi, "Act")
     assert parse(show(f), events={"Act": em}) == f
+    dual = Not(Update(em, e, Not(phi), "Act"))  # <Act,e> phi
+    assert show(dual, diamonds=True).startswith("<Act,")
+    assert parse(show(dual, diamonds=True), events={"Act": em}) == dual
 
 
 # ----------------------------------------------------------------------------- z3 reduction
