@@ -97,8 +97,7 @@ def main(argv: list[str] | None = None) -> int:
         print(table(rows), "", "Failures:" if fails else "Failures: none", *fails, sep="\n")
         return 0
 
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+    from delkit.progress import progress
 
     # seed by seed (every colour count and fault for seed 0, then seed 1, ...): a partial run covers all cells
     jobs = [(args.goal, c, s, f) for s in range(args.first_seed, args.first_seed + args.layouts)
@@ -107,8 +106,7 @@ def main(argv: list[str] | None = None) -> int:
     load0 = os.getloadavg()[0]
     t0 = time.perf_counter()
     sink = args.json.open("a") if args.json else None
-    with Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  console=Console(stderr=True)) as prog:
+    with progress(transient=False) as prog:
         task = prog.add_task("missions", total=len(jobs))
         if args.workers > 1:
             with ProcessPoolExecutor(args.workers) as pool:

@@ -25,6 +25,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from delkit.progress import track  # noqa: E402
 from sim.sar import (  # noqa: E402
     ALGORITHM_NAMES,
     ALGORITHMS,
@@ -86,7 +87,7 @@ def section_b(epochs: int, seeds: int, width: int) -> str:
     """Table I over seeds; Baseline-I both without (the paper's reading, default) and with re-sending; ENFORCEAC's
     COMM saving counted in messages and in observations sent, against both Baseline-I variants."""
     rows = []
-    for (restr, prims, init), paper in PAPER_TABLE_I.items():
+    for (restr, prims, init), paper in track(PAPER_TABLE_I.items(), "Table I cells", total=len(PAPER_TABLE_I)):
         m = round(restr * epochs / 200)
         per_alg = {}
         for alg, kw in (("baseline2", {}), ("baseline1", {}), ("baseline1+resend", {"resend": True}),

@@ -35,17 +35,17 @@ def main() -> int:
 
     import fuzzgen
     from fuzzkit import Runner
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from delkit.progress import progress
 
     fams = [f for f in args.families.split(",") if f] or None
     t0, c0 = time.perf_counter(), time.process_time()
-    with Progress(TextColumn("fuzz"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  TextColumn("{task.description}"), transient=True) as bar:
-        task = bar.add_task("", total=args.n)
+    with progress() as bar:
+        task = bar.add_task("fuzz", total=args.n)
 
         def seen(outcome, tally):
             bad = len(tally.bad)
-            bar.update(task, completed=tally.total, description=f"{bad} bad" if bad else "")
+            bar.update(task, completed=tally.total, description=f"fuzz: {bad} bad" if bad else "fuzz")
             if outcome.kind in tally.BAD:
                 bar.console.print(f"[red]{outcome.kind}[/red] {outcome.case.describe()[:200]} -> "
                                   f"{outcome.detail[:200]}")

@@ -39,6 +39,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from delkit.progress import track  # noqa: E402
 from planners.lang import shared_benchmarks  # noqa: E402
 
 _MAIN = "import sys; from delkit.cli import main; sys.exit(main())"
@@ -81,7 +82,7 @@ def run(runs: int, search: str, engine: str, timeout: float, own: bool = True) -
     if own:
         items += [(ROOT / f, f, n, None, None, "-") for f, n in OWN]
     out = []
-    for path, name, expected, poss, kripke, kripke_text in items:
+    for path, name, expected, poss, kripke, kripke_text in track(items, f"plan ({search})"):
         _once(path, search, engine, timeout)  # warm-up (page cache, parser cache)
         walls, cpus, searches, res = [], [], [], {}
         for _ in range(runs):
@@ -109,7 +110,7 @@ def expansions(bfs_timeout: float) -> list[dict]:
              for r in csv.DictReader((bench / "mastar" / "expected.csv").open())]
     items += [(ROOT / f, f, n) for f, n in OWN]
     out = []
-    for path, name, expected in items:
+    for path, name, expected in track(items, "load + search"):
         task = load_task(path)
         c0 = time.process_time()
         a = plan(task, search="astar", limits=Limits(timeout=600))

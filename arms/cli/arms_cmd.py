@@ -16,11 +16,9 @@ import typer
 
 def _progress_cb(total: int, label: str):
     """A rich progress bar on stderr; returns (callback(i, item), stop())."""
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+    from delkit.progress import progress
 
-    prog = Progress(TextColumn("[bold]{task.description}"), BarColumn(), MofNCompleteColumn(),
-                    TimeElapsedColumn(), console=Console(stderr=True), transient=True)
+    prog = progress()
     prog.start()
     task = prog.add_task(label, total=total)
 

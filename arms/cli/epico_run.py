@@ -116,7 +116,8 @@ def register(epico_app: typer.Typer) -> None:
     @epico_app.command("run")
     def run(goal: str = typer.Option(..., "--goal", help="alpha, beta, gamma or delta (α β γ δ)"),
             colors: int = typer.Option(..., "--colors", help="number of colours, 1–4 (Table 1)"),
-            seed: int | None = typer.Option(None, "--seed", help="random layout (default: the seed's layout)"),
+            seed: int | None = typer.Option(None, "--seed",
+                                             help="random layout (default: the layout of the e-PICO paper)"),
             out: Path | None = typer.Option(None, "--out", help="directory for result.json, scene.xml, the video "
                                                                  "and final.png"),
             fault: list[str] = typer.Option([], "--fault", help="drop@K, misplace@K or swap-colours (repeatable)"),

@@ -80,7 +80,9 @@ def _write_or_print(text: str, output: Path | None, what: str) -> None:
 
 def register(app: typer.Typer) -> None:
     """Attach ``delkit model …`` and ``delkit prove`` to the top-level app."""
-    model = typer.Typer(help="Check formulas on model files, draw them (DOT), contract them, check macros.",
+    model = typer.Typer(help="Kripke and event model files (delkit's JSON or DOT; draw and diff also read SMCDEL's "
+                             "language): check formulas, draw pictures (SVG, PNG, TikZ), export DOT, contract, "
+                             "compare, check macros.",
                         no_args_is_help=True)
     app.add_typer(model, name="model")
 

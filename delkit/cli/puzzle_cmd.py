@@ -177,9 +177,12 @@ def register(app: typer.Typer) -> None:
     @sub.command("all")
     def all_puzzles(as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Run every puzzle and compare with the literature answers."""
-        from delkit.puzzles import summary_table
+        from delkit.progress import progress
+        from delkit.puzzles import N_PUZZLES, summary_table
 
-        rows = summary_table()
+        with progress(quiet=as_json) as bar:
+            job = bar.add_task("puzzles", total=N_PUZZLES)
+            rows = summary_table(lambda row: bar.advance(job))
         if as_json:
             typer.echo(json.dumps({"puzzles": rows, "ok": all(r["ok"] for r in rows)}))
         else:

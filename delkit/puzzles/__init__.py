@@ -29,8 +29,13 @@ __all__ = [
 ]
 
 
-def summary_table() -> list[dict]:
-    """Run every puzzle once; one row per puzzle: ``puzzle``, ``answer``, ``expected``, ``ok``, ``seconds``."""
+#: how many rows :func:`summary_table` has (for a progress display)
+N_PUZZLES = 6
+
+
+def summary_table(on_row=None) -> list[dict]:
+    """Run every puzzle once; one row per puzzle: ``puzzle``, ``answer``, ``expected``, ``ok``, ``seconds``.
+    ``on_row(row)`` is called after each puzzle (e.g. to advance a progress display)."""
     rows: list[dict] = []
 
     def row(name: str, run, answer, expected) -> None:
@@ -39,6 +44,8 @@ def summary_table() -> list[dict]:
         got = answer(result)
         rows.append({"puzzle": name, "answer": got, "expected": expected, "ok": got == expected,
                      "seconds": round(time.perf_counter() - t0, 4)})
+        if on_row is not None:
+            on_row(rows[-1])
 
     row("muddy children (N=10, M=4): nobody-knows rounds", lambda: solve_muddy(10, 4),
         lambda r: r.nobody_knows_rounds, 3)

@@ -19,7 +19,8 @@ def register(app: typer.Typer) -> None:
     @sub.command("generate")
     def generate_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
                      colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
-                     seed: int | None = typer.Option(None, "--seed", help="random layout (default: the seed's)"),
+                     seed: int | None = typer.Option(None, "--seed",
+                                                     help="random layout (default: the layout of the e-PICO paper)"),
                      symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
                                                     "(either may learn the other's; 4^n worlds instead of 2^n)"),
                      out: Path | None = typer.Option(None, "--out", help="output directory (default: print "
@@ -115,7 +116,8 @@ def register(app: typer.Typer) -> None:
     @sub.command("macros")
     def macros_cmd(colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
                    handwritten: Path | None = typer.Option(None, "--handwritten", help="a hand-written macro "
-                                                           "(:action ...) to check (default: the seed's Listing 4)"),
+                                                           "(:action ...) to check (default: Listing 4 of the e-PICO "
+                                                           "paper)"),
                    as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Prove every macro equal to its sequence (z3) and check a hand-written macro against the composition."""
         from planners.hierarchy import macro_report
@@ -146,7 +148,8 @@ def register(app: typer.Typer) -> None:
                   symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
                                                  "(either may learn the other's; 4^n worlds instead of 2^n)"),
                   as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
-        """Tables 1 and 2: every (goal, colours) cell, macros off and on, beside the seed's numbers."""
+        """Tables 1 and 2 of the e-PICO paper (Soldà, Fabiano, Dovier): every (goal, colours) cell, macros
+        off and on, beside the paper's numbers; a legend of the columns is printed below the tables."""
         from planners.epico import GOALS, EpicoError
         from planners.hierarchy import table_cell
 
@@ -154,14 +157,13 @@ def register(app: typer.Typer) -> None:
             cols = [int(c) for c in colors.split(",") if c.strip()]
         except ValueError:
             raise EpicoError(f"--colors {colors!r}: a comma-separated list of numbers, e.g. 1,2,3,4") from None
-        from rich.progress import Progress
-
+        from delkit.progress import progress
         from planners.epico import generate
         from planners.hierarchy import solve
 
         solve(generate("alpha", 1))  # warm-up: imports and caches are not part of any cell's time
         cells = []
-        with Progress(transient=True, disable=as_json) as prog:
+        with progress(quiet=as_json) as prog:
             job = prog.add_task("e-PICO table", total=len(GOALS) * len(cols))
             for g in GOALS:
                 for n in cols:
@@ -216,4 +218,17 @@ def format_tables(cells: list[dict]) -> str:
                      f"{on.get('max_call_cpu', 0.0) * 1000:7.2f} | "
                      f"{ss[0] if isinstance(ss, tuple) else ss:>7} {ss[1] if isinstance(ss, tuple) else '':>10}")
     lines += ["", "seed initial states: " + ", ".join(f"{k} colours {v} s" for k, v in SEED_INITIAL.items())]
+    lines += ["", *TABLE_LEGEND]
     return "\n".join(lines)
+
+
+#: what the columns of `delkit epico table` mean (printed below the tables)
+TABLE_LEGEND = [
+    "Columns: goal = e-PICO goal (alpha, beta, gamma, delta); col = number of colours;",
+    "  delkit no / yes = delkit with macros off / on: wall seconds, CPU seconds in brackets; no/yes = their ratio;",
+    "  seed no / yes, seed s, seed calls = the numbers published in the e-PICO paper (Soldà, Fabiano, Dovier);",
+    "  peer no / yes = the peer implementation (echosys, PyPI) measured on a machine like this one;",
+    "  init s = seconds to build the initial state; seconds / calls / max ms / cpu ms = the classical planner's",
+    "  total wall time, number of calls, slowest call (wall and CPU milliseconds).",
+    "Entries: TO = time-out (--timeout); ND = not defined (gamma and delta need two colours); - = not measured.",
+]

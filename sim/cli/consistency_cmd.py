@@ -9,7 +9,6 @@ Heavy imports (numpy, planners, sim) stay inside the commands so that ``delkit -
 from __future__ import annotations
 
 import json
-import sys
 
 import typer
 
@@ -35,13 +34,10 @@ def _config(**kw):
     return cfg
 
 
-def _progress():
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+def _progress(quiet: bool = False):
+    from delkit.progress import progress
 
-    return Progress(TextColumn("[progress.description]{task.description}"), BarColumn(), MofNCompleteColumn(),
-                    TimeElapsedColumn(), console=Console(stderr=True), transient=True,
-                    disable=not sys.stderr.isatty())
+    return progress(quiet=quiet)
 
 
 def _wide_console():
@@ -59,7 +55,8 @@ def _fmt_paper(paper: tuple[int, int, float] | None) -> tuple[str, str, str]:
 
 def register(app: typer.Typer) -> None:
     """Attach ``delkit consistency {table, run}``."""
-    sub = typer.Typer(help="Action consistency with inconsistent beliefs (VERIFYAC / ENFORCEAC, seed 002).",
+    sub = typer.Typer(help="Action consistency with inconsistent beliefs (VERIFYAC / ENFORCEAC of Kundu, Rafaeli "
+                           "and Indelman).",
                       no_args_is_help=True)
     app.add_typer(sub, name="consistency")
 
@@ -84,7 +81,7 @@ def register(app: typer.Typer) -> None:
         base = _config(epochs=epochs, seed=seed, width=width, height=height, policy=policy, trigger=trigger,
                        tie_break=tie_break, resend=resend)
         total = len(PAPER_TABLE_I) * 3
-        with _progress() as bar:
+        with _progress(as_json) as bar:
             task = bar.add_task("Table I episodes", total=total)
             rows = table_i(base, on_run=lambda row: bar.advance(task))
         if as_json:
@@ -136,7 +133,7 @@ def register(app: typer.Typer) -> None:
                       tie_break=tie_break, resend=resend)
         algs = ALGORITHMS if algorithm == "all" else (algorithm,)
         results = []
-        with _progress() as bar:
+        with _progress(as_json) as bar:
             task = bar.add_task("episodes", total=len(algs))
             for alg in algs:
                 results.append(run_episode(cfg, alg))

@@ -11,19 +11,15 @@ Heavy imports stay inside the commands so that ``delkit --help`` stays fast.
 from __future__ import annotations
 
 import json
-import sys
 from pathlib import Path
 
 import typer
 
 
-def _progress():
-    from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+def _progress(quiet: bool = False):
+    from delkit.progress import progress
 
-    return Progress(TextColumn("[progress.description]{task.description}"), BarColumn(), MofNCompleteColumn(),
-                    TimeElapsedColumn(), console=Console(stderr=True), transient=True,
-                    disable=not sys.stderr.isatty())
+    return progress(quiet=quiet)
 
 
 def _int_list(text: str, what: str) -> tuple[int, ...]:
@@ -40,7 +36,7 @@ def _int_list(text: str, what: str) -> tuple[int, ...]:
 
 def register(app: typer.Typer) -> None:
     """Attach ``delkit explore {run, sweep, gap}``."""
-    sub = typer.Typer(help="Communication-restricted exploration and epistemic task allocation (seed 000).",
+    sub = typer.Typer(help="Communication-restricted exploration and epistemic task allocation (Bramblett and Bezzo).",
                       no_args_is_help=True)
     app.add_typer(sub, name="explore")
 
@@ -75,7 +71,7 @@ def register(app: typer.Typer) -> None:
                                       f"mission needs more than 6 m × 6 m (home is at (3, 3) m, tasks keep 2 m "
                                       f"from the border)")
         mission = Mission(cfg)
-        with _progress() as bar:
+        with _progress(as_json) as bar:
             task = bar.add_task(f"{method} mission (simulated s)", total=t_max)
             res = mission.run(lambda t, _tot: bar.update(task, completed=t))
         out = res.row()
@@ -149,7 +145,7 @@ def register(app: typer.Typer) -> None:
 
         require(4096.0 * total, f"a sweep of {total} missions (their configurations and result rows)",
                 "use fewer --maps, --robots, --methods or --case values")
-        with _progress() as bar:
+        with _progress(as_json) as bar:
             task = bar.add_task("missions", total=total)
             rows = run_sweep(spec, workers=workers, dask=dask, progress=lambda d, _t: bar.update(task, completed=d))
         out.mkdir(parents=True, exist_ok=True)

@@ -205,8 +205,12 @@ def test_dining_before_announcements_nobody_knows_whether_paid() -> None:
 
 
 def test_summary_table_all_ok() -> None:
-    rows = summary_table()
-    assert len(rows) == 6
+    from delkit.puzzles import N_PUZZLES
+
+    seen: list[str] = []
+    rows = summary_table(lambda row: seen.append(row["puzzle"]))
+    assert len(rows) == 6 == N_PUZZLES  # N_PUZZLES is the progress display's total
+    assert seen == [r["puzzle"] for r in rows]
     assert all(r["ok"] for r in rows), rows
 
 
