@@ -135,6 +135,10 @@ def main(argv: list[str] | None = None) -> int:
         for r in report["smoke"]:
             print(f"{r['name']:30} {r['rc']:>4} {'yes' if r['ok'] else 'NO':>3} {r['wall_s']:>7.2f}  {r['expect']}")
         print("packages: " + ", ".join(packages))
+        tests = [s for s in steps if s["name"].startswith("core tests")]
+        if tests:
+            last = [ln for ln in tests[0]["stdout"].splitlines() if ln.strip()]
+            print(f"core tests in the bare venv: {last[-1].strip('= ') if last else '(no output)'}")
     for s in steps + smoke:
         if not s.get("ok", s["rc"] == 0):
             print(f"--- {s['name']} failed: {s['cmd']}\n{s['stdout'][-3000:]}\n{s['stderr'][-3000:]}", file=sys.stderr)
