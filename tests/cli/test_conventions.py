@@ -59,3 +59,10 @@ def test_epico_table_has_a_legend():
     assert all(line in text for line in TABLE_LEGEND)
     for column in ("goal", "col", "delkit no", "no/yes", "seed no", "peer no", "init s", "TO", "ND"):
         assert column in " ".join(TABLE_LEGEND), column
+
+
+def test_shell_completion_completes_command_names():
+    env = {"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin", "_DELKIT_COMPLETE": "complete_bash",
+           "COMP_WORDS": "delkit mo", "COMP_CWORD": "1"}
+    out = subprocess.run([sys.executable, "-m", "delkit"], capture_output=True, text=True, env=env).stdout
+    assert out.split() == ["model"]
