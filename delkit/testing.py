@@ -36,7 +36,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from hypothesis import strategies as st
+
+try:
+    from hypothesis import strategies as st
+except ImportError as exc:  # hypothesis comes with the test extra, not with the core
+    raise ImportError("delkit.testing needs hypothesis: pip install 'delkit[test]' (or pip install hypothesis)") \
+        from exc
 
 from delkit.events import EventModel
 from delkit.formula import (
