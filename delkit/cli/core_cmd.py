@@ -79,7 +79,7 @@ def register(app: typer.Typer) -> None:
             table = Table(title="delkit demo", show_lines=True)
             table.add_column("section")
             table.add_column("ok")
-            table.add_column("s", justify="right")
+            table.add_column("seconds", justify="right")
             table.add_column("what it showed")
             for r in records:
                 mark = {True: "[green]yes", False: "[red]NO", None: "[yellow]skipped"}[r["ok"]]

@@ -91,7 +91,11 @@ def register(app: typer.Typer) -> None:
             return
         from rich.table import Table
 
-        t = Table(title=f"Table I — E = {epochs}, seed {seed}, {width}×{height} grid (ours | paper)")
+        t = Table(title=f"Table I — E = {epochs}, seed {seed}, {width}×{height} grid (ours | paper)",
+                  caption="restr: steps with the channel down; prim: motion primitives per robot; init: prior; "
+                          "Not-AC: steps whose joint action was not action-consistent; COMM: one-way messages; "
+                          "obs: observations they carried; Time s: wall seconds; paper: Kundu, Rafaeli, Indelman, "
+                          "Table I", caption_justify="left")
         for col in ("restr", "prim", "init", "Algorithm", "Not-AC", "COMM", "obs", "Time s",
                     "paper Not-AC", "paper COMM", "paper Time s"):
             t.add_column(col, justify="left" if col in ("init", "Algorithm") else "right")
@@ -145,7 +149,11 @@ def register(app: typer.Typer) -> None:
         from rich.table import Table
 
         t = Table(title=f"{robots} robots, {primitives} primitives, {init}, comm-restr={comm_restr}, "
-                        f"E={epochs}, seed {seed}")
+                        f"E={epochs}, seed {seed}",
+                  caption="Not-AC: steps whose joint action was not action-consistent; COMM: one-way messages; "
+                          "obs sent: observations they carried; failed: messages lost while the channel was "
+                          "down; max p: most observations of one robot its partner lacked when planning; mean J: "
+                          "mean team objective of the executed actions", caption_justify="left")
         for col in ("Algorithm", "Not-AC", "COMM", "obs sent", "failed", "max p", "mean J", "Time (s)"):
             t.add_column(col, justify="left" if col == "Algorithm" else "right")
         for r in results:
