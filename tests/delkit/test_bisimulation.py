@@ -20,11 +20,14 @@ from hypothesis import strategies as st
 from delkit import KripkeModel
 from delkit.bisimulation import as_kripke, bisimilar, contract, diff, distinguishing_formula, formula_size
 from delkit.cli import main
-from delkit.formula import modal_depth
+from delkit.formula import D, modal_depth, subformulas
 from delkit.io import dumps
 from delkit.testing import formulas, kripke_models, world_permutations
 
 PROPS, AGENTS = ("p", "q"), ("a", "b")
+#: probes that bisimilar models must agree on: D_G (distributed knowledge) is left out, it is invariant under
+#: collective bisimulation only (a model and its contraction may differ on D_{a,b} p)
+INVARIANT = formulas(PROPS, AGENTS, 3).filter(lambda f: not any(isinstance(g, D) for g in subformulas(f)))
 SPECS = Path(__file__).resolve().parents[2] / "specs" / "smcdel"
 
 
@@ -65,7 +68,7 @@ def _check(a: KripkeModel, b: KripkeModel, probes: list) -> str:
 @given(st.sampled_from(["S5", "KD45", "K"]).flatmap(
     lambda fr: st.tuples(kripke_models(PROPS, AGENTS, 5, frame=fr, designated="some"),
                          kripke_models(PROPS, AGENTS, 5, frame=fr, designated="some"))),
-       st.lists(formulas(PROPS, AGENTS, 3), min_size=5, max_size=5))
+       st.lists(INVARIANT, min_size=5, max_size=5))
 def test_random_pairs_are_bisimilar_or_told_apart(pair, probes):
     _check(*pair, probes)
 
@@ -73,7 +76,7 @@ def test_random_pairs_are_bisimilar_or_told_apart(pair, probes):
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.sampled_from(["S5", "KD45", "K"]).flatmap(
     lambda fr: kripke_models(PROPS, AGENTS, 5, frame=fr, designated="one")), st.data(),
-       st.lists(formulas(PROPS, AGENTS, 3), min_size=5, max_size=5))
+       st.lists(INVARIANT, min_size=5, max_size=5))
 def test_bisimilar_copies_have_no_distinguishing_formula(m, data, probes):
     """A permuted copy and the contraction are bisimilar: the bisimilar branch is exercised on every run."""
     perm = data.draw(world_permutations(m.n_worlds))
