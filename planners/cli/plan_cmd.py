@@ -16,7 +16,6 @@ command bodies (:func:`run_plan`, :func:`run_check`) are shared by both paths.
 
 from __future__ import annotations
 
-import json
 import re
 import sys
 import time
@@ -24,8 +23,14 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from delkit._lazy import lazy_module
+
 if TYPE_CHECKING:
+    import json
+
     import typer
+else:
+    json = lazy_module("json")  # only --json needs it (start-up)
 
 
 def _echo(text: str) -> None:

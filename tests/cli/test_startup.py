@@ -97,6 +97,23 @@ def _modules_after(argv: list[str]) -> set[str]:
 
 
 HEAVY = {"typer", "click", "rich", "pydantic", "scipy", "z3", "dd", "matplotlib", "mujoco", "lark"}
+# a small task is planned on the compact backend with integers and bit operations: numpy is not loaded
+SMALL_PLAN_HEAVY = HEAVY | {"numpy", "networkx"}
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_plan_small_tasks_never_imports_numpy() -> None:
+    plank = BENCH / "epddl2026" / "plank"
+    lines = [["plan", CB2], ["plan", CB2, "--json"], ["plan", CB2, "--search", "astar"],
+             ["plan", str(BENCH / "mastar" / "Coin_In_The_Box" / "Coin_in_the_Box__pl_3.txt")],
+             ["plan", str(BENCH / "mastar" / "Grapevine" / "Grapevine_3" / "Grapevine_3__pl_2.txt"),
+              "--search", "gbfs"],
+             ["plan", DOM, PROB],
+             ["plan", str(plank / "domains" / "Coin-in-the-Box" / "cb.epddl"),
+              str(plank / "domains" / "Coin-in-the-Box" / "instances" / "problem_2.epddl"),
+              "-l", str(plank / "libraries" / "intermediate.epddl")]]
+    for argv in lines:
+        assert not _modules_after(argv) & SMALL_PLAN_HEAVY, argv
 
 
 @pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
