@@ -22,6 +22,7 @@ BFS (a capped BFS is shown as a lower bound on its expansions).
     .venv/bin/python bench/planner.py [--runs 5] [--search bfs] [--engine fast] [--no-own] [--json out.json]
     .venv/bin/python bench/planner.py --expansions [--bfs-timeout 1200]
     .venv/bin/python bench/planner.py --suite [--jobs 2]
+    .venv/bin/python bench/planner.py --heuristics        # A*: h_epi vs h_chain, expansions and CPU
 
 ``--suite`` runs the whole suite as ONE ``delkit plan FILE... --jobs N --json`` command (issue 24) and prints
 each task's length beside EFP's, and the command's total CPU and wall seconds beside the sum of EFP's.
@@ -163,6 +164,37 @@ def suite(jobs: int, timeout: float, search: str) -> tuple[list[dict], dict]:
     return out, total
 
 
+def heuristics_table(timeout: float) -> list[dict]:
+    """A* with h_epi and with h_chain (A*'s default) in-process on every instance: lengths, expanded nodes,
+    CPU seconds of the search (time.process_time around it; the task is read before)."""
+    from planners.epistemic import Limits, best_first, make_space
+    from planners.heuristics import h_chain, h_epi
+    from planners.lang import load_task
+
+    bench = shared_benchmarks()
+    if bench is None:
+        raise SystemExit("../shared/benchmarks is not available")
+    items = [(bench / "mastar" / r["file"], r["file"], int(r["expected_length"]))
+             for r in csv.DictReader((bench / "mastar" / "expected.csv").open())]
+    items += [(ROOT / f, f, n) for f, n in OWN]
+    out = []
+    for path, name, expected in items:
+        task = load_task(path)
+        row: dict = {"file": name, "expected": expected}
+        for label, make in (("epi", h_epi), ("chain", h_chain)):
+            space = make_space(task)
+            c0 = time.process_time()
+            res = best_first(space, Limits(timeout=timeout), kind="astar", h=make(space))
+            row[label] = {"length": res.length, "expanded": res.expanded, "cpu": time.process_time() - c0,
+                          "status": res.status}
+        out.append(row)
+        e, c = row["epi"], row["chain"]
+        print(f"| {name.rsplit('/', 1)[-1].removesuffix('.txt')} | {expected} | {e['length']} | {e['expanded']} | "
+              f"{e['cpu']:.3f} | {c['length']} | {c['expanded']} | {c['cpu']:.3f} | "
+              f"{c['expanded'] / max(1, e['expanded']):.3f} |", flush=True)
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--runs", type=int, default=5)
@@ -175,7 +207,24 @@ def main() -> None:
     ap.add_argument("--no-own", action="store_true", help="only the shared instances (not specs/grapevine5)")
     ap.add_argument("--suite", action="store_true", help="the whole suite as one batch command (--jobs)")
     ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--heuristics", action="store_true", help="A* with h_epi vs h_chain (in-process)")
     args = ap.parse_args()
+    if args.heuristics:
+        print("| instance | optimum | h_epi len | h_epi expanded | h_epi CPU s | h_chain len | h_chain expanded "
+              "| h_chain CPU s | chain/epi expanded |")
+        print("|---|--:|--:|--:|--:|--:|--:|--:|--:|")
+        rows = heuristics_table(args.timeout)
+        fewer = sum(r["chain"]["expanded"] < r["epi"]["expanded"] for r in rows)
+        more = sum(r["chain"]["expanded"] > r["epi"]["expanded"] for r in rows)
+        print(f"\nlengths equal to the optimum: h_epi {sum(r['epi']['length'] == r['expected'] for r in rows)}/"
+              f"{len(rows)}, h_chain {sum(r['chain']['length'] == r['expected'] for r in rows)}/{len(rows)}; "
+              f"h_chain expands fewer nodes on {fewer}, more on {more}, as many on {len(rows) - fewer - more}; "
+              f"total expanded h_epi {sum(r['epi']['expanded'] for r in rows)}, h_chain "
+              f"{sum(r['chain']['expanded'] for r in rows)}; load average {os.getloadavg()[0]:.2f} on "
+              f"{os.cpu_count()} cores")
+        if args.json:
+            args.json.write_text(json.dumps(rows, indent=1))
+        return
     if args.suite:
         rows, total = suite(args.jobs, args.timeout, args.search)
         print(f"delkit plan <{len(rows)} files> --jobs {args.jobs} --json --search {args.search}: one command, "

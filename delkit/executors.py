@@ -237,7 +237,7 @@ def executor(workers: int | None = None, dask: str | None = None, dask_timeout: 
             raise DelkitError("--scheduler needs the 'distributed' package (pip install 'delkit[dask]')") from exc
         try:
             client = Client(dask, timeout=dask_timeout)
-        except OSError as exc:
+        except (OSError, ValueError) as exc:  # unreachable, timed out, or not an address
             raise DelkitError(f"cannot reach the Dask scheduler at {dask!r} ({exc}); start one with "
                               "'dask scheduler' or leave the address out to use local processes") from exc
         try:

@@ -8,7 +8,9 @@ per state of its chunk and in the successor order of the serial search, (action,
 duplicates of its chunk removed. The parent merges the chunks in frontier order, drops the states seen
 before and stops at the first goal in that order: the plan is the one serial :func:`planners.epistemic.bfs`
 finds (same generation order, same duplicate detection, goal test at generation), so lengths are optimal and
-equal. A layer is expanded whole before its goals are looked at, so ``expanded`` counts the whole last layer.
+equal. Chunks are merged in order as they arrive and the search stops at the chunk with the first goal
+(``expanded`` counts the states of the merged chunks; chunks of the last layer already in the workers' hands
+are wasted work).
 
 What limits the speed-up: the parent's merge (hashing and deduplicating every successor record) is serial;
 records are pickled both ways; layers end with a barrier (the slowest chunk); workers pay their own task
@@ -104,15 +106,16 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
                 return done("limit", None, f"no plan within limits: expanded-node limit {max_nodes} reached")
             size = max(1, min(256, -(-len(frontier) // (4 * jobs))))
             chunks = [frontier[i:i + size] for i in range(0, len(frontier), size)]
-            try:
-                results = pool.map_async(_expand, chunks).get(timeout=left)
-            except multiprocessing.TimeoutError:
-                return done("limit", None, f"no plan within limits: time limit {timeout:g} s reached")
-            expanded += len(frontier)
+            results = pool.imap(_expand, chunks)  # in order: merged as they come, stopped at the first goal
             nxt = []
             goal = None
-            for chunk, (succs, d) in zip(chunks, results, strict=True):
+            for chunk in chunks:
+                try:
+                    succs, d = results.next(timeout=max(0.0, timeout - (time.perf_counter() - t0)))
+                except multiprocessing.TimeoutError:
+                    return done("limit", None, f"no plan within limits: time limit {timeout:g} s reached")
                 dead += d
+                expanded += len(chunk)
                 for rec, succ in zip(chunk, succs, strict=True):
                     for name, new, is_goal in succ:
                         generated += 1

@@ -98,3 +98,20 @@ def test_batch_table_and_check_batch(tmp_path) -> None:
     lines = [json.loads(ln) for ln in proc.stdout.splitlines()]
     assert [ln.get("valid") for ln in lines[:-1]].count(True) == 1 and lines[-1]["valid"] == 1
     assert proc.returncode == 1
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_batch_on_a_dask_cluster() -> None:
+    distributed = pytest.importorskip("distributed")
+    cb = BENCH / "mastar" / "CB_simple"
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None, protocol="tcp") as cluster:
+        proc = _delkit("plan", str(cb / "CB_simple__pl_2.txt"), str(cb / "CB_simple__pl_3.txt"), "--json",
+                       "--scheduler", cluster.scheduler_address)
+    lines = [json.loads(ln) for ln in proc.stdout.splitlines()]
+    assert proc.returncode == 0, proc.stderr
+    assert sorted(ln["length"] for ln in lines[:-1]) == [2, 3] and lines[-1]["workers"].startswith("dask")
+    bad = _delkit("plan", str(cb / "CB_simple__pl_2.txt"), str(cb / "CB_simple__pl_3.txt"),
+                  "--scheduler", "tcp://127.0.0.1:9")
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "Dask scheduler" in bad.stderr
