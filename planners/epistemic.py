@@ -154,21 +154,30 @@ def _gc_paused(search: Callable[..., SearchResult]) -> Callable[..., SearchResul
 
 
 @_gc_paused
-def bfs(space: StateSpace, limits: Limits = Limits()) -> SearchResult:
-    """Breadth-first search with duplicate detection; goal test at generation (optimal length)."""
+def bfs(space: StateSpace, limits: Limits = Limits(), *, prune: bool = True) -> SearchResult:
+    """Breadth-first search with duplicate detection; goal test at generation (optimal length).
+
+    ``prune``: states that h_epi proves dead ends (a goal conjunct no action can make true again is false:
+    :func:`planners.heuristics.dead_end_test`) are recorded as seen but not expanded — the same plan, fewer
+    expansions; they are counted in ``dead_ends``."""
     budget = _Budget(limits)
     s0, k0 = space.initial()
     if space.is_goal(s0):
         return SearchResult("solved", (), 0, 1, budget.seconds, "bfs", "the goal holds initially",
                             distinct_states=1)
+    dead = None
+    if prune and getattr(space, "task", None) is not None:
+        from planners.heuristics import dead_end_test
+
+        dead = dead_end_test(space)
     parent: dict[Hashable, Any] = {k0: None}
     frontier: deque = deque([(s0, k0)])
-    expanded = generated = 0
+    expanded = generated = pruned = 0
     while frontier:
         why = budget.exceeded(expanded)
         if why:
             return SearchResult("limit", None, expanded, generated, budget.seconds, "bfs", "no plan within "
-                                "limits: " + why, space.dead_ends, len(parent))
+                                "limits: " + why, space.dead_ends + pruned, len(parent))
         state, key = frontier.popleft()
         expanded += 1
         for name, nxt, nkey in space.successors(state):
@@ -178,10 +187,14 @@ def bfs(space: StateSpace, limits: Limits = Limits()) -> SearchResult:
             parent[nkey] = (key, name)
             if space.is_goal(nxt):
                 return SearchResult("solved", _path(parent, nkey), expanded, generated, budget.seconds, "bfs",
-                                    "", space.dead_ends, len(parent))
+                                    "", space.dead_ends + pruned, len(parent))
+            if dead is not None and dead(nxt):
+                pruned += 1
+                continue
             frontier.append((nxt, nkey))
     return SearchResult("unsolvable", None, expanded, generated, budget.seconds, "bfs",
-                        "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
+                        "the reachable state space is exhausted: no plan exists", space.dead_ends + pruned,
+                        len(parent))
 
 
 @_gc_paused

@@ -60,7 +60,7 @@ from typing import Any
 from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Prop, is_propositional, props_of
 from planners.task import Task, goal_conjuncts
 
-__all__ = ["h_gc", "h_01", "h_cover", "h_epi", "h_chain",
+__all__ = ["h_gc", "h_01", "h_cover", "h_epi", "h_chain", "dead_end_test",
            "cover_sets", "prop_blocks", "content_conjuncts", "make_heuristic"]
 
 _MAX_EXACT = 16
@@ -355,6 +355,24 @@ def h_epi(space: Any) -> Callable[[Any], float]:
     observer cover with the belief-content argument for first-order belief goals."""
     conj = goal_conjuncts(space.task.goal)
     return _set_cover_bound(space, conj, cover_sets(space.task, conj, content=content_conjuncts(space)))
+
+
+def dead_end_test(space: Any) -> Callable[[Any], bool] | None:
+    """A test for the states h_epi proves dead ends, or None when it never can: a goal conjunct in no action's
+    cover (h_epi's, :func:`cover_sets`) can never be made true again once false (Grapevine's ``¬B(a, sc)``
+    once a has heard sc), so a state where one of them is false cannot reach the goal. Only those conjuncts
+    are evaluated. Pruning such states keeps BFS's plan: none of them lies on a path to a goal, and the
+    others are generated and expanded in the same order."""
+    conj = goal_conjuncts(space.task.goal)
+    covers = cover_sets(space.task, conj, content=content_conjuncts(space))
+    union = 0
+    for c in covers:
+        union |= c
+    fixed = [g for i, g in enumerate(conj) if not union >> i & 1]
+    if not fixed:
+        return None
+    holds = space.holds
+    return lambda s: not all(holds(s, g) for g in fixed)
 
 
 def _lits(f: Formula) -> list[tuple[str, bool]]:

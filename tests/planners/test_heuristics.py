@@ -307,3 +307,39 @@ def test_h_chain_sees_the_executability_chain() -> None:
     space = make_space(load_task(BENCH / "mastar" / "CB_simple" / "CB_simple__pl_2.txt"))
     s0, _ = space.initial()
     assert (h_epi(space)(s0), h_chain(space)(s0)) == (1.0, 2.0)
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+@pytest.mark.parametrize("name", ["Grapevine_3/Grapevine_3__pl_4.txt", "Grapevine_4/Grapevine_4__pl_4.txt",
+                                  "Grapevine_4/Grapevine_4__pl_3.txt"])
+def test_bfs_dead_end_pruning_keeps_the_plan(name: str) -> None:
+    from planners.heuristics import dead_end_test
+
+    task = load_task(BENCH / "mastar" / "Grapevine" / name)
+    a = bfs(make_space(task), Limits(timeout=60))
+    b = bfs(make_space(task), Limits(timeout=60), prune=False)
+    assert a.plan == b.plan and a.status == b.status == "solved"
+    assert a.expanded < b.expanded and a.dead_ends > b.dead_ends     # it prunes here
+    space = make_space(task)
+    test = dead_end_test(space)
+    assert test is not None and not test(space.initial()[0])
+
+
+@pytest.mark.slow
+def test_cc_2_4_4_length_7_by_astar() -> None:
+    res = plan(load_task(SPECS / "cc_2_4_4" / "CC_2_4_4_s3__pl_7.txt"), search="astar", limits=Limits(timeout=900))
+    assert res.length == 7
+
+
+def test_cc_generator_reproduces_its_instances() -> None:
+    import importlib.util
+
+    path = SPECS.parent / "bench" / "cc_tasks.py"
+    spec = importlib.util.spec_from_file_location("cc_tasks", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)  # type: ignore[union-attr]
+    for seed in (3, 5):
+        want = (SPECS / "cc_2_4_4" / f"CC_2_4_4_s{seed}__pl_7.txt").read_text()
+        assert mod.draw(2, 4, 4, 3, seed) == want
+    small = parse_mastar(mod.draw(2, 2, 2, 2, 1), "cc.txt")
+    assert plan(small, search="astar").length == plan(small, search="bfs").length == 2
