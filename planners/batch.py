@@ -49,7 +49,7 @@ def plan_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: str
     from planners.cli.plan_cmd import run_plan
 
     files = [Path(f) for f in files]
-    _check_jobs(jobs)
+    _check_jobs(jobs, "delkit plan")
     if is_batch(files, {"jobs": jobs, "scheduler": scheduler}):
         units = plan_units(files)
         if len(units) != 1 or scheduler:
@@ -68,18 +68,18 @@ def check_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: st
     from planners.cli.plan_cmd import run_check
 
     files = [Path(f) for f in files]
-    _check_jobs(jobs)
+    _check_jobs(jobs, "delkit check")
     if is_batch(files, {"jobs": jobs, "scheduler": scheduler}, "check") and (
             len(check_units(files)) != 1 or scheduler):
         return run_check_batch(files, jobs=jobs, scheduler=scheduler, **options)
     return run_check(files, **options)
 
 
-def _check_jobs(jobs: int | None) -> None:
+def _check_jobs(jobs: int | None, command: str) -> None:
     if jobs is not None and jobs < 1:
         from delkit.errors import ParseError
 
-        raise ParseError(f"--jobs {jobs}: use a number of worker processes ≥ 1", source="delkit")
+        raise ParseError(f"--jobs {jobs}: use a number of worker processes ≥ 1", source=command)
 
 _PROBLEM = re.compile(r"\(\s*define\s*\(\s*problem\b", re.I)
 
