@@ -271,7 +271,8 @@ def _summary(results: list[dict[str, Any]], wall: float, workers: str) -> dict[s
 
 
 def _workers_label(jobs: int | None, scheduler: str | None) -> str:
-    return f"dask {scheduler}" if scheduler else f"{jobs or os.cpu_count() or 1} local processes"
+    n = jobs or os.cpu_count() or 1
+    return f"dask {scheduler}" if scheduler else f"{n} local process{'es' if n != 1 else ''}"
 
 
 def _hard(timeout: float | None) -> float | None:
