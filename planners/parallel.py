@@ -7,10 +7,10 @@ engine's frame numbers are per process, the record is the same in every process 
 per state of its chunk and in the successor order of the serial search, (action, record, goal?) with the
 duplicates of its chunk removed. The parent merges the chunks in frontier order, drops the states seen
 before and stops at the first goal in that order: the plan is the one serial :func:`planners.epistemic.bfs`
-finds (same generation order, same duplicate detection, goal test at generation), so lengths are optimal and
-equal. Chunks are merged in order as they arrive and the search stops at the chunk with the first goal
-(``expanded`` counts the states of the merged chunks; chunks of the last layer already in the workers' hands
-are wasted work).
+finds (same generation order, same duplicate detection, goal test at generation, the same dead-end pruning),
+so lengths are optimal and equal. Chunks are merged in order as they arrive and the search stops at the chunk
+with the first goal (``expanded`` counts the states of the merged chunks; chunks of the last layer already in
+the workers' hands are wasted work).
 
 What limits the speed-up: the parent's merge (hashing and deduplicating every successor record) is serial;
 records are pickled both ways; layers end with a barrier (the slowest chunk); workers pay their own task
@@ -26,6 +26,7 @@ from typing import Any
 __all__ = ["run_plan_parallel", "parallel_bfs"]
 
 _SPACE: Any = None
+_DEAD: Any = None
 
 
 def _record(s: Any) -> tuple:
@@ -34,12 +35,14 @@ def _record(s: Any) -> tuple:
 
 def _init(spec: str, problem: str | None, library: list[str], strict: bool, engine: str,
           allow_inconsistent: bool) -> None:
-    global _SPACE
+    global _SPACE, _DEAD
+    from planners.heuristics import dead_end_test
     from planners.lang import load_task
     from planners.lang.epddl_run import space_for
 
     task = load_task(Path(spec), Path(problem) if problem else None, [Path(p) for p in library], strict=strict)
     _SPACE = space_for(task, engine, allow_inconsistent)
+    _DEAD = dead_end_test(_SPACE)  # as serial BFS: proven dead ends are seen but not expanded
 
 
 def _expand(chunk: list[tuple]) -> tuple[list[list[tuple]], int]:
@@ -58,7 +61,8 @@ def _expand(chunk: list[tuple]) -> tuple[list[list[tuple]], int]:
             if rec in seen:
                 continue
             seen.add(rec)
-            succ.append((name, rec, space.is_goal(nxt)))
+            goal = space.is_goal(nxt)
+            succ.append((name, rec, goal, not goal and _DEAD is not None and _DEAD(nxt)))
         out.append(succ)
     return out, space.dead_ends - before
 
@@ -117,14 +121,17 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
                 dead += d
                 expanded += len(chunk)
                 for rec, succ in zip(chunk, succs, strict=True):
-                    for name, new, is_goal in succ:
+                    for name, new, is_goal, is_dead in succ:
                         generated += 1
                         if new in parent:
                             continue
                         parent[new] = (rec, name)
                         if is_goal and goal is None:
                             goal = new
-                        nxt.append(new)
+                        if is_dead:
+                            dead += 1
+                        else:
+                            nxt.append(new)
                     if goal is not None:
                         break
                 if goal is not None:
