@@ -21,6 +21,11 @@ BFS (a capped BFS is shown as a lower bound on its expansions).
 
     .venv/bin/python bench/planner.py [--runs 5] [--search bfs] [--engine fast] [--no-own] [--json out.json]
     .venv/bin/python bench/planner.py --expansions [--bfs-timeout 1200]
+    .venv/bin/python bench/planner.py --suite [--jobs 2]
+    .venv/bin/python bench/planner.py --heuristics        # A*: h_epi vs h_chain, expansions and CPU
+
+``--suite`` runs the whole suite as ONE ``delkit plan FILE... --jobs N --json`` command (issue 24) and prints
+each task's length beside EFP's, and the command's total CPU and wall seconds beside the sum of EFP's.
 """
 
 from __future__ import annotations
@@ -125,6 +130,72 @@ def expansions(bfs_timeout: float) -> list[dict]:
     return out
 
 
+def suite(jobs: int, timeout: float, search: str) -> tuple[list[dict], dict]:
+    """The whole shared mA* suite in ONE batch command (``delkit plan FILE... --jobs N --json``): per task its
+    JSON line, and the whole command's CPU (user + system of the command and its workers, RUSAGE_CHILDREN)
+    and wall seconds — the timed region is the whole batch process (start-up, spawning the workers, every
+    task, the summary)."""
+    bench = shared_benchmarks()
+    if bench is None:
+        raise SystemExit("../shared/benchmarks is not available")
+    rows = list(csv.DictReader((bench / "mastar" / "expected.csv").open()))
+    files = [str(bench / "mastar" / r["file"]) for r in rows]
+    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    cmd = [sys.executable, "-c", _MAIN, "plan", *files, "--jobs", str(jobs), "--json", "--timeout", str(timeout),
+           "--search", search]
+    subprocess.run(cmd, env=env, capture_output=True, check=False)  # warm-up: .pyc files, page cache
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, check=False)
+    wall = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    lines = [json.loads(ln) for ln in proc.stdout.splitlines() if ln.startswith("{")]
+    by_file = {ln["file"]: ln for ln in lines if not ln.get("summary")}
+    out = []
+    for r, f in zip(rows, files, strict=True):
+        got = by_file.get(f, {})
+        out.append({"file": r["file"], "expected": int(r["expected_length"]), "length": got.get("length"),
+                    "status": got.get("status"), "expanded": got.get("expanded"), "task_cpu": got.get("cpu"),
+                    "efp_poss": _efp(r["efp_possibilities_s"])})
+    total = {"cpu": cpu, "wall": wall, "exit": proc.returncode, "jobs": jobs,
+             "efp_poss_total": sum(x["efp_poss"] or 0.0 for x in out),
+             "efp_missing": sum(x["efp_poss"] is None for x in out)}
+    return out, total
+
+
+def heuristics_table(timeout: float) -> list[dict]:
+    """A* with h_epi and with h_chain (A*'s default) in-process on every instance: lengths, expanded nodes,
+    CPU seconds of the search (time.process_time around it; the task is read before)."""
+    from planners.epistemic import Limits, best_first, make_space
+    from planners.heuristics import h_chain, h_epi
+    from planners.lang import load_task
+
+    bench = shared_benchmarks()
+    if bench is None:
+        raise SystemExit("../shared/benchmarks is not available")
+    items = [(bench / "mastar" / r["file"], r["file"], int(r["expected_length"]))
+             for r in csv.DictReader((bench / "mastar" / "expected.csv").open())]
+    items += [(ROOT / f, f, n) for f, n in OWN]
+    out = []
+    for path, name, expected in items:
+        task = load_task(path)
+        row: dict = {"file": name, "expected": expected}
+        for label, make in (("epi", h_epi), ("chain", h_chain)):
+            space = make_space(task)
+            c0 = time.process_time()
+            res = best_first(space, Limits(timeout=timeout), kind="astar", h=make(space))
+            row[label] = {"length": res.length, "expanded": res.expanded, "cpu": time.process_time() - c0,
+                          "status": res.status}
+        out.append(row)
+        e, c = row["epi"], row["chain"]
+        print(f"| {name.rsplit('/', 1)[-1].removesuffix('.txt')} | {expected} | {e['length']} | {e['expanded']} | "
+              f"{e['cpu']:.3f} | {c['length']} | {c['expanded']} | {c['cpu']:.3f} | "
+              f"{c['expanded'] / max(1, e['expanded']):.3f} |", flush=True)
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--runs", type=int, default=5)
@@ -135,7 +206,46 @@ def main() -> None:
     ap.add_argument("--expansions", action="store_true", help="BFS vs A* expanded nodes (in-process)")
     ap.add_argument("--bfs-timeout", type=float, default=1200.0)
     ap.add_argument("--no-own", action="store_true", help="only the shared instances (not specs/grapevine5)")
+    ap.add_argument("--suite", action="store_true", help="the whole suite as one batch command (--jobs)")
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--heuristics", action="store_true", help="A* with h_epi vs h_chain (in-process)")
     args = ap.parse_args()
+    if args.heuristics:
+        print("| instance | optimum | h_epi len | h_epi expanded | h_epi CPU s | h_chain len | h_chain expanded "
+              "| h_chain CPU s | chain/epi expanded |")
+        print("|---|--:|--:|--:|--:|--:|--:|--:|--:|")
+        rows = heuristics_table(args.timeout)
+        fewer = sum(r["chain"]["expanded"] < r["epi"]["expanded"] for r in rows)
+        more = sum(r["chain"]["expanded"] > r["epi"]["expanded"] for r in rows)
+        print(f"\nlengths equal to the optimum: h_epi {sum(r['epi']['length'] == r['expected'] for r in rows)}/"
+              f"{len(rows)}, h_chain {sum(r['chain']['length'] == r['expected'] for r in rows)}/{len(rows)}; "
+              f"h_chain expands fewer nodes on {fewer}, more on {more}, as many on {len(rows) - fewer - more}; "
+              f"total expanded h_epi {sum(r['epi']['expanded'] for r in rows)}, h_chain "
+              f"{sum(r['chain']['expanded'] for r in rows)}; load average {os.getloadavg()[0]:.2f} on "
+              f"{os.cpu_count()} cores")
+        if args.json:
+            args.json.write_text(json.dumps(rows, indent=1))
+        return
+    if args.suite:
+        rows, total = suite(args.jobs, args.timeout, args.search)
+        print(f"delkit plan <{len(rows)} files> --jobs {args.jobs} --json --search {args.search}: one command, "
+              f"python {sys.version.split()[0]}, {os.cpu_count()} cores")
+        print("| instance | EFP len | our len | status | expanded | task CPU s | EFP-poss s |")
+        print("|---|--:|--:|---|--:|--:|--:|")
+        for r in rows:
+            ok = "" if r["length"] == r["expected"] else " (!)"
+            cpu = f"{r['task_cpu']:.3f}" if r["task_cpu"] is not None else "-"
+            print(f"| {r['file'].rsplit('/', 1)[-1].removesuffix('.txt')} | {r['expected']} | {r['length']}{ok} | "
+                  f"{r['status']} | {r['expanded']} | {cpu} | "
+                  f"{r['efp_poss'] if r['efp_poss'] is not None else '-'} |")
+        print(f"\nlengths equal to EFP's: {sum(r['length'] == r['expected'] for r in rows)}/{len(rows)}; "
+              f"whole command: CPU {total['cpu']:.3f} s, wall {total['wall']:.3f} s (exit {total['exit']}); "
+              f"EFP-poss total (sum of its whole-process seconds per instance"
+              f"{', ' + str(total['efp_missing']) + ' missing' if total['efp_missing'] else ''}): "
+              f"{total['efp_poss_total']:.3f} s; load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+        if args.json:
+            args.json.write_text(json.dumps({"rows": rows, "total": total}, indent=1))
+        return
     if args.expansions:
         print("| instance | optimum | BFS len | BFS expanded | BFS search s | A* len | A* expanded | A* search s "
               "| A*/BFS expanded |")

@@ -7,7 +7,9 @@ process: interpreter start, imports, parsing, the command itself, exit. Children
 (``PYTHONDONTWRITEBYTECODE`` is removed from their environment) so that, as for an installed package, the
 warm-up run leaves ``.pyc`` files and the timed runs do not recompile delkit's sources. Two baselines are the bare
 interpreter and ``import numpy``. The plan/check inputs are ``CB_simple__pl_2`` from
-``../shared/benchmarks/mastar`` (skipped if absent) and ``specs/coin_in_the_box``.
+``../shared/benchmarks/mastar`` (skipped if absent) and ``specs/coin_in_the_box``; ``Coin_in_the_Box__pl_3`` (mA*)
+and plank's EPDDL (2026) Coin-in-the-Box ``problem_2`` are planned too. ``--runs 11`` for the figures in
+``bench/RESULTS-planner.md``.
 
     .venv/bin/python bench/startup.py [--runs 7] [--json out.json] [--only plan,check]
 """
@@ -58,6 +60,13 @@ def cases(tmp: Path) -> list[tuple[str, list[str]]]:
         cb = bench / "mastar" / "CB_simple" / "CB_simple__pl_2.txt"
         plan_file = tmp / "cb2.plan"
         plan_file.write_text("peek_up_key_a\nopen_a\n")
+        coin3 = bench / "mastar" / "Coin_In_The_Box" / "Coin_in_the_Box__pl_3.txt"
+        plank = bench / "epddl2026" / "plank"
+        out += [("delkit plan Coin_in_the_Box__pl_3 (mA*)", ["plan", str(coin3)]),
+                ("delkit plan Coin-in-the-Box problem_2 (EPDDL 2026)",
+                 ["plan", str(plank / "domains" / "Coin-in-the-Box" / "cb.epddl"),
+                  str(plank / "domains" / "Coin-in-the-Box" / "instances" / "problem_2.epddl"),
+                  "-l", str(plank / "libraries" / "intermediate.epddl")])]
         out += [("delkit plan CB_simple__pl_2", ["plan", str(cb)]),
                 ("delkit plan CB_simple__pl_2 --json", ["plan", str(cb), "--json"]),
                 ("delkit plan CB_simple__pl_2 --search astar", ["plan", str(cb), "--search", "astar"]),

@@ -35,14 +35,11 @@ The differential tests in ``tests/delkit/test_backends.py`` compare this backend
 
 from __future__ import annotations
 
-from collections.abc import Hashable, Sequence
+from collections.abc import Hashable, Mapping, Sequence
 from operator import itemgetter
-from typing import Any
-
-import numpy as np
+from typing import TYPE_CHECKING, Any
 
 from delkit.errors import ModelError
-from delkit.events import EventModel
 from delkit.formula import (
     And,
     Bot,
@@ -59,10 +56,13 @@ from delkit.formula import (
     Prop,
     Top,
 )
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
 
-__all__ = ["CompactState", "CompactEngine", "refine_key", "bit_positions"]
+if TYPE_CHECKING:  # numpy (with delkit.kripke/events/relation) is imported only by the conversions that need it
+    from delkit.events import EventModel
+    from delkit.kripke import KripkeModel
+    from delkit.relation import Relation
+
+__all__ = ["CompactState", "CompactEngine", "PlainModel", "PlainEvents", "refine_key", "bit_positions"]
 
 _PROP, _TOP, _BOT, _NOT, _AND, _OR, _IFF, _K, _C, _DYN = range(10)
 
@@ -132,6 +132,113 @@ class CompactState:
             cid_l.append(tuple(ids))
             cls_l.append(tuple(bit_positions(m) for m in intern))
         self._cid, self._classes = tuple(cid_l), tuple(cls_l)
+
+
+class PlainModel:
+    """A pointed model with S5 relations as plain Python data — what the spec readers build for a task small
+    enough for this backend, so that planning it never imports numpy (its import is most of the start-up of
+    a small ``delkit plan``).
+
+    ``vals[w]``: the valuation of world w as a bit mask over ``props``; ``labels[a][w]``: the class of w in
+    agent a's partition; ``designated``: the designated worlds. :meth:`kripke` is the same model as a
+    :class:`~delkit.kripke.KripkeModel` (built on first use; labels become ``Relation.from_labels``).
+    """
+
+    __slots__ = ("props", "agents", "vals", "labels", "designated", "_kripke")
+
+    def __init__(self, props: Sequence[str], agents: Sequence[str], vals: Sequence[int],
+                 labels: Mapping[str, Sequence[int]], designated: Sequence[int]) -> None:
+        self.props, self.agents = tuple(props), tuple(agents)
+        self.vals = tuple(vals)
+        self.labels = {a: tuple(labels[a]) for a in self.agents}
+        self.designated = tuple(designated)
+        self._kripke: KripkeModel | None = None
+
+    @property
+    def n_worlds(self) -> int:
+        return len(self.vals)
+
+    def rows(self, agent: str) -> list[tuple[int, ...]]:
+        """Agent's successor rows: the members of each world's class, one shared tuple per class."""
+        members: dict[int, list[int]] = {}
+        lab = self.labels[agent]
+        for w, c in enumerate(lab):
+            members.setdefault(c, []).append(w)
+        cls = {c: tuple(ws) for c, ws in members.items()}
+        return [cls[c] for c in lab]
+
+    def kripke(self) -> KripkeModel:
+        """The model as a KripkeModel (numpy), built once."""
+        if self._kripke is None:
+            import numpy as np
+
+            from delkit.kripke import KripkeModel
+            from delkit.relation import Relation
+
+            n, m = len(self.vals), len(self.props)
+            val = np.zeros((n, m), dtype=bool)
+            for j in range(m):
+                val[:, j] = [(v >> j) & 1 for v in self.vals]
+            rels = {a: Relation.from_labels(self.labels[a]) for a in self.agents}
+            self._kripke = KripkeModel(self.props, self.agents, val, rels, self.designated)
+        return self._kripke
+
+
+class PlainEvents:
+    """An event model as plain Python data for this backend (no numpy): ``rows[a][e]`` are the a-successors
+    of event e (ascending); the other fields are :class:`~delkit.events.EventModel`'s. :meth:`event_model`
+    is the same model as an EventModel (built on first use)."""
+
+    __slots__ = ("events", "agents", "pre", "post", "rows", "designated", "name", "_em")
+
+    def __init__(self, events: Sequence[str], agents: Sequence[str], pre: Sequence[Formula],
+                 post: Sequence[Mapping[str, Formula]], rows: Mapping[str, Sequence[tuple[int, ...]]],
+                 designated: Sequence[int], name: str = "E") -> None:
+        self.events, self.agents = tuple(events), tuple(agents)
+        self.pre, self.post = tuple(pre), tuple(dict(m) for m in post)
+        self.rows = {a: list(rows[a]) for a in self.agents}
+        self.designated = tuple(sorted(set(designated)))
+        self.name = name
+        self._em: EventModel | None = None
+        from delkit.formula import is_propositional, show
+
+        for e, m in zip(self.events, self.post, strict=True):
+            for p, v in m.items():
+                if not is_propositional(v):  # as EventModel: postconditions are read in one world
+                    raise ModelError(f"event {e!r} of {self.name!r}: postcondition of {p!r} must be propositional, "
+                                     f"got {show(v)}")
+
+    @property
+    def n_events(self) -> int:
+        return len(self.events)
+
+    @property
+    def relations(self) -> dict[str, Relation]:
+        """The agents' relations as delkit Relations (those of :meth:`event_model`)."""
+        return self.event_model().relations
+
+    def event_model(self) -> EventModel:
+        """The same model as a delkit EventModel (numpy relations)."""
+        if self._em is None:
+            from delkit.events import EventModel
+
+            rels = {a: _rows_relation(self.rows[a]) for a in self.agents}
+            self._em = EventModel(self.events, self.agents, self.pre, self.post, rels, self.designated, self.name)
+        return self._em
+
+
+def _rows_relation(rows: Sequence[tuple[int, ...]]) -> Relation:
+    """Successor rows as a delkit Relation: an equivalence (reflexive, and each successor has the same
+    successors) as a partition labelled by its classes in order of least member, else from its pairs."""
+    import numpy as np
+
+    from delkit.relation import Relation
+
+    n = len(rows)
+    if all(e in rows[e] and all(rows[f] == rows[e] for f in rows[e]) for e in range(n)):
+        rank = {m: c for c, m in enumerate(sorted({min(r) for r in rows}))}
+        return Relation(n=n, labels=np.array([rank[min(r)] for r in rows], dtype=np.int64))
+    return Relation.from_pairs(n, [(e, f) for e in range(n) for f in rows[e]])
 
 
 _BITS: dict[int, tuple[int, ...]] = {}
@@ -285,6 +392,16 @@ class CompactEngine:
         if tuple(m.agents) != self.agents or tuple(m.props) != self.props:
             m = _reorder(m, self.props, self.agents)
         return from_kripke(m, self.groups)
+
+    def from_plain(self, m: PlainModel) -> CompactState:
+        """A :class:`PlainModel` as a contracted state (no numpy)."""
+        if not m.designated:
+            raise ModelError("a model with no designated world has no compact state; designate a world")
+        if m.agents != self.agents or m.props != self.props:
+            return self.from_kripke(m.kripke())
+        succ = [m.rows(ag) for ag in m.agents]
+        succ += [_group_rows([succ[self.aidx[a]] for a in g], m.n_worlds) for g in self.groups]
+        return _from_rows(list(m.vals), succ, m.designated)
 
     def to_kripke(self, s: CompactState) -> KripkeModel:
         """The explicit delkit model of a state (the agents' relations; group relations are not kept, so
@@ -562,7 +679,7 @@ class CompactEngine:
                     raise ModelError("a dynamic formula with distributed knowledge of a group cannot be evaluated "
                                      "on the compact backend; use the numpy backend (KripkeModel.holds)")
             vec = self.to_kripke(s).check(node[1])
-            out = _mask([int(w) for w in np.flatnonzero(vec)])
+            out = _mask([w for w, x in enumerate(vec.tolist()) if x])
         memo[i] = out
         return out
 
@@ -579,7 +696,7 @@ class CompactEngine:
         return False
 
     # ------------------------------------------------------------------ update
-    def compile(self, em: EventModel) -> tuple:
+    def compile(self, em: EventModel | PlainEvents) -> tuple:
         """An event model compiled once (cached): per agent the successor events of each event; per event a
         transition table ``valuation -> new valuation`` (-1 where a propositional precondition fails),
         filled lazily and shared by every state, and the non-propositional pre/postconditions as node ids
@@ -588,10 +705,16 @@ class CompactEngine:
         if hit is not None and hit[0] is em:
             return hit[1]
         k = em.n_events
-        missing = [a for a in self.agents if a not in em.relations]
-        if missing:
-            raise ModelError(f"event model {em.name!r} has no relation for agent(s) {missing}")
-        q = [self._successor_rows(em.relations[ag], k) for ag in self.agents]
+        if isinstance(em, PlainEvents):
+            missing = [a for a in self.agents if a not in em.rows]
+            if missing:
+                raise ModelError(f"event model {em.name!r} has no relation for agent(s) {missing}")
+            q = [em.rows[ag] for ag in self.agents]
+        else:
+            missing = [a for a in self.agents if a not in em.relations]
+            if missing:
+                raise ModelError(f"event model {em.name!r} has no relation for agent(s) {missing}")
+            q = [self._successor_rows(em.relations[ag], k) for ag in self.agents]
         q += [_group_rows([q[self.aidx[a]] for a in g], k) for g in self.groups]
         tabs, lits, npre, nposts = [], [], [], []
         for e in range(k):
@@ -694,7 +817,7 @@ class CompactEngine:
             out = [x if x < 0 else (x | bit if (b >> w) & 1 else x & ~bit) for w, x in enumerate(out)]
         return out
 
-    def apply(self, s: CompactState, em: EventModel) -> CompactState | None:
+    def apply(self, s: CompactState, em: EventModel | PlainEvents) -> CompactState | None:
         """Contracted s ⊗ E on the part generated by the designated pairs.
 
         Applicable iff every designated world w of s satisfies the precondition of some designated event
@@ -923,6 +1046,10 @@ def _reorder(m: KripkeModel, props: tuple[str, ...], agents: tuple[str, ...]) ->
     if missing_a or extra_a or extra_p:
         raise ModelError(f"the model's vocabulary (props {list(m.props)}, agents {list(m.agents)}) does not fit "
                          f"the engine's (props {list(props)}, agents {list(agents)})")
+    import numpy as np
+
+    from delkit.kripke import KripkeModel
+
     val = np.zeros((m.n_worlds, len(props)), dtype=bool)
     for j, p in enumerate(props):
         if p in m.props:
@@ -938,14 +1065,22 @@ def from_kripke(m: KripkeModel, groups: Sequence[tuple[str, ...]] = ()) -> Compa
     n = m.n_worlds
     vals = [0] * n
     for j in range(len(m.props)):
-        for w in np.flatnonzero(m.valuation[:, j]):
-            vals[int(w)] |= 1 << j
+        for w, x in enumerate(m.valuation[:, j].tolist()):
+            if x:
+                vals[w] |= 1 << j
     succ = [_relation_rows(m.relations[ag], n) for ag in m.agents]
     succ += [_group_rows([succ[m.agents.index(a)] for a in g], n) for g in groups]
+    return _from_rows(vals, succ, m.designated)
+
+
+def _from_rows(vals: Sequence[int], succ: Sequence[Sequence[tuple[int, ...]]], designated: Sequence[int]
+               ) -> CompactState:
+    """The contracted state of the model with valuations ``vals``, successor rows ``succ`` (per relation,
+    per world) and designated worlds ``designated``."""
     # generated submodel of the designated worlds (the key must not see unreachable worlds)
     seen: dict[int, int] = {}
     order: list[int] = []
-    for d in m.designated:
+    for d in designated:
         if d not in seen:
             seen[d] = len(order)
             order.append(d)
@@ -973,11 +1108,16 @@ def from_kripke(m: KripkeModel, groups: Sequence[tuple[str, ...]] = ()) -> Compa
             col.append(j)
         gdist.append(lists)
         gcls.append(col)
-    return refine_key([vals[w] for w in order], gdist, gcls, [seen[d] for d in m.designated])
+    return refine_key([vals[w] for w in order], gdist, gcls, [seen[d] for d in designated])
 
 
 def to_kripke(s: CompactState, props: Sequence[str], agents: Sequence[str]) -> KripkeModel:
     """The explicit delkit model of a state over the vocabulary (props, agents)."""
+    import numpy as np
+
+    from delkit.kripke import KripkeModel
+    from delkit.relation import Relation
+
     n = s.n
     val = np.zeros((n, len(props)), dtype=bool)
     for w, v in enumerate(s.val):

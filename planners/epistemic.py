@@ -12,8 +12,8 @@ No vacuous success: a state where some agent has no accessible world at the poin
 ⊥) is a dead end and is not expanded (``allow_inconsistent=True`` keeps it).
 
 BFS tests the goal when a state is generated; since every action costs 1 the first plan found is of
-minimal length. A* uses the admissible and consistent belief-content cover bound ``h_epi`` and GBFS the
-goal count ``h_gc`` (:mod:`planners.heuristics`).
+minimal length. A* uses the admissible and consistent ``h_chain`` (the belief-content cover bound ``h_epi``
+with executability chains) and GBFS the goal count ``h_gc`` (:mod:`planners.heuristics`).
 """
 
 from __future__ import annotations
@@ -154,21 +154,30 @@ def _gc_paused(search: Callable[..., SearchResult]) -> Callable[..., SearchResul
 
 
 @_gc_paused
-def bfs(space: StateSpace, limits: Limits = Limits()) -> SearchResult:
-    """Breadth-first search with duplicate detection; goal test at generation (optimal length)."""
+def bfs(space: StateSpace, limits: Limits = Limits(), *, prune: bool = True) -> SearchResult:
+    """Breadth-first search with duplicate detection; goal test at generation (optimal length).
+
+    ``prune``: states that h_epi proves dead ends (a goal conjunct no action can make true again is false:
+    :func:`planners.heuristics.dead_end_test`) are recorded as seen but not expanded — the same plan, fewer
+    expansions; they are counted in ``dead_ends``."""
     budget = _Budget(limits)
     s0, k0 = space.initial()
     if space.is_goal(s0):
         return SearchResult("solved", (), 0, 1, budget.seconds, "bfs", "the goal holds initially",
                             distinct_states=1)
+    dead = None
+    if prune and getattr(space, "task", None) is not None:
+        from planners.heuristics import dead_end_test
+
+        dead = dead_end_test(space)
     parent: dict[Hashable, Any] = {k0: None}
     frontier: deque = deque([(s0, k0)])
-    expanded = generated = 0
+    expanded = generated = pruned = 0
     while frontier:
         why = budget.exceeded(expanded)
         if why:
             return SearchResult("limit", None, expanded, generated, budget.seconds, "bfs", "no plan within "
-                                "limits: " + why, space.dead_ends, len(parent))
+                                "limits: " + why, space.dead_ends + pruned, len(parent))
         state, key = frontier.popleft()
         expanded += 1
         for name, nxt, nkey in space.successors(state):
@@ -178,10 +187,14 @@ def bfs(space: StateSpace, limits: Limits = Limits()) -> SearchResult:
             parent[nkey] = (key, name)
             if space.is_goal(nxt):
                 return SearchResult("solved", _path(parent, nkey), expanded, generated, budget.seconds, "bfs",
-                                    "", space.dead_ends, len(parent))
+                                    "", space.dead_ends + pruned, len(parent))
+            if dead is not None and dead(nxt):
+                pruned += 1
+                continue
             frontier.append((nxt, nkey))
     return SearchResult("unsolvable", None, expanded, generated, budget.seconds, "bfs",
-                        "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
+                        "the reachable state space is exhausted: no plan exists", space.dead_ends + pruned,
+                        len(parent))
 
 
 @_gc_paused
@@ -190,14 +203,15 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
     """GBFS (f = h) or A* (f = g + h) with duplicate detection.
 
     Default heuristics: GBFS uses the goal count h_gc (unsatisfied top-level goal conjuncts; informative,
-    not admissible); A* uses h_epi (the observer cover with the belief-content argument), admissible and
-    consistent, so A* (goal test at expansion, no reopening) returns plans of optimal length.
+    not admissible); A* uses h_chain (h_epi — the observer cover with the belief-content argument — and the
+    executability chains of the pointed world's fluents, whichever is larger), admissible and consistent, so
+    A* (goal test at expansion, no reopening) returns plans of optimal length.
     """
     budget = _Budget(limits)
     if h is None:
-        from planners.heuristics import h_epi, h_gc
+        from planners.heuristics import h_chain, h_gc
 
-        h = h_gc(space) if kind == "gbfs" else h_epi(space)
+        h = h_gc(space) if kind == "gbfs" else h_chain(space)
     s0, k0 = space.initial()
     best_g: dict[Hashable, int] = {k0: 0}
     parent: dict[Hashable, Any] = {k0: None}

@@ -22,6 +22,8 @@ U(s) ⊆ U(s') ∪ cover(A) for a successor s' by A, so h(s) ≤ 1 + h(s'). With
 cover of every subset is tabulated once per task (BFS over unions of covers, then a superset minimum);
 above that the weaker ⌈|U(s)| / max_A |cover(A)|⌉ (also consistent) is used.
 
+* ``h_chain`` — ``max(h_epi, h_exe)``, A*'s default: the executability chains of the pointed world's fluents
+  (see :func:`h_chain`).
 * ``h_epi`` — the same set-cover bound with smaller covers for *first-order belief* conjuncts (A*'s
   default). Write V_x(s) for the set of valuations of agent x's accessible worlds at the pointed world.
   Under the mA* update V_x only shrinks when the action is epistemic (full observer of an announcement of
@@ -58,7 +60,8 @@ from typing import Any
 from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Prop, is_propositional, props_of
 from planners.task import Task, goal_conjuncts
 
-__all__ = ["h_gc", "h_01", "h_cover", "h_epi", "cover_sets", "prop_blocks", "content_conjuncts", "make_heuristic"]
+__all__ = ["h_gc", "h_01", "h_cover", "h_epi", "h_chain", "dead_end_test",
+           "cover_sets", "prop_blocks", "content_conjuncts", "make_heuristic"]
 
 _MAX_EXACT = 16
 
@@ -354,9 +357,163 @@ def h_epi(space: Any) -> Callable[[Any], float]:
     return _set_cover_bound(space, conj, cover_sets(space.task, conj, content=content_conjuncts(space)))
 
 
+def dead_end_test(space: Any) -> Callable[[Any], bool] | None:
+    """A test for the states h_epi proves dead ends, or None when it never can: a goal conjunct in no action's
+    cover (h_epi's, :func:`cover_sets`) can never be made true again once false (Grapevine's ``¬B(a, sc)``
+    once a has heard sc), so a state where one of them is false cannot reach the goal. Only those conjuncts
+    are evaluated. Pruning such states keeps BFS's plan: none of them lies on a path to a goal, and the
+    others are generated and expanded in the same order."""
+    conj = goal_conjuncts(space.task.goal)
+    covers = cover_sets(space.task, conj, content=content_conjuncts(space))
+    union = 0
+    for c in covers:
+        union |= c
+    fixed = [g for i, g in enumerate(conj) if not union >> i & 1]
+    if not fixed:
+        return None
+    holds = space.holds
+    return lambda s: not all(holds(s, g) for g in fixed)
+
+
+def _lits(f: Formula) -> list[tuple[str, bool]]:
+    """The literal conjuncts of ``f`` (each necessary for f to hold at a world)."""
+    out = []
+    for g in _conjuncts(f):
+        if isinstance(g, Prop):
+            out.append((g.name, True))
+        elif isinstance(g, Not) and isinstance(g.arg, Prop):
+            out.append((g.arg.name, False))
+    return out
+
+
+def _point_valuation(s: Any, pidx: dict[str, int]) -> int | None:
+    """The pointed world's valuation as a bit mask over the task's propositions (None: several points)."""
+    points = getattr(s, "points", None)
+    if points is not None:  # CompactState
+        return s.val[points[0]] if len(points) == 1 else None
+    des = list(s.designated)
+    if len(des) != 1:
+        return None
+    v = 0
+    for p, i in pidx.items():
+        if p in s.props and s.valuation[des[0], s.prop_index(p)]:
+            v |= 1 << i
+    return v
+
+
+def h_chain(space: Any) -> Callable[[Any], float]:
+    """``max(h_epi, h_exe)``: h_epi strengthened by executability chains (admissible and consistent).
+
+    ``h_exe(s)`` is the largest, over the goal conjuncts g false in s, of a lower bound on the steps to make g
+    true, read from the pointed world's valuation only:
+
+    * a fluent literal l (or a conjunction of them) false at the pointed world becomes true only through an
+      ontic action that sets it (the pointed world's valuation changes by ontic postconditions only), which
+      must be executable there: c(l) = 1 + min over the actions A setting l of c(exe(A)), where c(L) of a set
+      of literals is the max of their costs (0 when true) and exe(A)'s literal conjuncts are the ones
+      counted — h_max of the delete relaxation on the pointed valuation (conditions of effects ignored);
+    * any other conjunct g changes its truth only by an action whose cover (:func:`cover_sets`, h_epi's own)
+      holds g, executable at that moment: cost(g) = 1 + min over those actions A of c(exe(A)).
+
+    Both are consistent (a successor by A: every literal true after A was true before or set by A, whose
+    executability held before, so c_s ≤ 1 + c_s'; a conjunct made true by A costs 1 in s), and so is the max
+    with h_epi. The chain part is used for single-pointed states of tasks of mA* actions (a macro counts as
+    its first step's executability and all its steps' effects); otherwise ``h_chain`` is ``h_epi``.
+    """
+    base = h_epi(space)
+    task = space.task
+    conj = goal_conjuncts(task.goal)
+    steps = [_steps(a) for a in task.actions]
+    if not conj or any(st is None for st in steps):
+        return base
+    pidx = {p: i for i, p in enumerate(task.props)}
+    covers = cover_sets(task, conj, content=content_conjuncts(space))
+
+    def code(lits: list[tuple[str, bool]]) -> tuple[tuple[int, bool], ...]:
+        return tuple(sorted({(pidx[p], b) for p, b in lits if p in pidx}))
+
+    pre = [code(_lits(st[0].executable)) for st in steps]  # type: ignore[index]
+    ontic = []
+    for i, st in enumerate(steps):
+        effs = set()
+        for step in st:  # type: ignore[union-attr]
+            if step.kind == "ontic":
+                for p, v, _c in step.effects:
+                    if p in pidx:
+                        effs |= {(pidx[p], v)} if isinstance(v, bool) else {(pidx[p], True), (pidx[p], False)}
+        if effs:
+            ontic.append((pre[i], tuple(sorted(effs))))
+    kinds: list[tuple[str, Any]] = []  # per conjunct: ("lits", literals) or ("cover", distinct exe literal sets)
+    for i, g in enumerate(conj):
+        lp = _literal_props(g)
+        if lp is not None:
+            kinds.append(("lits", code(_lits(g))))
+        elif is_propositional(g):
+            kinds.append(("none", None))
+        else:
+            kinds.append(("cover", sorted({pre[a] for a, c in enumerate(covers) if c >> i & 1})))
+    inf = math.inf
+    memo: dict[int, tuple[float, tuple[float, ...]]] = {}
+
+    def per_conjunct(v: int) -> tuple[float, tuple[float, ...]]:
+        cost: dict[tuple[int, bool], float] = {}
+
+        def c(lit: tuple[int, bool]) -> float:
+            return 0.0 if bool(v >> lit[0] & 1) == lit[1] else cost.get(lit, inf)
+
+        def c_set(lits: tuple[tuple[int, bool], ...]) -> float:
+            return max(map(c, lits), default=0.0)
+
+        changed = True
+        while changed:
+            changed = False
+            for p, effs in ontic:
+                cb = c_set(p) + 1.0
+                if cb == inf:
+                    continue
+                for lit in effs:
+                    if c(lit) > cb:
+                        cost[lit] = cb
+                        changed = True
+        out = []
+        for kind, data in kinds:
+            if kind == "lits":
+                out.append(c_set(data))
+            elif kind == "cover":
+                out.append(1.0 + min((c_set(p) for p in data), default=inf))
+            else:
+                out.append(0.0)
+        return max(out, default=0.0), tuple(out)
+
+    holds = space.holds
+
+    def h(s: Any) -> float:
+        b = base(s)
+        if b == inf:
+            return b
+        v = _point_valuation(s, pidx)
+        if v is None:
+            return b
+        got = memo.get(v)
+        if got is None:
+            if len(memo) > 100_000:
+                memo.clear()
+            got = memo[v] = per_conjunct(v)
+        top, costs = got
+        if top <= b:
+            return b
+        best = b
+        for i, g in enumerate(conj):
+            if costs[i] > best and not holds(s, g):
+                best = costs[i]
+        return best
+
+    return h
+
+
 def make_heuristic(name: str, space: Any) -> Callable[[Any], float]:
-    """Heuristic by name: ``gc``, ``01``, ``cover`` or ``epi``."""
-    table = {"gc": h_gc, "01": h_01, "cover": h_cover, "epi": h_epi}
+    """Heuristic by name: ``gc``, ``01``, ``cover``, ``epi`` or ``chain``."""
+    table = {"gc": h_gc, "01": h_01, "cover": h_cover, "epi": h_epi, "chain": h_chain}
     if name not in table:
         from delkit.errors import PlanningError
 

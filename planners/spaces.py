@@ -27,14 +27,16 @@ from __future__ import annotations
 
 from collections.abc import Hashable, Iterator
 from dataclasses import dataclass, field
-from typing import Any, Literal
+from typing import TYPE_CHECKING, Any, Literal
 
-from delkit.compact import CompactEngine, CompactState, bit_positions
+from delkit.compact import CompactEngine, CompactState, PlainEvents, bit_positions
 from delkit.errors import PlanningError
-from delkit.events import EventModel
 from delkit.formula import Formula, Top, is_propositional, props_of
-from delkit.kripke import KripkeModel
-from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, build_event_model, goal_conjuncts
+from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, goal_conjuncts, plain_event_model
+
+if TYPE_CHECKING:  # numpy: the compact space of a small task never imports it (start-up)
+    from delkit.events import EventModel
+    from delkit.kripke import KripkeModel
 
 __all__ = ["CompactSpace", "DelSpace", "make_space"]
 
@@ -186,7 +188,8 @@ class CompactSpace:
 
     # ------------------------------------------------------------------ states
     def initial(self) -> tuple[CompactState, Hashable]:
-        s = self.engine.from_kripke(self.task.initial)
+        plain = self.task.plain_initial
+        s = self.engine.from_plain(plain) if plain is not None else self.engine.from_kripke(self.task.initial)
         return s, s.key
 
     def holds(self, s: CompactState, f: Formula) -> bool:
@@ -209,7 +212,7 @@ class CompactSpace:
         return self.engine.inconsistent(s)
 
     # ------------------------------------------------------------------ transitions
-    def event_model(self, s: CompactState, entry: tuple) -> EventModel | None:
+    def event_model(self, s: CompactState, entry: tuple) -> EventModel | PlainEvents | None:
         """The event model of a (non-macro) action in ``s``; None if its executability fails in ``s``."""
         kind, act, exe = entry[0], entry[1], entry[2]
         at = self.engine.holds_id
@@ -217,7 +220,7 @@ class CompactSpace:
             return None
         if kind == "event":
             bits = tuple(at(s, c) for c in entry[3])
-            return self.task.event_model_for_bits(act, bits)
+            return self.task.events_for_bits(act, bits)
         _, _, _, full, partial, sensed = entry
         fm = 0
         for a, c in full:
@@ -236,7 +239,7 @@ class CompactSpace:
         em = self._ems.get(key)
         if em is None:
             ags = self.task.agents
-            em = build_event_model(act, ags, frozenset(ag for i, ag in enumerate(ags) if (fm >> i) & 1),
+            em = plain_event_model(act, ags, frozenset(ag for i, ag in enumerate(ags) if (fm >> i) & 1),
                                    frozenset(ag for i, ag in enumerate(ags) if (pm >> i) & 1),
                                    tuple(f for j, (f, _) in enumerate(act.sensed) if (sm >> j) & 1))
             self._ems[key] = em
@@ -264,6 +267,8 @@ class CompactSpace:
             em = self.event_model(cur, st) if cur is not None else None
             if em is None:
                 return None
+            if isinstance(em, PlainEvents):
+                em = em.event_model()  # composed by delkit.compose (numpy)
             models.append(em)
             key = ("macro", entry[1].name, tuple(id(m) for m in models))
             nxt = self._ems.get(key)
@@ -434,6 +439,8 @@ def with_group_relations(m: KripkeModel, groups: tuple[tuple[str, ...], ...]) ->
         name = "D{" + ",".join(g) + "}"
         rels[name] = r
         names.append(name)
+    from delkit.kripke import KripkeModel
+
     return KripkeModel(m.props, tuple(m.agents) + tuple(names), m.valuation, rels, m.designated)
 
 

@@ -24,12 +24,15 @@ from __future__ import annotations
 import itertools
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import TYPE_CHECKING, Any, Literal
 
+from delkit.compact import PlainEvents, PlainModel
 from delkit.errors import PlanningError
-from delkit.events import EventModel, action, ontic
-from delkit.formula import TOP, Formula, Not, Or, Prop, conj, show
-from delkit.kripke import KripkeModel
+from delkit.formula import BOT, TOP, Formula, Not, Or, Prop, conj, show
+
+if TYPE_CHECKING:  # numpy: imported by the reference semantics only (start-up of small tasks, see _Initial)
+    from delkit.events import EventModel
+    from delkit.kripke import KripkeModel
 
 __all__ = ["ActionSpec", "MacroSpec", "EventAction", "Task", "ActionKind", "goal_conjuncts"]
 
@@ -112,18 +115,44 @@ class MacroSpec:
         return tuple(s.name for s in self.steps)
 
 
+class _Initial:
+    """The ``initial`` field of :class:`Task`: given as a KripkeModel, or as a :class:`~delkit.compact.PlainModel`
+    (what the readers build for small tasks, without numpy), which is converted to a KripkeModel when
+    ``task.initial`` is first read — the compact backend reads ``task.plain_initial`` and never converts."""
+
+    def __set_name__(self, owner: type, name: str) -> None:
+        self.slot = "_" + name
+
+    def __get__(self, obj: Any, objtype: Any = None) -> Any:
+        if obj is None:
+            raise AttributeError(self.slot)  # no default (dataclasses ask the class)
+        v = obj.__dict__[self.slot]
+        if isinstance(v, PlainModel):
+            v = v.kripke()
+        return v
+
+    def __set__(self, obj: Any, value: Any) -> None:
+        obj.__dict__[self.slot] = value
+
+
 @dataclass(frozen=True)
 class Task:
-    """A grounded epistemic planning task."""
+    """A grounded epistemic planning task (``initial``: a KripkeModel, or a PlainModel read as one)."""
 
     name: str
     props: tuple[str, ...]
     agents: tuple[str, ...]
-    initial: KripkeModel
+    initial: KripkeModel = _Initial()  # type: ignore[assignment]
     actions: tuple[ActionSpec | MacroSpec | EventAction, ...]
     goal: Formula
     source: str = "<task>"
     _cache: dict = field(default_factory=dict, repr=False, compare=False, hash=False)
+
+    @property
+    def plain_initial(self) -> PlainModel | None:
+        """The initial state as the reader gave it when that was a numpy-free PlainModel, else None."""
+        v = self.__dict__["_initial"]
+        return v if isinstance(v, PlainModel) else None
 
     def action(self, name: str) -> ActionSpec:
         """The action called ``name`` (:class:`PlanningError` listing the names if there is none)."""
@@ -164,7 +193,13 @@ class Task:
 
 
     def event_model_for_bits(self, act: EventAction, bits: tuple[bool, ...]) -> EventModel:
-        """``act.build(bits)``, cached per (action, bits)."""
+        """``act.build(bits)`` as a delkit EventModel, cached per (action, bits)."""
+        em = self.events_for_bits(act, bits)
+        return em.event_model() if isinstance(em, PlainEvents) else em
+
+    def events_for_bits(self, act: EventAction, bits: tuple[bool, ...]) -> EventModel | PlainEvents:
+        """``act.build(bits)`` as built — an EventModel, or a numpy-free PlainEvents that the compact backend
+        uses as it is — checked and cached per (action, bits)."""
         key = ("__event", act.name, bits)
         em = self._cache.get(key)
         if em is None:
@@ -172,8 +207,12 @@ class Task:
                 raise PlanningError(f"{_where(act)}action {act.name!r} has {len(act.conditions)} condition(s) "
                                     f"{[str(c) for c in act.conditions]}; {len(bits)} truth value(s) were given")
             em = act.build(bits)
-            if not isinstance(em, EventModel):
-                raise PlanningError(f"{_where(act)}action {act.name!r} built {type(em).__name__}, not an EventModel")
+            if not isinstance(em, PlainEvents):
+                from delkit.events import EventModel
+
+                if not isinstance(em, EventModel):
+                    raise PlanningError(f"{_where(act)}action {act.name!r} built {type(em).__name__}, not an "
+                                        f"EventModel")
             if set(em.agents) != set(self.agents):
                 raise PlanningError(f"{_where(act)}the event model of {act.name!r} has agents {list(em.agents)}, "
                                     f"the task {list(self.agents)}")
@@ -240,7 +279,52 @@ def apply_action(task: Task, act: ActionSpec | MacroSpec | EventAction, model: K
 
 def build_event_model(act: ActionSpec, agents: tuple[str, ...], full: frozenset[str], partial: frozenset[str],
                       sensed: tuple[Formula, ...]) -> EventModel:
-    """The mA* event model of one action for given observer sets (see the module docstring)."""
+    """The mA* event model of one action for given observer sets (see the module docstring), built by the
+    ``delkit.events`` constructors (the reference; :func:`plain_event_model` is the same model without numpy)."""
+    from delkit.events import action, ontic
+
+    kind, outcomes, full_l, part_l, designated = _mastar_frame(act, agents, full, partial, sensed)
+    if kind == "ontic":
+        return ontic([(p, v, c) for p, v, c in act.effects], agents, full=full_l, name=act.name)
+    return action(agents, outcomes, full=full_l, partial=part_l, designated=designated, name=act.name)
+
+
+def plain_event_model(act: ActionSpec, agents: tuple[str, ...], full: frozenset[str], partial: frozenset[str],
+                      sensed: tuple[Formula, ...]) -> PlainEvents:
+    """:func:`build_event_model` as plain data for the compact backend: the frame of ``delkit.events.action``
+    (full observers: identity; partial: the real events in one class, ε alone; oblivious: every event to ε,
+    which exists iff someone is oblivious) and ``ontic``'s postconditions p ↦ (c ∧ v) ∨ (¬c ∧ old)."""
+    kind, outcomes, full_l, part_l, designated = _mastar_frame(act, agents, full, partial, sensed)
+    if kind == "ontic":
+        post: dict[str, Formula] = {}
+        for p, v, c in act.effects:
+            value = TOP if v is True else BOT if v is False else v
+            post[p] = Or((conj([c, value]), conj([Not(c), post.get(p, Prop(p))])))
+        outcomes = [("e", TOP, post)]
+        full_l, part_l, designated = full_l + part_l, [], None
+    k = len(outcomes)
+    oblivious = [a for a in agents if a not in full_l and a not in part_l]
+    names = [o[0] for o in outcomes] + (["eps"] if oblivious else [])
+    pres = [o[1] for o in outcomes] + ([TOP] if oblivious else [])
+    posts = [o[2] for o in outcomes] + ([{}] if oblivious else [])
+    n = len(names)
+    real, eps = tuple(range(k)), (k,)
+    rows: dict[str, list[tuple[int, ...]]] = {}
+    for a in agents:
+        if a in full_l:
+            rows[a] = [(e,) for e in range(n)]
+        elif a in part_l:
+            rows[a] = [real] * k + ([eps] if oblivious else [])
+        else:
+            rows[a] = [eps] * n
+    des = [names.index(d) for d in designated] if designated is not None else list(range(k))
+    return PlainEvents(names, agents, pres, posts, rows, des, act.name)
+
+
+def _mastar_frame(act: ActionSpec, agents: tuple[str, ...], full: frozenset[str], partial: frozenset[str],
+                  sensed: tuple[Formula, ...]) -> tuple[str, list, list[str], list[str], list[str] | None]:
+    """(kind, real events (name, pre, post), full observers, partial observers, designated event names or
+    None: all) of an mA* action — the part of its event model both builders share."""
     full_l = [a for a in agents if a in full]
     part_l = [a for a in agents if a in partial]
     if act.kind == "ontic":
@@ -248,21 +332,19 @@ def build_event_model(act: ActionSpec, agents: tuple[str, ...], full: frozenset[
             raise PlanningError(f"{_where(act)}agent(s) {part_l} partially observe the ontic action {act.name!r}; "
                                 f"partial observability is not defined for ontic actions in mA* (make them "
                                 f"fully observant or oblivious)")
-        effects = [(p, v, c) for p, v, c in act.effects]
-        return ontic(effects, agents, full=full_l, name=act.name)
+        return "ontic", [], full_l, part_l, None
     if act.kind == "sensing":
         if not sensed:
-            return action(agents, [("e", TOP, {})], full=full_l, partial=part_l, name=act.name)
+            return "sensing", [("e", TOP, {})], full_l, part_l, None
         outcomes = []
         for bits in itertools.product((True, False), repeat=len(sensed)):
             pre = conj([f if b else Not(f) for f, b in zip(sensed, bits, strict=True)])
             label = "".join("1" if b else "0" for b in bits)
             outcomes.append((f"s{label}", pre, {}))
-        return action(agents, outcomes, full=full_l, partial=part_l, name=act.name)
+        return "sensing", outcomes, full_l, part_l, None
     if act.kind == "announcement":
         phi = conj(list(sensed)) if sensed else TOP
-        return action(agents, [("yes", phi, {}), ("no", Not(phi), {})], full=full_l, partial=part_l,
-                      designated=["yes"], name=act.name)
+        return "announcement", [("yes", phi, {}), ("no", Not(phi), {})], full_l, part_l, ["yes"]
     raise PlanningError(f"{_where(act)}unknown action type {act.kind!r}")
 
 

@@ -16,7 +16,6 @@ command bodies (:func:`run_plan`, :func:`run_check`) are shared by both paths.
 
 from __future__ import annotations
 
-import json
 import re
 import sys
 import time
@@ -24,8 +23,14 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from delkit._lazy import lazy_module
+
 if TYPE_CHECKING:
+    import json
+
     import typer
+else:
+    json = lazy_module("json")  # only --json needs it (start-up)
 
 
 def _echo(text: str) -> None:
@@ -148,8 +153,8 @@ def register(app: typer.Typer) -> None:
 
     @app.command("plan")
     def plan_command(
-        spec: Path = typer.Argument(..., help="mA* file, or E-PDDL domain file"),
-        problem: Path | None = typer.Argument(None, help="E-PDDL problem file (with an E-PDDL domain)"),
+        files: list[Path] = typer.Argument(..., help="mA* file, or E-PDDL DOMAIN PROBLEM; several tasks: a batch "
+                                                     "(mA* files, each domain followed by its problems)"),
         library: list[Path] = typer.Option([], "--library", "-l", help="EPDDL action-type library (repeatable)"),
         strict: bool = typer.Option(False, "--strict", help="refuse mA* duplicate declarations"),
         search: str = typer.Option("bfs", "--search", help="bfs (optimal), gbfs or astar"),
@@ -160,11 +165,19 @@ def register(app: typer.Typer) -> None:
                                    help="fast (compact bit sets), del (numpy, delkit's reference) or auto"),
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="expand states where an agent believes ⊥"),
-        as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
+        as_json: bool = typer.Option(False, "--json", help="print one JSON object (a batch: one per task)"),
+        jobs: int | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch (default: one "
+                                                                  "per core)"),
+        scheduler: str | None = typer.Option(None, "--scheduler", help="run a batch on the Dask cluster at "
+                                                                      "ADDRESS (e.g. tcp://host:8786)"),
     ) -> None:
-        """Find a plan (BFS: of minimal length) for an mA*, E-PDDL (2021) or EPDDL (2026) problem."""
-        raise typer.Exit(run_plan(spec, problem, search, timeout, max_nodes, max_memory, engine,
-                                  allow_inconsistent, as_json, library, strict))
+        """Find a plan (BFS: of minimal length) for an mA*, E-PDDL (2021) or EPDDL (2026) problem — or for every
+        task of many files in one command (a batch: JSON lines, a summary, one process per core)."""
+        from planners.batch import plan_files
+
+        raise typer.Exit(plan_files(files, search=search, timeout=timeout, max_nodes=max_nodes,
+                                    max_memory=max_memory, engine=engine, allow_inconsistent=allow_inconsistent,
+                                    as_json=as_json, library=library, strict=strict, jobs=jobs, scheduler=scheduler))
 
     @app.command("check")
     def check_command(
@@ -177,10 +190,18 @@ def register(app: typer.Typer) -> None:
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="do not fail when an agent comes to believe ⊥"),
         timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="wall-clock limit in seconds (0: none)"),
-        as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
+        as_json: bool = typer.Option(False, "--json", help="print one JSON object (a batch: one per group)"),
+        jobs: int | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch of SPEC [PROBLEM] "
+                                                                  "PLAN_FILE groups"),
+        scheduler: str | None = typer.Option(None, "--scheduler", help="run a batch on the Dask cluster at ADDRESS"),
     ) -> None:
-        """Replay a plan on a spec and check its executability, goal and properties."""
-        raise typer.Exit(run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict))
+        """Replay a plan on a spec and check its executability, goal and properties (many SPEC [PROBLEM]
+        PLAN_FILE groups: a batch)."""
+        from planners.batch import check_files
+
+        raise typer.Exit(check_files(files, prop=prop, props_file=props_file, allow_inconsistent=allow_inconsistent,
+                                     as_json=as_json, library=library, strict=strict, timeout=timeout, jobs=jobs,
+                                     scheduler=scheduler))
 
     @app.command("convert")
     def convert_command(
@@ -228,14 +249,17 @@ _NUM = re.compile(r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)\Z")
 _INT = re.compile(r"[0-9]+\Z")
 
 # option -> (keyword, kind); kind: flag, str, float, int, path, list
+_BATCH_OPTS = {"--jobs": ("jobs", "int"), "-j": ("jobs", "int"), "--scheduler": ("scheduler", "str")}  # batch.py
 _PLAN_OPTS = {"--search": ("search", "str"), "--timeout": ("timeout", "float"), "--max-nodes": ("max_nodes", "int"),
               "--max-memory": ("max_memory", "float"), "--engine": ("engine", "str"),
               "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),
-              "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag")}
+              "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag"),
+              **_BATCH_OPTS}
 _CHECK_OPTS = {"--property": ("prop", "list"), "-p": ("prop", "list"), "--properties": ("props_file", "path"),
                "--timeout": ("timeout", "float"),
                "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),
-               "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag")}
+               "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag"),
+              **_BATCH_OPTS}
 
 
 def _value(kind: str, text: str) -> Any:
@@ -294,10 +318,8 @@ def fast_args(argv: list[str]) -> Callable[[], int] | None:
                 kw[key] = value
     except ValueError:
         return None
-    if argv[0] == "plan":
-        if not 1 <= len(pos) <= 2:
-            return None
-        return lambda: run_plan(pos[0], pos[1] if len(pos) == 2 else None, **kw)
     if not pos:
         return None
-    return lambda: run_check(pos, **kw)
+    from planners.batch import check_files, plan_files  # one task, a batch, or one task on many cores
+
+    return (lambda: plan_files(pos, **kw)) if argv[0] == "plan" else (lambda: check_files(pos, **kw))

@@ -38,13 +38,19 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from operator import itemgetter
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import numpy as np
-
+from delkit._lazy import lazy_module
+from delkit.compact import PlainEvents
 from delkit.errors import ParseError
 from delkit.formula import BOT, TOP, And, Bot, C, Formula, Iff, Implies, K, Kw, Not, Or, Prop, Top
 from planners.lang.initial import LoadTimeout
 from planners.lang.sexpr import Node, Sym, read
+
+if TYPE_CHECKING:
+    import numpy as np
+else:  # only an explicit initial state needs numpy
+    np = lazy_module("numpy")
 
 __all__ = ["load_epddl2026", "parse_epddl2026", "LoadTimeout", "find_libraries", "BASIC"]
 
@@ -1383,20 +1389,13 @@ def _obs_leaf(g: _Ground, n, at: _ActType) -> Callable[[dict[str, str], dict, li
     return chain
 
 
-def _relation(n: int, pairs: list[tuple[int, int]]):
-    """A relation on n events; an equivalence is kept as a partition (products with S5 states stay cheap)."""
-    from delkit.relation import Relation
-
-    # decided on the pairs themselves (a handful of events): Relation's own tests would import scipy.sparse
+def _relation(n: int, pairs: list[tuple[int, int]]) -> list[tuple[int, ...]]:
+    """A relation on n events as successor rows (ascending; :class:`~delkit.compact.PlainEvents` turns an
+    equivalence into a partition when a delkit EventModel is needed)."""
     succ: list[set[int]] = [set() for _ in range(n)]
     for a, b in pairs:
         succ[a].add(b)
-    if all(e in succ[e] and all(e in succ[f] and succ[f] == succ[e] for f in succ[e]) for e in range(n)):
-        # reflexive, symmetric, and every successor has the same successors (transitive): a partition,
-        # labelled by class in order of least member (as Relation.from_labels would, without np.unique)
-        rank = {m: k for k, m in enumerate(sorted({min(succ[e]) for e in range(n)}))}
-        return Relation(n=n, labels=np.array([rank[min(succ[e])] for e in range(n)], dtype=np.int64))
-    return Relation.from_pairs(n, pairs)
+    return [tuple(sorted(x)) for x in succ]
 
 
 def _action_grounder(g: _Ground, at: _ActType, ev_refs, events, obs_node, agents, line, EventAction):
@@ -1404,8 +1403,6 @@ def _action_grounder(g: _Ground, at: _ActType, ev_refs, events, obs_node, agents
     (each grounded once per arguments), the action type's relations (once per type), the observability
     conditions (once per values of the variables they mention) — so errors come in the order of the
     constructs."""
-    from delkit.events import EventModel
-
     refs = [_deferred(_event_grounder, g, r, events) for r in ev_refs]
     obs_vars = sorted(_vars_in(obs_node)) if obs_node is not None else []
     obs_cache: dict[tuple, tuple] = {}   # values of obs_vars -> (conditions, agent -> [(relation, condition)])
@@ -1437,7 +1434,7 @@ def _action_grounder(g: _Ground, at: _ActType, ev_refs, events, obs_node, agents
         pre = tuple([e[1] for e in evs])
         post = tuple([e[2] for e in evs])
 
-        def build(bits: tuple[bool, ...]) -> EventModel:
+        def build(bits: tuple[bool, ...]) -> PlainEvents:
             relations = {}
             for a in agents:
                 t = 0
@@ -1445,7 +1442,7 @@ def _action_grounder(g: _Ground, at: _ActType, ev_refs, events, obs_node, agents
                     if ci is None or bits[ci]:
                         t = tt
                 relations[a] = by_type[t]
-            return EventModel(slots, agents, pre, post, relations, des, name)
+            return PlainEvents(slots, agents, pre, post, relations, des, name)
 
         return EventAction(name=name, build=build, conditions=conds, where=where, kind=tname,
                            designated_pre=tuple([pre[d] for d in des]))

@@ -21,5 +21,5 @@ def space_for(task: Task, engine: str = "auto", allow_inconsistent: bool = False
 
     event = has_event_actions(task)
     if engine == "auto":
-        engine = "del" if event and task.initial.n_worlds > 4096 else "fast"
+        engine = "del" if event and (task.plain_initial or task.initial).n_worlds > 4096 else "fast"
     return make_space(task, engine=engine, allow_inconsistent=allow_inconsistent or event)  # type: ignore[arg-type]

@@ -20,16 +20,23 @@ fluents is enumerated with numpy, a larger one is split on a top-level disjuncti
 propagated) and what is left goes to a BDD (``dd.cudd``, imported only then: it costs 0.3 s of start-up);
 the worlds are the product of the components' models with the unconstrained fluents. A ``deadline`` is
 honoured throughout (:class:`planners.lang.epddl2026.LoadTimeout`).
+
+Small tasks (every component over at most ``_SPLIT_VARS`` fluents, at most :data:`PLAIN_WORLDS` worlds) are
+built with integers only (:func:`plain_models`, :func:`plain_labels`: the same worlds in the same order and
+the same partitions) as a :class:`delkit.compact.PlainModel`, their initial statements checked on the
+compact backend: planning them never imports numpy, whose import is most of a small ``delkit plan``'s
+start-up. ``Task.initial`` converts such a model to a KripkeModel when it is read.
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
-import numpy as np
-
-from delkit.errors import ParseError, PlanningError
+from delkit._lazy import lazy_module
+from delkit.compact import CompactEngine, PlainModel
+from delkit.errors import ModelError, ParseError, PlanningError
 from delkit.formula import (
     BOT,
     TOP,
@@ -49,8 +56,14 @@ from delkit.formula import (
     show,
     substitute,
 )
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from delkit.kripke import KripkeModel
+    from delkit.relation import Relation
+else:  # imported when a task too large for the integer path (PlainModel) is read
+    np = lazy_module("numpy")
 
 __all__ = ["finitary_s5", "finitary_s5_epddl", "knows_whether", "models", "LoadTimeout"]
 
@@ -355,6 +368,115 @@ def _propagate(parts: list[Formula], fixed: dict[str, bool],
     return out
 
 
+def _prepare(pidx: dict[str, int], constraints: Sequence[Formula], fixed: dict[str, bool], folded: bool,
+             support: dict) -> list[tuple[list[str], list[Formula]]] | None:
+    """The constraints simplified under ``fixed`` and unit-propagated (``fixed`` is extended in place), split
+    into independent components (fluents, formulas); None if they are unsatisfiable."""
+    if fixed:
+        sub = {p: (TOP if v else BOT) for p, v in fixed.items()}
+        constraints = [_simplify(substitute(f, sub)) for f in constraints]
+    parts = _propagate(list(constraints) if folded else [_simplify(f) for f in constraints], fixed, support)
+    if parts is None:
+        return None
+    comps = _components(parts, support)
+    for unknown in [[p for p in fixed if p not in pidx]] + [[p for p in v if p not in pidx] for v, _ in comps]:
+        if unknown:
+            raise ParseError(f"the initial state mentions unknown fluent(s) {unknown}")
+    return comps
+
+
+PLAIN_WORLDS = 4096   # initial models up to this many worlds are built without numpy (PlainModel)
+
+
+def plain_models(props: Sequence[str], constraints: Sequence[Formula], *, fixed: dict[str, bool] | None = None,
+                 deadline: float | None = None) -> list[int] | None:
+    """:func:`models` as bit masks over ``props`` (bit i: ``props[i]``), in the same order, computed with
+    integers only — or None when the task is not small (a component over more than ``_SPLIT_VARS`` fluents,
+    or more than :data:`PLAIN_WORLDS` worlds): the caller then uses :func:`models`."""
+    props = tuple(props)
+    pidx = {p: i for i, p in enumerate(props)}
+    fixed = dict(fixed or {})
+    comps = _prepare(pidx, constraints, fixed, False, {})
+    if comps is None:
+        return []
+    blocks: list[list[int]] = []  # per component: its models as masks over props
+    total = 1
+    for vars_, fs in comps:
+        _check_deadline(deadline)
+        n = len(vars_)
+        if n > _SPLIT_VARS:
+            return None
+        fns = [_pfun(f, {p: 1 << (n - 1 - i) for i, p in enumerate(vars_)}) for f in fs]  # vars_[0]: top bit
+        bits = [1 << pidx[p] for p in vars_]
+        rows = []
+        for code in range(1 << n):
+            if all(fn(code) for fn in fns):
+                m = 0
+                for i, b in enumerate(bits):
+                    if (code >> (n - 1 - i)) & 1:
+                        m |= b
+                rows.append(m)
+        if not rows:
+            return []
+        blocks.append(rows)
+        total *= len(rows)
+        if total > PLAIN_WORLDS:
+            return None
+    covered = {pidx[p] for vars_, _ in comps for p in vars_} | {pidx[p] for p in fixed}
+    for i in range(len(props)):
+        if i not in covered:
+            blocks.append([0, 1 << i])
+            total *= 2
+            if total > PLAIN_WORLDS:
+                return None
+    base = 0
+    for p, v in fixed.items():
+        if v:
+            base |= 1 << pidx[p]
+    out = [base]
+    for rows in blocks:  # mixed-radix product, first block varies slowest
+        out = [m | r for m in out for r in rows]
+    return out
+
+
+def _pfun(f: Formula, bit: dict[str, int]):  # noqa: C901 - one clause per connective
+    """A propositional formula as a function of a valuation given as an int (``bit[p]``: the bit of p)."""
+    if isinstance(f, Prop):
+        b = bit[f.name]
+        return lambda v: bool(v & b)
+    if isinstance(f, Top):
+        return lambda v: True
+    if isinstance(f, Bot):
+        return lambda v: False
+    if isinstance(f, Not):
+        g = _pfun(f.arg, bit)
+        return lambda v: not g(v)
+    if isinstance(f, And):
+        gs = [_pfun(g, bit) for g in f.args]
+        return lambda v: all(g(v) for g in gs)
+    if isinstance(f, Or):
+        gs = [_pfun(g, bit) for g in f.args]
+        return lambda v: any(g(v) for g in gs)
+    if isinstance(f, Implies):
+        a, b = _pfun(f.left, bit), _pfun(f.right, bit)
+        return lambda v: not a(v) or b(v)
+    if isinstance(f, Iff):
+        a, b = _pfun(f.left, bit), _pfun(f.right, bit)
+        return lambda v: a(v) == b(v)
+    raise ParseError(f"not a propositional formula: {show(f)}")
+
+
+def plain_labels(vals: Sequence[int], pidx: dict[str, int], formulas: Sequence[Formula]) -> list[int]:
+    """A partition's class labels as :func:`_kw_relations` numbers them: worlds agreeing on every formula, the
+    classes ranked by their tuple of truth values (False before True)."""
+    if not formulas:
+        return [0] * len(vals)
+    fns = [_pfun(f, {p: 1 << i for p, i in pidx.items()}) for f in formulas]
+    keys = [tuple(fn(v) for fn in fns) for v in vals]
+    rank = {k: i for i, k in enumerate(sorted(set(keys)))}
+    return [rank[k] for k in keys]
+
+
 def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: float | None = None,
            fixed: dict[str, bool] | None = None, _depth: int = 0, _folded: bool = False,
            _support_cache: dict | None = None) -> np.ndarray:
@@ -369,22 +491,13 @@ def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: fl
     pidx = {p: i for i, p in enumerate(props)}
     empty = np.zeros((0, len(props)), dtype=bool)
     fixed = dict(fixed or {})
-    if fixed:
-        sub = {p: (TOP if v else BOT) for p, v in fixed.items()}
-        constraints = [_simplify(substitute(f, sub)) for f in constraints]
     support: dict[int, tuple[Formula, frozenset[str]]] = {} if _support_cache is None else _support_cache
-    parts = _propagate(list(constraints) if _folded else [_simplify(f) for f in constraints], fixed, support)
-    if parts is None:
+    comps = _prepare(pidx, constraints, fixed, _folded, support)
+    if comps is None:
         return empty
-    unknown = [p for p in fixed if p not in pidx]
-    if unknown:
-        raise ParseError(f"the initial state mentions unknown fluent(s) {unknown}")
     blocks: list[tuple[list[int], np.ndarray]] = []
-    for vars_, fs in _components(parts, support):
+    for vars_, fs in comps:
         _check_deadline(deadline)
-        unknown = [p for p in vars_ if p not in pidx]
-        if unknown:
-            raise ParseError(f"the initial state mentions unknown fluent(s) {unknown}")
         split = None
         if len(vars_) > _SPLIT_VARS and _depth < 3:
             # the disjunction whose every branch fixes the most fluents (then the fewest branches)
@@ -434,6 +547,8 @@ def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: fl
 def _kw_relations(val: np.ndarray, pidx: dict[str, int], agents: Sequence[str], kw: dict[str, list[Formula]],
                   deadline: float | None) -> dict[str, Relation]:
     """Agent i's partition: the worlds agreeing on every formula i knows whether."""
+    from delkit.relation import Relation
+
     rels: dict[str, Relation] = {}
     n = val.shape[0]
     for a in agents:
@@ -454,6 +569,9 @@ def finitary_s5_epddl(props: Sequence[str], agents: Sequence[str], type1: Sequen
     worlds satisfy every ``type2`` formula, designated ones also every ``type1`` formula, and agent i's
     relation links the worlds agreeing on every formula of ``type3[i]``."""
     props, agents = tuple(props), tuple(agents)
+    plain = _plain_s5_epddl(props, agents, type1, type2, type3, source, deadline)
+    if plain is not None:
+        return plain
     val = models(props, list(type2), deadline=deadline)
     if val.shape[0] == 0:
         raise ParseError("no world satisfies the initial common knowledge ([C. All] formulas)", source=source)
@@ -465,6 +583,8 @@ def finitary_s5_epddl(props: Sequence[str], agents: Sequence[str], type1: Sequen
         raise ParseError("no world satisfies the initial facts together with the common knowledge "
                          "(no designated world)", source=source)
     rels = _kw_relations(val, pidx, agents, type3, deadline)
+    from delkit.kripke import KripkeModel
+
     return KripkeModel(props, agents, val, rels, tuple(np.flatnonzero(des).tolist()))
 
 
@@ -522,6 +642,9 @@ def finitary_s5(props: Sequence[str], agents: Sequence[str], pointed: dict[str, 
                 k = knows_whether(part)
                 if k is not None:
                     kw[k[0]].append(k[1])
+    vals = plain_models(props, prop_filters, fixed=fixed, deadline=deadline)
+    if vals is not None:
+        return _plain_s5(props, agents, vals, kw, pointed, common, others, source, deadline)
     val = models(props, prop_filters, fixed=fixed, deadline=deadline)
     if val.shape[0] == 0:
         raise ParseError("no valuation satisfies the initial common knowledge", source=source)
@@ -540,6 +663,8 @@ def finitary_s5(props: Sequence[str], agents: Sequence[str], pointed: dict[str, 
         raise ParseError(f"the initial literals do not determine the actual world: fluent(s) {undecided} are "
                          f"neither given nor fixed by common knowledge; add them (negated if false) to the "
                          f"'initially' literals", source=source)
+    from delkit.kripke import KripkeModel
+
     model = KripkeModel(props, agents, val, rels, (int(hits[0]),))
     everyone = tuple(sorted(agents))
     for phi, where in common:
@@ -554,3 +679,77 @@ def finitary_s5(props: Sequence[str], agents: Sequence[str], pointed: dict[str, 
             raise ParseError(f"initial statement {show(phi)} does not hold in the initial state",
                              source=where)
     return model
+
+
+# ------------------------------------------------------------------------------------- small tasks, no numpy
+def _plain_s5(props: tuple[str, ...], agents: tuple[str, ...], vals: list[int], kw: dict[str, list[Formula]],
+              pointed: dict[str, bool], common: Sequence[tuple[Formula, str]], others: Sequence[tuple[Formula, str]],
+              source: str, deadline: float | None) -> PlainModel:
+    """:func:`finitary_s5` for a small task: the same model as a PlainModel (integers only), its initial
+    statements checked on the compact backend."""
+    if not vals:
+        raise ParseError("no valuation satisfies the initial common knowledge", source=source)
+    pidx = {p: i for i, p in enumerate(props)}
+    labels = {a: plain_labels(vals, pidx, kw.get(a, [])) for a in agents}
+    _check_deadline(deadline)
+    want = on = 0
+    for p, v in pointed.items():
+        want |= 1 << pidx[p]
+        on |= (1 << pidx[p]) if v else 0
+    hits = [w for w, v in enumerate(vals) if v & want == on]
+    if not hits:
+        raise ParseError("the initial literals contradict the initial common knowledge (no world satisfies "
+                         "both)", source=source)
+    if len(hits) > 1:
+        undecided = [p for p in props if p not in pointed and len({(vals[w] >> pidx[p]) & 1 for w in hits}) > 1]
+        raise ParseError(f"the initial literals do not determine the actual world: fluent(s) {undecided} are "
+                         f"neither given nor fixed by common knowledge; add them (negated if false) to the "
+                         f"'initially' literals", source=source)
+    model = PlainModel(props, agents, vals, labels, (hits[0],))
+    holds = _plain_holds(model)
+    everyone = tuple(sorted(agents))
+    for phi, where in common:
+        _check_deadline(deadline)
+        if not holds(C(everyone, phi)) or not holds(phi):
+            raise ParseError(f"initial statement C({show(phi)}) is not made true by the finitary-S5 "
+                             f"construction (supported: fluent formulas and B(i,ψ) | B(i,-ψ) under C)",
+                             source=where)
+    for phi, where in others:
+        _check_deadline(deadline)
+        if not holds(phi):
+            raise ParseError(f"initial statement {show(phi)} does not hold in the initial state",
+                             source=where)
+    return model
+
+
+def _plain_s5_epddl(props: tuple[str, ...], agents: tuple[str, ...], type1: Sequence[Formula],
+                    type2: Sequence[Formula], type3: dict[str, list[Formula]], source: str,
+                    deadline: float | None) -> PlainModel | None:
+    """:func:`finitary_s5_epddl` for a small task as a PlainModel, or None (not small)."""
+    vals = plain_models(props, list(type2), deadline=deadline)
+    if vals is None:
+        return None
+    if not vals:
+        raise ParseError("no world satisfies the initial common knowledge ([C. All] formulas)", source=source)
+    pidx = {p: i for i, p in enumerate(props)}
+    bit = {p: 1 << i for p, i in pidx.items()}
+    fns = [_pfun(f, bit) for f in type1]
+    des = [w for w, v in enumerate(vals) if all(fn(v) for fn in fns)]
+    if not des:
+        raise ParseError("no world satisfies the initial facts together with the common knowledge "
+                         "(no designated world)", source=source)
+    labels = {a: plain_labels(vals, pidx, type3.get(a, [])) for a in agents}
+    return PlainModel(props, agents, vals, labels, des)
+
+
+def _plain_holds(model: PlainModel):
+    """``model.holds`` on the compact backend (the KripkeModel's for what the compact backend refuses)."""
+    eng = CompactEngine(model.props, model.agents)
+    state = eng.from_plain(model)
+
+    def holds(f: Formula) -> bool:
+        try:
+            return eng.holds(state, f)
+        except ModelError:
+            return model.kripke().holds(f)
+    return holds

@@ -29,8 +29,9 @@ CB2 = str(BENCH / "mastar" / "CB_simple" / "CB_simple__pl_2.txt") if BENCH else 
 
 def _norm(text: str) -> str:
     """Timings differ from run to run: blank them out."""
-    text = re.sub(r'"seconds": [0-9.e-]+', '"seconds": T', text)
-    return re.sub(r"[0-9]+\.[0-9]+ s\b", "T s", text)
+    text = re.sub(r'"(seconds|cpu|wall|task_cpu_s|wall_s)": [0-9.e-]+', r'"\1": T', text)
+    text = re.sub(r"[0-9]+\.[0-9]+ s\b", "T s", text)
+    return re.sub(r"\b[0-9]+\.[0-9]{3}\b", "T", text)  # a batch's table
 
 
 def _both(capsys, monkeypatch, argv: list[str]) -> tuple[tuple[int, str, str], tuple[int, str, str]]:
@@ -55,9 +56,11 @@ LINES = [
     ["plan", DOM, PROB, "--timeout", "soon"],                             # typer's usage error
     ["plan", DOM, PROB, "--nodes", "3"],                                  # unknown option
     ["plan"],                                                             # missing argument
-    ["plan", DOM, PROB, "extra"],                                         # too many arguments
+    ["plan", DOM, PROB, "extra"],                                         # a batch: one task, one bad file
     ["plan", "/nonexistent/spec.txt"],                                    # unreadable file: exit 2
     ["plan", DOM, PROB, "--json", "--json"],
+    ["plan", DOM, PROB, str(COIN / "common.epddl"), "--jobs", "1", "--json"],   # a batch of two tasks
+    ["plan", DOM, PROB, "--jobs", "0"],                                   # bad --jobs: exit 2
     ["plan", DOM, PROB, "--timeout", "5", "--timeout", "6"],
     ["check", DOM, PROB, PLAN],
     ["check", DOM, PROB, PLAN, "--json", "--properties", PROPS, "-p", "eventually K_b tail"],
@@ -78,9 +81,10 @@ def test_fast_path_answers_as_typer_does(capsys, monkeypatch, argv: list[str]) -
 def test_fast_path_only_takes_plain_lines() -> None:
     assert fast_args(["plan", DOM, PROB, "--json"]) is not None
     assert fast_args(["check", DOM, PROB, PLAN, "-p", "at end opened"]) is not None
+    assert fast_args(["plan", DOM, PROB, PLAN]) is not None            # a batch (a domain, two problems)
     for argv in (["plan", "--help"], ["plan", DOM, "--help"], ["check", "-h"], ["plan", DOM, "--", PROB],
                  ["plan", DOM, "--timeout", "1e3"], ["plan", DOM, "--max-nodes", "2.5"], ["plan", DOM, "--json=1"],
-                 ["plan", DOM, "--timeout"], ["plan"], ["plan", DOM, PROB, PLAN], ["check"], ["model", "show", DOM],
+                 ["plan", DOM, "--timeout"], ["plan"], ["check"], ["model", "show", DOM],
                  ["plan", DOM, "-x"], ["check", DOM, "-pX"], ["check", DOM, "-p=x"], ["plan", ""],
                  ["check", DOM, "-p", ""], []):
         assert fast_args(argv) is None, argv
@@ -97,6 +101,23 @@ def _modules_after(argv: list[str]) -> set[str]:
 
 
 HEAVY = {"typer", "click", "rich", "pydantic", "scipy", "z3", "dd", "matplotlib", "mujoco", "lark"}
+# a small task is planned on the compact backend with integers and bit operations: numpy is not loaded
+SMALL_PLAN_HEAVY = HEAVY | {"numpy", "networkx"}
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_plan_small_tasks_never_imports_numpy() -> None:
+    plank = BENCH / "epddl2026" / "plank"
+    lines = [["plan", CB2], ["plan", CB2, "--json"], ["plan", CB2, "--search", "astar"],
+             ["plan", str(BENCH / "mastar" / "Coin_In_The_Box" / "Coin_in_the_Box__pl_3.txt")],
+             ["plan", str(BENCH / "mastar" / "Grapevine" / "Grapevine_3" / "Grapevine_3__pl_2.txt"),
+              "--search", "gbfs"],
+             ["plan", DOM, PROB],
+             ["plan", str(plank / "domains" / "Coin-in-the-Box" / "cb.epddl"),
+              str(plank / "domains" / "Coin-in-the-Box" / "instances" / "problem_2.epddl"),
+              "-l", str(plank / "libraries" / "intermediate.epddl")]]
+    for argv in lines:
+        assert not _modules_after(argv) & SMALL_PLAN_HEAVY, argv
 
 
 @pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")

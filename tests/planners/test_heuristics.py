@@ -268,3 +268,78 @@ def test_macros_and_event_actions_stay_admissible() -> None:
     space = make_space(ev)
     assert content_conjuncts(space) == {} and h_epi(space)(space.initial()[0]) == 1.0
     assert plan(ev, search="astar").length == 1 == plan(ev).length
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(mastar_tasks(), st.sampled_from(["plain", "plain", "plain", "macro", "event"]),
+       st.sampled_from(["fast", "del"]))
+def test_h_chain_admissible_consistent_dominates_h_epi_and_astar_optimal(text: str, kind: str, engine: str) -> None:
+    from delkit.errors import DelkitError
+    from planners.heuristics import h_chain
+
+    try:
+        task = _variant(parse_mastar(text, "random.txt"), kind)
+        space = make_space(task, engine=engine)
+        got = _distances(space, limit=1500)
+    except DelkitError:
+        return
+    if got is None:
+        return
+    states, succ, dist = got
+    h, h0 = h_chain(space), h_epi(space)
+    by_key = dict(states)
+    for k, s in states:
+        hv = h(s)
+        assert h0(s) <= hv <= dist.get(k, math.inf), (text, hv, dist.get(k))   # admissible, ≥ h_epi
+        for nk in succ[k]:
+            assert hv <= 1 + h(by_key[nk]) or hv == math.inf, text               # consistent
+    fresh = make_space(task, engine=engine)
+    a = best_first(fresh, Limits(timeout=30), kind="astar", h=h_chain(fresh))
+    b = plan(task, search="bfs", limits=Limits(timeout=30))
+    assert a.status == b.status and a.length == b.length, text
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_h_chain_sees_the_executability_chain() -> None:
+    from planners.heuristics import h_chain
+
+    # open_a needs has_key_a, which only peek_up_key_a... gives: h_epi 1, the chain 2 = the optimum
+    space = make_space(load_task(BENCH / "mastar" / "CB_simple" / "CB_simple__pl_2.txt"))
+    s0, _ = space.initial()
+    assert (h_epi(space)(s0), h_chain(space)(s0)) == (1.0, 2.0)
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+@pytest.mark.parametrize("name", ["Grapevine_3/Grapevine_3__pl_4.txt", "Grapevine_4/Grapevine_4__pl_4.txt",
+                                  "Grapevine_4/Grapevine_4__pl_3.txt"])
+def test_bfs_dead_end_pruning_keeps_the_plan(name: str) -> None:
+    from planners.heuristics import dead_end_test
+
+    task = load_task(BENCH / "mastar" / "Grapevine" / name)
+    a = bfs(make_space(task), Limits(timeout=60))
+    b = bfs(make_space(task), Limits(timeout=60), prune=False)
+    assert a.plan == b.plan and a.status == b.status == "solved"
+    assert a.expanded < b.expanded and a.dead_ends > b.dead_ends     # it prunes here
+    space = make_space(task)
+    test = dead_end_test(space)
+    assert test is not None and not test(space.initial()[0])
+
+
+@pytest.mark.slow
+def test_cc_2_4_4_length_7_by_astar() -> None:
+    res = plan(load_task(SPECS / "cc_2_4_4" / "CC_2_4_4_s3__pl_7.txt"), search="astar", limits=Limits(timeout=900))
+    assert res.length == 7
+
+
+def test_cc_generator_reproduces_its_instances() -> None:
+    import importlib.util
+
+    path = SPECS.parent / "bench" / "cc_tasks.py"
+    spec = importlib.util.spec_from_file_location("cc_tasks", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)  # type: ignore[union-attr]
+    for seed in (3, 5):
+        want = (SPECS / "cc_2_4_4" / f"CC_2_4_4_s{seed}__pl_7.txt").read_text()
+        assert mod.draw(2, 4, 4, 3, seed) == want
+    small = parse_mastar(mod.draw(2, 2, 2, 2, 1), "cc.txt")
+    assert plan(small, search="astar").length == plan(small, search="bfs").length == 2

@@ -1,0 +1,135 @@
+"""Generator of Collaboration-and-Communication (CC) tasks in mA*, the family of EFP's ``CC_2_2_3`` scaled up.
+
+Agents stand in a corridor of rooms 1..R (their positions are common knowledge); each of B boxes is in
+exactly one room, unknown to everybody (R^B initial worlds). Actions, as in ``CC_2_2_3``:
+
+* ``left_x`` / ``right_x``: agent x moves one room (executable if x is not at the end and believes so);
+  everybody observes it;
+* ``x_check_k_r``: x, in room r, senses whether box k is there (``determines at_bk_r``); only x observes it
+  (the others are oblivious: their beliefs keep a copy of the old model — KD45 states with many worlds);
+* ``tell_x_k_r``: x announces that box k is in room r (executable if x believes it); everybody observes it.
+
+The goal asks agents to believe where boxes are (``B(y, at_bk_r)`` for the box's actual room). ``--length
+L`` draws instances (seeded) until one whose optimal plan length, found by A* (h_chain), is L.
+
+    .venv/bin/python bench/cc_tasks.py --agents 2 --rooms 4 --boxes 4 --goals 2 --seed 3 > cc.txt
+    .venv/bin/python bench/cc_tasks.py --agents 2 --rooms 4 --boxes 4 --length 7 --out DIR [--count 3]
+"""
+
+from __future__ import annotations
+
+import argparse
+import random
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+AGENTS = "abcdefgh"
+
+
+def cc_task(agents: int, rooms: int, boxes: int, *, where: list[int], start: list[int],
+            goals: list[tuple[int, int]]) -> str:
+    """The mA* text: ``where[k]`` is box k's room, ``start[i]`` agent i's room (1-based), ``goals`` the
+    (agent index, box index) pairs of the goal B(agent, at_box_room)."""
+    ags = AGENTS[:agents]
+    rs = range(1, rooms + 1)
+    fl = [f"at_{x}_{r}" for x in ags for r in rs] + [f"at_b{k}_{r}" for k in range(1, boxes + 1) for r in rs]
+    acts: list[str] = []
+    body: list[str] = []
+    for x in ags:
+        for d, (name, edge) in enumerate((("left", 1), ("right", rooms))):
+            a = f"{name}_{x}"
+            acts.append(a)
+            body.append(f"executable {a} if (-at_{x}_{edge}), B({x}, -at_{x}_{edge});")
+            for r in rs:
+                to = r - 1 if d == 0 else r + 1
+                if 1 <= to <= rooms:
+                    body.append(f"{a} causes -at_{x}_{r} if at_{x}_{r};")
+                    body.append(f"{a} causes at_{x}_{to} if at_{x}_{r};")
+            body += [f"{y} observes {a};" for y in ags]
+    for x in ags:
+        for k in range(1, boxes + 1):
+            for r in rs:
+                a = f"{x}_check_{k}_{r}"
+                acts.append(a)
+                body += [f"executable {a} if B({x}, at_{x}_{r});", f"{a} determines at_b{k}_{r};",
+                         f"{x} observes {a};"]
+                t = f"tell_{x}_{k}_{r}"
+                acts.append(t)
+                body += [f"executable {t} if B({x}, at_b{k}_{r});", f"{t} announces at_b{k}_{r};"]
+                body += [f"{y} observes {t};" for y in ags]
+    init = [f"{'' if start[i] == r else '-'}at_{x}_{r}" for i, x in enumerate(ags) for r in rs]
+    init += [f"{'' if where[k - 1] == r else '-'}at_b{k}_{r}" for k in range(1, boxes + 1) for r in rs]
+    every = f"[{','.join(ags)}]"
+    lines = [f"%%% CC: {agents} agents, {rooms} rooms, {boxes} boxes (bench/cc_tasks.py) %%%", "",
+             f"fluent {', '.join(fl)};", f"action {', '.join(acts)};", "", f"agent {','.join(ags)};", "",
+             *body, "", f"initially {', '.join(init)};"]
+    for i, x in enumerate(ags):
+        for r in rs:
+            lines.append(f"initially C({every}, {'' if start[i] == r else '-'}at_{x}_{r});")
+    for k in range(1, boxes + 1):
+        one = " | ".join("(" + ", ".join(f"{'' if q == r else '-'}at_b{k}_{q}" for q in rs) + ")" for r in rs)
+        lines.append(f"initially C({every}, {one});")
+    lines += [f"goal B({ags[i]},at_b{k + 1}_{where[k]});" for i, k in goals]
+    return "\n".join(lines) + "\n"
+
+
+def draw(agents: int, rooms: int, boxes: int, goals: int, seed: int) -> str:
+    rng = random.Random(seed)
+    where = [rng.randint(1, rooms) for _ in range(boxes)]
+    start = [rng.randint(1, rooms) for _ in range(agents)]
+    pairs = rng.sample([(i, k) for i in range(agents) for k in range(boxes)], goals)
+    return cc_task(agents, rooms, boxes, where=where, start=start, goals=sorted(pairs))
+
+
+def optimal_length(text: str, timeout: float) -> tuple[int | None, float, int]:
+    """(A*'s optimal plan length or None, CPU seconds, expanded nodes) of a CC task text."""
+    from planners.epistemic import Limits, plan
+    from planners.lang.mastar import parse_mastar
+
+    c0 = time.process_time()
+    task = parse_mastar(text, "cc.txt")
+    res = plan(task, search="astar", limits=Limits(timeout=timeout))
+    return res.length, time.process_time() - c0, res.expanded
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--agents", type=int, default=2)
+    ap.add_argument("--rooms", type=int, default=4)
+    ap.add_argument("--boxes", type=int, default=4)
+    ap.add_argument("--goals", type=int, default=2)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--length", type=int, default=None, help="search seeds for this optimal plan length")
+    ap.add_argument("--count", type=int, default=1, help="with --length: how many instances")
+    ap.add_argument("--timeout", type=float, default=120.0, help="with --length: A*'s limit per try")
+    ap.add_argument("--tries", type=int, default=60)
+    ap.add_argument("--out", type=Path, default=None)
+    a = ap.parse_args()
+    if a.agents > len(AGENTS) or min(a.agents, a.rooms, a.boxes, a.goals) < 1 or a.goals > a.agents * a.boxes:
+        raise SystemExit(f"need 1 ≤ agents ≤ {len(AGENTS)}, rooms ≥ 1, boxes ≥ 1, 1 ≤ goals ≤ agents·boxes")
+    if a.length is None:
+        sys.stdout.write(draw(a.agents, a.rooms, a.boxes, a.goals, a.seed))
+        return
+    found = 0
+    for seed in range(a.seed, a.seed + a.tries):
+        text = draw(a.agents, a.rooms, a.boxes, a.goals, seed)
+        n, cpu, exp = optimal_length(text, a.timeout)
+        print(f"seed {seed}: optimal length {n}, A* {cpu:.2f} s CPU, {exp} expanded", file=sys.stderr, flush=True)
+        if n == a.length:
+            name = f"CC_{a.agents}_{a.rooms}_{a.boxes}_s{seed}__pl_{n}.txt"
+            if a.out is not None:
+                a.out.mkdir(parents=True, exist_ok=True)
+                (a.out / name).write_text(text)
+            print(name)
+            found += 1
+            if found >= a.count:
+                return
+    raise SystemExit(f"no instance of length {a.length} among {a.tries} seeds")
+
+
+if __name__ == "__main__":
+    main()

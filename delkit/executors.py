@@ -1,0 +1,252 @@
+"""Executors for campaigns of independent runs (planner suites, exploration sweeps).
+
+:func:`executor` yields a :class:`concurrent.futures.Executor`: the executor of a Dask ``distributed``
+cluster when an address is given (``Client(address).get_executor()``), otherwise a local
+:class:`IsolatedPool`. Callers submit picklable functions and read futures, whichever it is.
+
+:class:`IsolatedPool` is a process pool for runs that may misbehave: ``workers`` processes, each reused for
+many runs (start-up is paid once per process, not per run), where
+
+* a run that exceeds ``hard_timeout`` seconds of wall-clock time has its worker killed and its future fails
+  with :class:`RunKilled` (the run's own limits should stop it first: this is the backstop);
+* a worker that dies (a crash, a signal, the kernel's out-of-memory killer) fails only the future of the
+  run it was doing, with :class:`WorkerDied`; a fresh worker takes its place;
+* ``memory_mb`` caps each worker's address space (``RLIMIT_AS``), so a run that allocates too much gets a
+  ``MemoryError`` in its own process instead of taking the machine down.
+
+:class:`concurrent.futures.ProcessPoolExecutor` does none of this: one dead worker breaks the whole pool.
+Workers are started with ``spawn`` (no fork of a threaded parent).
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Iterator
+from concurrent.futures import Executor, Future
+from contextlib import contextmanager
+from typing import Any
+
+from delkit.errors import DelkitError
+
+__all__ = ["IsolatedPool", "RunKilled", "WorkerDied", "executor"]
+
+
+class RunKilled(RuntimeError):
+    """A run exceeded the pool's hard wall-clock limit; its worker was killed."""
+
+
+class WorkerDied(RuntimeError):
+    """The worker process died while doing the run (crash, signal, out-of-memory kill)."""
+
+
+def _worker(conn: Any, memory_mb: float | None) -> None:
+    """Worker loop: receive (fn, args, kwargs), send back (True, result, cpu) or (False, exception, cpu)."""
+    import pickle
+    import resource
+
+    if memory_mb:
+        limit = int(memory_mb * 2**20)
+        _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+        if hard == resource.RLIM_INFINITY or limit <= hard:
+            resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
+    while True:
+        try:
+            job = conn.recv()
+        except (EOFError, OSError):
+            return
+        if job is None:
+            return
+        fn, args, kwargs = job
+        t0 = time.process_time()
+        try:
+            out: tuple = (True, fn(*args, **kwargs))
+        except BaseException as exc:  # noqa: BLE001 - every failure goes back to the parent's future
+            out = (False, exc)
+        cpu = time.process_time() - t0
+        try:
+            conn.send((*out, cpu))
+        except (pickle.PicklingError, TypeError, AttributeError) as exc:  # an unpicklable result or exception
+            conn.send((False, RuntimeError(f"{type(out[1]).__name__}: {out[1]} (not picklable: {exc})"), cpu))
+
+
+class _Slot:
+    __slots__ = ("proc", "conn", "job", "started")
+
+    def __init__(self, proc: Any, conn: Any) -> None:
+        self.proc, self.conn = proc, conn
+        self.job: tuple[Future, Any] | None = None
+        self.started = 0.0
+
+
+class IsolatedPool(Executor):
+    """A process pool where one run's crash, hang or memory blow-up fails that run only (module docstring).
+
+    ``cpu`` of every finished run (its worker's CPU seconds) is recorded in ``future.cpu``.
+    """
+
+    def __init__(self, workers: int | None = None, *, hard_timeout: float | None = None,
+                 memory_mb: float | None = None) -> None:
+        import multiprocessing
+
+        self._ctx = multiprocessing.get_context("spawn")
+        self.workers = max(1, int(workers or os.cpu_count() or 1))
+        self.hard_timeout = hard_timeout
+        self.memory_mb = memory_mb
+        self._queue: deque[tuple[Future, tuple]] = deque()
+        self._slots: list[_Slot] = []
+        self._lock = threading.Lock()
+        self._wake_r, self._wake_w = self._ctx.Pipe(duplex=False)
+        self._shutdown = False
+        self._thread = threading.Thread(target=self._loop, name="IsolatedPool", daemon=True)
+        self._thread.start()
+
+    # ------------------------------------------------------------------ Executor
+    def submit(self, fn: Callable, /, *args: Any, **kwargs: Any) -> Future:
+        if self._shutdown:
+            raise RuntimeError("cannot submit to a pool that is shut down")
+        fut: Future = Future()
+        with self._lock:
+            self._queue.append((fut, (fn, args, kwargs)))
+        self._wake()
+        return fut
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        if cancel_futures:
+            with self._lock:
+                while self._queue:
+                    self._queue.popleft()[0].cancel()
+        self._shutdown = True
+        self._wake()
+        if wait:
+            self._thread.join()
+
+    # ------------------------------------------------------------------ internals
+    def _wake(self) -> None:
+        try:
+            self._wake_w.send_bytes(b"x")
+        except OSError:  # pragma: no cover - the loop has ended
+            pass
+
+    def _spawn(self) -> _Slot:
+        parent, child = self._ctx.Pipe()
+        proc = self._ctx.Process(target=_worker, args=(child, self.memory_mb), daemon=True)
+        proc.start()
+        child.close()
+        return _Slot(proc, parent)
+
+    def _fail(self, slot: _Slot, exc: BaseException) -> None:
+        fut, _ = slot.job  # type: ignore[misc]
+        slot.job = None
+        if not fut.done():
+            fut.set_exception(exc)
+
+    def _replace(self, slot: _Slot) -> None:
+        try:
+            slot.conn.close()
+        except OSError:  # pragma: no cover
+            pass
+        if slot.proc.is_alive():
+            slot.proc.kill()
+        slot.proc.join(1.0)
+        self._slots.remove(slot)
+
+    def _dispatch(self) -> None:
+        with self._lock:
+            while self._queue:
+                idle = next((s for s in self._slots if s.job is None), None)
+                if idle is None:
+                    if len(self._slots) >= self.workers:
+                        return
+                    idle = self._spawn()
+                    self._slots.append(idle)
+                fut, job = self._queue.popleft()
+                if not fut.set_running_or_notify_cancel():
+                    continue
+                idle.job, idle.started = (fut, job), time.monotonic()
+                idle.conn.send(job)
+
+    def _loop(self) -> None:
+        from multiprocessing.connection import wait
+
+        while True:
+            self._dispatch()
+            busy = [s for s in self._slots if s.job is not None]
+            if self._shutdown and not busy and not self._queue:
+                break
+            ready = wait([self._wake_r] + [s.conn for s in busy] + [s.proc.sentinel for s in busy], timeout=0.1)
+            if self._wake_r in ready:
+                while self._wake_r.poll():
+                    self._wake_r.recv_bytes()
+            now = time.monotonic()
+            for slot in busy:
+                if slot.conn in ready:
+                    try:
+                        ok, value, cpu = slot.conn.recv()
+                    except (EOFError, OSError):
+                        code = slot.proc.exitcode if slot.proc.join(1.0) is None else None
+                        self._fail(slot, WorkerDied(_died(code)))
+                        self._replace(slot)
+                        continue
+                    fut, _ = slot.job  # type: ignore[misc]
+                    slot.job = None
+                    fut.cpu = cpu  # type: ignore[attr-defined]
+                    if not fut.done():
+                        fut.set_result(value) if ok else fut.set_exception(value)
+                elif slot.proc.sentinel in ready:
+                    slot.proc.join(1.0)
+                    self._fail(slot, WorkerDied(_died(slot.proc.exitcode)))
+                    self._replace(slot)
+                elif self.hard_timeout is not None and now - slot.started > self.hard_timeout:
+                    self._fail(slot, RunKilled(f"killed after {now - slot.started:.1f} s of wall-clock time (the "
+                                               f"pool's hard limit is {self.hard_timeout:g} s)"))
+                    self._replace(slot)
+        for slot in list(self._slots):
+            try:
+                slot.conn.send(None)
+            except OSError:
+                pass
+            slot.proc.join(2.0)
+            self._replace(slot)
+
+
+def _died(code: int | None) -> str:
+    if code is not None and code < 0:
+        import signal
+
+        try:
+            name = signal.Signals(-code).name
+        except ValueError:
+            name = f"signal {-code}"
+        why = " (the kernel's out-of-memory killer sends SIGKILL)" if name == "SIGKILL" else ""
+        return f"the worker process was killed by {name}{why}"
+    return f"the worker process exited with status {code}"
+
+
+@contextmanager
+def executor(workers: int | None = None, dask: str | None = None, dask_timeout: float = 10.0, *,
+             hard_timeout: float | None = None, memory_mb: float | None = None) -> Iterator[Executor]:
+    """A local :class:`IsolatedPool`, or the executor of the Dask cluster at ``dask`` (e.g.
+    ``tcp://127.0.0.1:8786``; its workers and their memory limits are the cluster's)."""
+    if dask:
+        try:
+            from distributed import Client
+        except ImportError as exc:  # pragma: no cover - dask is a declared extra
+            raise DelkitError("--scheduler needs the 'distributed' package (pip install 'delkit[dask]')") from exc
+        try:
+            client = Client(dask, timeout=dask_timeout)
+        except (OSError, ValueError) as exc:  # unreachable, timed out, or not an address
+            raise DelkitError(f"cannot reach the Dask scheduler at {dask!r} ({exc}); start one with "
+                              "'dask scheduler' or leave the address out to use local processes") from exc
+        try:
+            yield client.get_executor()
+        finally:
+            client.close()
+    else:
+        pool = IsolatedPool(workers, hard_timeout=hard_timeout, memory_mb=memory_mb)
+        try:
+            yield pool
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)

@@ -1,0 +1,341 @@
+"""Batch mode of ``delkit plan`` / ``delkit check``: a whole suite in one command, across cores.
+
+``delkit plan FILE... [--jobs N] [--timeout T] [--scheduler ADDRESS] [--json]`` plans every task of the
+files: an mA* file is a task; an E-PDDL / EPDDL domain file is paired with each problem file that follows it
+(``D P1 P2 D2 P3``; ``--library`` applies to all). ``delkit check`` takes groups ``SPEC [PROBLEM] PLAN_FILE``
+the same way (a file that is not a spec is the plan file closing a group).
+
+* Runs go through :func:`delkit.executors.executor`: ``N`` local worker processes (default: one per core),
+  each reused for many tasks, or the Dask cluster at ``--scheduler``. Each task runs the command's own body
+  (:func:`planners.cli.plan_cmd.run_plan` with ``--json``), so its answer, its limits (``--timeout``,
+  ``--max-nodes``, ``--max-memory`` hold per task) and its exit status are those of a single run.
+* One task's crash, hang past its limit or memory blow-up is reported as that task's result (status
+  ``crash``) and the others go on: the worker is replaced (see :class:`delkit.executors.IsolatedPool`).
+* Results: with ``--json`` one JSON object per task on stdout as soon as it is done (``file``, ``problem``,
+  ``exit``, ``cpu`` — the worker's CPU seconds for the task —, ``wall`` and the fields of the single
+  command's JSON), then one ``{"summary": ...}`` object; otherwise a table in input order and a totals line.
+  A progress bar (rich) is drawn on stderr when it is a terminal and ``--json`` is not given.
+* Exit status: 0 every task solved (check: every plan valid); otherwise that of the worst task, from best
+  to worst 1 (no plan exists / plan invalid), 3 (a limit, a crash, or killed), 2 (bad input).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import re
+import sys
+import time
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from delkit._lazy import lazy_module
+
+if TYPE_CHECKING:
+    import json
+else:
+    json = lazy_module("json")  # a single small task never needs it (start-up)
+
+__all__ = ["plan_files", "check_files", "is_batch", "plan_units", "check_units", "run_plan_batch",
+           "run_check_batch", "plan_one", "check_one"]
+
+
+def plan_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: str | None = None,
+               **options: Any) -> int:
+    """``delkit plan FILE...``: one task (the single command, :func:`run_plan`), or a batch (more tasks than
+    one, or ``--scheduler``); returns the exit status."""
+    from planners.cli.plan_cmd import run_plan
+
+    files = [Path(f) for f in files]
+    _check_jobs(jobs, "delkit plan")
+    if is_batch(files, {"jobs": jobs, "scheduler": scheduler}):
+        units = plan_units(files)
+        if len(units) != 1 or scheduler:
+            return run_plan_batch(files, jobs=jobs, scheduler=scheduler, **options)
+        files = [units[0][0]] + ([units[0][1]] if units[0][1] is not None else [])
+        if jobs is not None and jobs > 1:
+            from planners.parallel import run_plan_parallel
+
+            return run_plan_parallel(files[0], files[1] if len(files) == 2 else None, jobs=jobs, **options)
+    return run_plan(files[0], files[1] if len(files) == 2 else None, **options)
+
+
+def check_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: str | None = None,
+                **options: Any) -> int:
+    """``delkit check``: one SPEC [PROBLEM] PLAN_FILE group (:func:`run_check`), or a batch of groups."""
+    from planners.cli.plan_cmd import run_check
+
+    files = [Path(f) for f in files]
+    _check_jobs(jobs, "delkit check")
+    if is_batch(files, {"jobs": jobs, "scheduler": scheduler}, "check") and (
+            len(check_units(files)) != 1 or scheduler):
+        return run_check_batch(files, jobs=jobs, scheduler=scheduler, **options)
+    return run_check(files, **options)
+
+
+def _check_jobs(jobs: int | None, command: str) -> None:
+    if jobs is not None and jobs < 1:
+        from delkit.errors import ParseError
+
+        raise ParseError(f"--jobs {jobs}: use a number of worker processes ≥ 1", source=command)
+
+_PROBLEM = re.compile(r"\(\s*define\s*\(\s*problem\b", re.I)
+
+
+def is_batch(pos: Sequence[Path], kw: dict[str, Any], command: str = "plan") -> bool:
+    """Whether a command line is a batch: ``--jobs`` or ``--scheduler`` given, or more files than one task
+    takes (plan: more than DOMAIN PROBLEM, or two mA* files; check: more than SPEC PROBLEM PLAN)."""
+    if kw.get("jobs") is not None or kw.get("scheduler"):
+        return True
+    if command == "check":
+        return len(pos) > 3
+    if len(pos) > 2:
+        return True
+    return len(pos) == 2 and _role(pos[0]) == "mastar" and _role(pos[1]) == "mastar"
+
+
+def _role(path: Path) -> str:
+    """``mastar``, ``domain`` (E-PDDL / EPDDL domain or a one-file E-PDDL task), ``problem``, or ``other``
+    (not a spec: a plan file, or unreadable — the task's own run reports that)."""
+    from delkit.errors import ParseError
+    from planners.lang.detect import detect_text
+
+    try:
+        text = path.read_text()
+        dialect = detect_text(text, str(path))[0]
+    except (OSError, UnicodeDecodeError, ParseError):
+        return "other"
+    if dialect == "mastar":
+        return "mastar"
+    lisp = "\n".join(ln.split(";", 1)[0] for ln in text.splitlines())
+    return "problem" if _PROBLEM.search(lisp) and "(domain" not in lisp.replace(" ", "")[:200] else "domain"
+
+
+def plan_units(files: Sequence[Path]) -> list[tuple[Path, Path | None]]:
+    """(spec, problem) of every task of a batch's files (module docstring)."""
+    units: list[tuple[Path, Path | None]] = []
+    domain: Path | None = None
+    pending = False  # a domain not yet paired with a problem
+    for f in files:
+        role = _role(f)
+        if role == "problem" and domain is not None:
+            units.append((domain, f))
+            pending = False
+            continue
+        if pending and domain is not None:
+            units.append((domain, None))  # a one-file E-PDDL task (or a domain without problem: reported)
+        if role == "domain":
+            domain, pending = f, True
+        else:
+            domain, pending = None, False
+            units.append((f, None))       # mA*, or a file the run will report (unreadable, a lone problem...)
+    if pending and domain is not None:
+        units.append((domain, None))
+    return units
+
+
+def check_units(files: Sequence[Path]) -> list[list[Path]]:
+    """The ``SPEC [PROBLEM] PLAN_FILE`` groups of a check batch."""
+    units: list[list[Path]] = []
+    cur: list[Path] = []
+    for f in files:
+        cur.append(f)
+        if _role(f) == "other":
+            units.append(cur)
+            cur = []
+    if cur:
+        units.append(cur)
+    return units
+
+
+def _capture(fn: Callable[[], int]) -> tuple[int, str, str]:
+    """(exit status, stdout, one-line error) of a command body run in this process."""
+    out = io.StringIO()
+    err = ""
+    with contextlib.redirect_stdout(out):
+        try:
+            code = fn()
+        except BaseException as exc:  # noqa: BLE001 - mapped like the CLI maps it
+            from delkit.errors import DelkitError
+
+            if isinstance(exc, DelkitError):
+                code, err = 2, str(exc)
+            elif isinstance(exc, MemoryError):
+                code, err = 3, "out of memory (the worker's address-space limit)"
+            elif isinstance(exc, RecursionError):
+                code, err = 2, "the input is nested too deeply"
+            elif isinstance(exc, OSError):
+                code, err = 2, f"{exc.filename or ''}: {exc.strerror or exc}".lstrip(": ")
+            else:
+                raise
+    return code, out.getvalue(), err
+
+
+def _result(code: int, text: str, err: str, t0: float, c0: float) -> dict[str, Any]:
+    lines = [ln for ln in text.splitlines() if ln.startswith("{")]
+    res: dict[str, Any] = json.loads(lines[-1]) if lines else {}
+    if err:
+        res.update(status="error", reason=err)
+    res.update(exit=code, cpu=round(time.process_time() - c0, 4), wall=round(time.monotonic() - t0, 4))
+    return res
+
+
+def plan_one(spec: str, problem: str | None, options: dict[str, Any]) -> dict[str, Any]:
+    """One task of a plan batch, in a worker: :func:`run_plan` with ``--json``; its JSON object plus ``exit``,
+    ``cpu`` and ``wall`` (the task's CPU and wall-clock seconds in this worker, reading included)."""
+    from planners.cli.plan_cmd import run_plan
+
+    t0, c0 = time.monotonic(), time.process_time()
+    code, text, err = _capture(lambda: run_plan(Path(spec), Path(problem) if problem else None,
+                                                as_json=True, **options))
+    return _result(code, text, err, t0, c0)
+
+
+def check_one(files: list[str], options: dict[str, Any]) -> dict[str, Any]:
+    """One group of a check batch, in a worker: :func:`run_check` with ``--json``."""
+    from planners.cli.plan_cmd import run_check
+
+    t0, c0 = time.monotonic(), time.process_time()
+    code, text, err = _capture(lambda: run_check([Path(f) for f in files], as_json=True, **options))
+    return _result(code, text, err, t0, c0)
+
+
+_SEVERITY = {0: 0, 1: 1, 3: 2, 2: 3}
+
+
+def _drive(jobs: list[tuple[Callable, tuple, dict[str, Any]]], workers: int | None, scheduler: str | None,
+           hard_timeout: float | None, memory_mb: float | None, as_json: bool) -> list[dict[str, Any]]:
+    """Run every job; each result dict gets ``exit`` (a crash: 3) — JSON lines printed as they finish."""
+    from concurrent.futures import as_completed
+
+    from delkit.executors import executor
+
+    results: list[dict[str, Any] | None] = [None] * len(jobs)
+    bar = _progress(len(jobs)) if not as_json and sys.stderr.isatty() else None
+    with executor(workers, scheduler, hard_timeout=hard_timeout, memory_mb=memory_mb) as ex:
+        futures = {ex.submit(fn, *args): (i, ident) for i, (fn, args, ident) in enumerate(jobs)}
+        for fut in as_completed(futures):
+            i, ident = futures[fut]
+            try:
+                res = dict(fut.result())
+            except Exception as exc:  # noqa: BLE001 - a crash, a kill, a lost Dask worker: this task only
+                res = {"status": "crash", "reason": f"{type(exc).__name__}: {exc}", "exit": 3,
+                       "cpu": getattr(fut, "cpu", None), "wall": None}
+            res = {**ident, **res}
+            results[i] = res
+            if as_json:
+                print(json.dumps(res), flush=True)
+            if bar is not None:
+                bar(res)
+    if bar is not None:
+        bar(None)
+    return [r for r in results if r is not None]
+
+
+def _progress(total: int) -> Callable[[dict | None], None]:
+    """A rich progress bar on stderr; call it with each result, then with None to close it."""
+    from rich.console import Console
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn
+
+    prog = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                    TextColumn("{task.fields[last]}"), console=Console(stderr=True), transient=True)
+    prog.start()
+    tid = prog.add_task("tasks", total=total, last="")
+    counts = {"solved": 0}
+
+    def step(res: dict | None) -> None:
+        if res is None:
+            prog.stop()
+            return
+        counts["solved"] += res.get("exit") == 0
+        prog.update(tid, advance=1, description=f"{counts['solved']} ok",
+                    last=f"{Path(str(res.get('problem') or res.get('file'))).name}: {res.get('status')}")
+    return step
+
+
+def _worst(results: list[dict[str, Any]]) -> int:
+    codes = [int(r.get("exit", 3)) for r in results] or [0]
+    return max(codes, key=lambda c: _SEVERITY.get(c, 2))
+
+
+def _summary(results: list[dict[str, Any]], wall: float, workers: str) -> dict[str, Any]:
+    solved = [r for r in results if r.get("exit") == 0]
+    by: dict[str, int] = {}
+    for r in results:
+        by[str(r.get("status"))] = by.get(str(r.get("status")), 0) + 1
+    cpu = sum(float(r.get("cpu") or 0.0) for r in results)
+    return {"summary": True, "tasks": len(results), "ok": len(solved), "by_status": by,
+            "task_cpu_s": round(cpu, 3), "wall_s": round(wall, 3), "workers": workers}
+
+
+def _workers_label(jobs: int | None, scheduler: str | None) -> str:
+    n = jobs or os.cpu_count() or 1
+    return f"dask {scheduler}" if scheduler else f"{n} local process{'es' if n != 1 else ''}"
+
+
+def _hard(timeout: float | None) -> float | None:
+    """The pool's backstop: the task's own limit plus a grace (its run stops itself well before)."""
+    if timeout is None or timeout <= 0:
+        return None
+    return timeout + max(5.0, 0.25 * timeout)
+
+
+def _table(rows: list[list[str]], head: list[str]) -> None:
+    w = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h) for i, h in enumerate(head)]
+    print("  ".join(h.ljust(w[i]) for i, h in enumerate(head)))
+    for r in rows:
+        print("  ".join(c.rjust(w[i]) if i else c.ljust(w[i]) for i, c in enumerate(r)))
+
+
+def run_plan_batch(files: Sequence[Path], *, jobs: int | None = None, scheduler: str | None = None,
+                   as_json: bool = False, timeout: float = 60.0, max_memory: float = 8192.0,
+                   **options: Any) -> int:
+    """``delkit plan FILE...`` (module docstring); returns the exit status."""
+    t0 = time.monotonic()
+    opts = {"timeout": timeout, "max_memory": max_memory, **options}
+    units = plan_units(files)
+    jobs_l = [(plan_one, (str(s), str(p) if p else None, opts), {"file": str(s), "problem": str(p) if p else None})
+              for s, p in units]
+    results = _drive(jobs_l, jobs, scheduler, _hard(timeout), max_memory * 1.5 + 1024, as_json)
+    summ = _summary(results, time.monotonic() - t0, _workers_label(jobs, scheduler))
+    summ["solved"] = sum(1 for r in results if r.get("status") == "solved")
+    if as_json:
+        print(json.dumps(summ))
+    else:
+        rows = [[_name(r), str(r.get("status")), "" if r.get("length") is None else str(r["length"]),
+                 str(r.get("expanded", "")), _num(r.get("cpu")), _num(r.get("wall"))] for r in results]
+        _table(rows, ["task", "status", "length", "expanded", "cpu s", "wall s"])
+        print(f"{summ['solved']}/{summ['tasks']} solved; task CPU {summ['task_cpu_s']:.3f} s, wall "
+              f"{summ['wall_s']:.3f} s on {summ['workers']}")
+    return _worst(results)
+
+
+def run_check_batch(files: Sequence[Path], *, jobs: int | None = None, scheduler: str | None = None,
+                    as_json: bool = False, timeout: float = 0.0, **options: Any) -> int:
+    """``delkit check`` over many ``SPEC [PROBLEM] PLAN_FILE`` groups; returns the exit status."""
+    t0 = time.monotonic()
+    opts = {"timeout": timeout, **options}
+    jobs_l = [(check_one, ([str(f) for f in u], opts), {"files": [str(f) for f in u]}) for u in check_units(files)]
+    results = _drive(jobs_l, jobs, scheduler, _hard(timeout), None, as_json)
+    summ = _summary(results, time.monotonic() - t0, _workers_label(jobs, scheduler))
+    summ["valid"] = sum(1 for r in results if r.get("valid") is True)
+    if as_json:
+        print(json.dumps(summ))
+    else:
+        rows = [[" ".join(Path(f).name for f in r["files"]),
+                 "valid" if r.get("valid") else str(r.get("status") or "invalid"),
+                 str(r.get("reason") or "")[:60], _num(r.get("cpu"))] for r in results]
+        _table(rows, ["files", "result", "reason", "cpu s"])
+        print(f"{summ['valid']}/{summ['tasks']} valid; task CPU {summ['task_cpu_s']:.3f} s, wall "
+              f"{summ['wall_s']:.3f} s on {summ['workers']}")
+    return _worst(results)
+
+
+def _name(r: dict[str, Any]) -> str:
+    return Path(str(r.get("problem") or r.get("file"))).name
+
+
+def _num(x: Any) -> str:
+    return "" if x is None else f"{float(x):.3f}"

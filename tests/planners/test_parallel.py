@@ -1,0 +1,48 @@
+"""Parallel BFS of one task (``delkit plan FILE --jobs N``): the same plan as the serial BFS — same length,
+same actions (same generation order and duplicate detection) — on the shared mA* instances."""
+
+from __future__ import annotations
+
+import csv
+
+import pytest
+
+from planners.epistemic import Limits, bfs
+from planners.lang import load_task, shared_benchmarks
+from planners.lang.epddl_run import space_for
+from planners.parallel import parallel_bfs
+
+BENCH = shared_benchmarks()
+ROWS = list(csv.DictReader((BENCH / "mastar" / "expected.csv").open())) if BENCH else []
+QUICK = {"CB_simple__pl_4.txt", "Coin_in_the_Box__pl_5.txt", "Grapevine_3__pl_3.txt", "SC_4_2__pl_5.txt"}
+
+
+def _same_as_serial(row: dict) -> None:
+    path = BENCH / "mastar" / row["file"]
+    par, _ = parallel_bfs(path, None, 2, timeout=120)
+    ser = bfs(space_for(load_task(path)), Limits(timeout=120))
+    assert par.status == ser.status == "solved"
+    assert par.length == ser.length == int(row["expected_length"])
+    assert par.plan == ser.plan
+    assert par.distinct_states >= ser.distinct_states  # the whole last layer is merged before its goals
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+@pytest.mark.parametrize("row", [r for r in ROWS if r["file"].rsplit("/", 1)[-1] in QUICK],
+                         ids=lambda r: r["file"].rsplit("/", 1)[-1])
+def test_parallel_bfs_equals_serial_bfs(row: dict) -> None:
+    _same_as_serial(row)
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+@pytest.mark.parametrize("row", ROWS, ids=lambda r: r["file"].rsplit("/", 1)[-1])
+def test_parallel_bfs_equals_serial_bfs_on_every_shared_instance(row: dict) -> None:
+    _same_as_serial(row)
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_parallel_bfs_limits() -> None:
+    path = BENCH / "mastar" / "Coin_In_The_Box" / "Coin_in_the_Box__pl_7.txt"
+    res, _ = parallel_bfs(path, None, 2, max_nodes=30)
+    assert res.status == "limit" and "expanded-node limit" in res.reason
