@@ -284,7 +284,7 @@ def test_big_public_updates_equal_the_product():
     kinds = set()
     for step in plan[:5]:
         k = sp.to_kripke(s)
-        for name, nxt, key in sp.successors(s):
+        for name, _nxt, key in sp.successors(s):
             entry = sp._acts[sp._index[name]]
             assert key == sp.engine.from_kripke(product_update(k, sp.event_model(s, entry))).key, name
             kinds.add(entry[1].kind)
