@@ -514,11 +514,35 @@ class CompactEngine:
             node = self._nodes[i]
             if node[0] == _C:  # only the designated worlds matter: search from them, stop at a ¬φ world
                 return _common_at(s, node[1], self.ev(s, node[2]))
+            if node[0] in (_AND, _OR, _NOT, _K):  # only the designated worlds matter: evaluate there
+                at = self._at
+                return all(at(s, i, p) for p in s.points)
             b = self.ev(s, i)
         for p in s.points:
             if not (b >> p) & 1:
                 return False
         return True
+
+    def _at(self, s: CompactState, i: int, w: int) -> bool:
+        """Node ``i`` at world ``w`` alone: connectives short-circuit, K_a φ reads a's successors of w
+        against φ's mask; other nodes (and K of a non-propositional formula) through :meth:`ev`."""
+        b = s.memo.get(i)
+        if b is not None:
+            return bool((b >> w) & 1)
+        tab = self._ptab[i]
+        if tab is not None:
+            return bool(tab[s.val[w]])
+        node = self._nodes[i]
+        op = node[0]
+        if op == _AND:
+            return all(self._at(s, g, w) for g in node[1])
+        if op == _OR:
+            return any(self._at(s, g, w) for g in node[1])
+        if op == _NOT:
+            return not self._at(s, node[1], w)
+        if op == _K and self._ptab[node[2]] is not None:
+            return not s.masks[node[1]][w] & ~self.ev(s, node[2])
+        return bool((self.ev(s, i) >> w) & 1)
 
     def ev(self, s: CompactState, i: int) -> int:  # noqa: C901 - one clause per operator
         """Bit mask of node ``i`` on ``s`` — the clauses of delkit.semantics."""

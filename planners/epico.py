@@ -17,7 +17,9 @@ Goals (Sec. 5; "one agent" = either robot, a disjunction over both directions):
 
 γ and δ are not defined (ND) for one colour. :func:`generate` builds an :class:`Instance`; the default
 layout (``seed=None``) generalises the seed's Listing 5 scene (robot1's *red* block under *black* in stack 1);
-``seed=S`` draws a random layout.
+``seed=S`` draws a random layout. Which model: a :class:`Reading` — by default the paper's (§4.4: both
+robots ignorant of their own colours, 4^n worlds); ``owners=("robot1",)`` the reduced one (2^n worlds);
+per-colour sensing; hand-over takes (for the §5 prose macro) — named in every output.
 """
 
 from __future__ import annotations
@@ -282,6 +284,8 @@ class Reading:
         if not own or len(set(own)) != len(own) or any(o not in ROBOTS for o in own):
             raise EpicoError(f"owners must be distinct robots among {', '.join(ROBOTS)}, got {list(own)}")
         object.__setattr__(self, "owners", tuple(r for r in ROBOTS if r in own))
+        if self.sensing == "colour":
+            object.__setattr__(self, "sensing", "color")
         if self.sensing not in SENSINGS:
             raise EpicoError(f"sensing {self.sensing!r}: use {' or '.join(SENSINGS)}")
         if self.takes not in TAKES:

@@ -125,7 +125,7 @@ def register(app: typer.Typer) -> None:
             typer.echo(json.dumps(sol.to_json()))
             return
         t = sol.times
-        typer.echo(f"reading: {sol.instance.reading.describe()}")
+        typer.echo(sol.instance.reading.describe())
         typer.echo(f"{sol.instance.goal}, {colors} colour(s), macros {'on' if macros else 'off'}: initial state "
                    f"{t['initial']:.3f} s, epistemic search {t['epistemic']:.3f} s, classical {t['classical']:.4f} s "
                    f"({sol.classical_calls} call(s))")

@@ -110,7 +110,7 @@ def test_default_is_the_papers_reading(capsys):
     assert data["reading"]["name"] == "paper" and {c["reading"] for c in data["cells"]} == {"paper"}
     assert main(["epico", "solve", "--goal", "alpha", "--colors", "1", "--owner", "robot1"]) in (0, None)
     out = capsys.readouterr().out
-    assert out.startswith("reading: owner robot1")
+    assert out.startswith("owner robot1 reading: robot1's colours unknown (2^n worlds")
     assert main(["epico", "table", "--colors", "1"]) in (0, None)
     out = capsys.readouterr().out
     assert out.lstrip().startswith("paper reading:") and "Legend:" in out and "ND = not defined" in out
