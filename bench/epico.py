@@ -1,11 +1,13 @@
-"""Benchmark: e-PICO Tables 1 and 2 (seed 004) — delkit beside the seed and the peer (echosys).
+"""Benchmark: e-PICO Tables 1 and 2 (seed 004) for three readings side by side — the paper's (both robots
+ignorant of their own colours), owner robot1 (robot1's colours only) and per-colour sensing — and the
+hand-over reading for the §5 prose macro; delkit beside the seed and the peer (echosys).
 
-Timed region per run (wall and CPU, mean of --repeat runs): building the grounded task and its initial state
-from the E-PDDL texts, the epistemic search (BFS, optimal), flattening and the classical breakdown of every
-ontic task, and the plan/1 check. The seed's Table 1 times the search from a given initial state (its
-initial states are reported apart, and here in the 'init s' column). Run:
+Timed region per run (CPU, mean of --repeat runs): building the grounded task and its initial state from
+the E-PDDL texts (also reported alone), the epistemic search (BFS, optimal), flattening and the classical
+breakdown of every ontic task, and the plan/1 check. The seed's Table 1 times the search from a given
+initial state (its initial states are reported apart, and here beside ours). Run:
 
-    PYTHONPATH=. python bench/epico.py [--repeat 5] [--colors 1,2,3,4,5,6] [--json]
+    PYTHONPATH=. python bench/epico.py [--repeat 5] [--colors 1,2,3,4] [--reading paper ...] [--json]
 """
 
 from __future__ import annotations
@@ -62,16 +64,89 @@ def classical_engines(repeat: int = 20) -> list[dict]:
     return rows
 
 
+READINGS = (("paper", {}), ("owner robot1", {"owners": ("robot1",)}), ("per-colour sensing", {"sensing": "color"}))
+
+
+def _fmt(x) -> str:
+    return "TO" if x is None else x if isinstance(x, str) else f"{x:.3f}"
+
+
+def side_by_side(by_reading: dict[str, list[dict]]) -> str:
+    """Table 1 for the readings side by side: per reading and macro side CPU seconds and states expanded;
+    the paper's initial-state time and Table 1 beside."""
+    from planners.hierarchy import SEED_INITIAL, SEED_TABLE1
+
+    names = list(by_reading)
+    cells = {name: {(c["goal"], c["colors"]): c for c in cs} for name, cs in by_reading.items()}
+    keys = [(c["goal"], c["colors"]) for c in by_reading[names[0]]]
+    w = 23
+    head1 = f"{'':10} | " + " | ".join(f"{n:^{w}}" for n in names) + f" | {'paper (seed 004)':^27}"
+    head2 = (f"{'goal col':10} | " + " | ".join(f"{'off s':>6} {'exp':>4} {'on s':>6} {'exp':>4}" for _ in names)
+             + f" | {'no':>7} {'yes':>7} {'init s':>7}")
+    init_row = []
+    lines = [head1, head2]
+    for g, n in keys:
+        parts = []
+        for name in names:
+            c = cells[name].get((g, n), {})
+            if c.get("status") == "ND":
+                parts.append(f"{'ND':>{w}}")
+                continue
+            sub = []
+            for side in ("off", "on"):
+                d = c.get(side, {})
+                sub.append(f"{d['cpu']:6.3f} {d['expanded']:>4}" if d.get("status") == "ok" else f"{'TO':>6} {'':>4}")
+            parts.append(" ".join(sub))
+        sn, sy = SEED_TABLE1.get(g, {}).get(n, ("ND", "ND") if g in ("gamma", "delta") and n < 2 else ("-", "-"))
+        lines.append(f"{g:6} {n:>3} | " + " | ".join(parts) +
+                     f" | {_fmt(sn):>7} {_fmt(sy):>7} {SEED_INITIAL.get(n, '-'):>7}")
+        init_row.append(n)
+    lines.append("")
+    lines.append("initial state alone, CPU s (grounding + Kripke model + compact form; macros on), per reading:")
+    for name in names:
+        per = {}
+        for c in by_reading[name]:
+            on = c.get("on", {})
+            if on.get("status") == "ok":
+                per[c["colors"]] = max(per.get(c["colors"], 0.0), on["initial_cpu"])
+        lines.append(f"  {name:20} " + ", ".join(f"{k} col {v:.4f}" for k, v in sorted(per.items()))
+                     + "   (paper: " + ", ".join(f"{k} col {v}" for k, v in SEED_INITIAL.items()) + ")")
+    return "\n".join(lines)
+
+
+def handover_table(cells: list[dict]) -> str:
+    """The hand-over reading: no macro, Listing 4's pspb_and_announce, the §5 prose take_and_announce, both."""
+    sides = ["off", "pspb", "take", "on"]
+    lines = ["hand-over reading (the other robot takes; the owner only partially observes the take): CPU s / "
+             "states expanded / branching / epistemic plan length",
+             f"{'goal col':10} | " + " | ".join(f"{s:^22}" for s in sides)]
+    for c in cells:
+        if c["status"] == "ND":
+            lines.append(f"{c['goal']:6} {c['colors']:>3} | ND")
+            continue
+        parts = []
+        for s in sides:
+            d = c.get(s, {})
+            parts.append(f"{d['cpu']:6.3f} {d['expanded']:>4} {d['branching']:4.1f} {len(d['plan']):>3}"
+                         if d.get("status") == "ok" else f"{'TO':>22}")
+        lines.append(f"{c['goal']:6} {c['colors']:>3} | " + " | ".join(parts))
+    lines.append("sides: off = no macro; pspb = pspb_and_announce (Table 1's caption, Listing 4 as Definition 4.1 "
+                 "builds it); take = take_and_announce (§5 prose); on = both")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
-    from planners.cli.epico_cmd import format_tables
-    from planners.epico import GOALS, generate
-    from planners.hierarchy import solve, table_cell
+    from planners.cli.epico_cmd import LEGEND, format_tables
+    from planners.epico import GOALS, generate, reading_of
+    from planners.hierarchy import HANDOVER_SIDES, solve, table_cell
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--repeat", type=int, default=5)
     ap.add_argument("--colors", default="1,2,3,4")
     ap.add_argument("--timeout", type=float, default=110.0)
-    ap.add_argument("--symmetric", action="store_true", help="model both robots' colours (4^n worlds)")
+    ap.add_argument("--reading", action="append", choices=[n for n, _ in READINGS] + ["hand-over"],
+                    help="only these readings (repeatable; default: all three side by side, and hand-over)")
+    ap.add_argument("--symmetric", action="store_true", help=argparse.SUPPRESS)  # the default now
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--classical-engines", action="store_true", help="only compare the classical engines")
     args = ap.parse_args(argv)
@@ -85,16 +160,35 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"{r['colors']:>7} {r['engine']:14} {r['length']:>7} {r['wall_ms']:8.2f} {r['cpu_ms']:8.2f}")
         return 0
     solve(generate("alpha", 1))  # warm-up
-    cells = []
-    for g in GOALS:
-        for n in (int(c) for c in args.colors.split(",")):
-            cells.append(table_cell(g, n, repeat=args.repeat, timeout=args.timeout,
-                                    symmetric=args.symmetric))
-            print(f"# {g} {n}: done", file=sys.stderr, flush=True)
+    cols = [int(c) for c in args.colors.split(",")]
+    wanted = args.reading or [n for n, _ in READINGS] + ["hand-over"]
+    by_reading: dict[str, list[dict]] = {}
+    for name, kw in READINGS:
+        if name not in wanted:
+            continue
+        rd = reading_of(**kw)
+        by_reading[name] = [table_cell(g, n, repeat=args.repeat, timeout=args.timeout, reading=rd)
+                            for g in GOALS for n in cols]
+        print(f"# {name}: done", file=sys.stderr, flush=True)
+    hand = []
+    if "hand-over" in wanted:
+        hand = [table_cell(g, n, repeat=args.repeat, timeout=args.timeout, reading=reading_of(takes="handover"),
+                           sides=HANDOVER_SIDES) for g in GOALS for n in cols]
+        print("# hand-over: done", file=sys.stderr, flush=True)
     if args.json:
-        print(json.dumps({"machine": platform.processor() or platform.machine(), "cells": cells}))
-    else:
-        print(format_tables(cells))
+        print(json.dumps({"machine": platform.processor() or platform.machine(), "readings": by_reading,
+                          "hand-over": hand}))
+        return 0
+    if by_reading:
+        print(side_by_side(by_reading))
+        for name in by_reading:
+            print()
+            print(format_tables(by_reading[name], reading_of(**dict(READINGS)[name])).replace("\n\n" + LEGEND, ""))
+    if hand:
+        print()
+        print(handover_table(hand))
+    print()
+    print(LEGEND)
     return 0
 
 

@@ -271,7 +271,18 @@ def frame_id(masks: tuple[tuple[int, ...], ...], points: tuple[int, ...]) -> int
     i = _FRAMES.get(f)
     if i is None:
         i = _FRAMES[f] = len(_FRAMES)
+        _FRAME_LIST.append(f)
     return i
+
+
+_FRAME_LIST: list[tuple] = []  # frame number -> (masks, points)
+
+
+def state_of_key(key: tuple) -> CompactState:
+    """The state whose key is ``key`` (keys are canonical: valuations and frame number determine it)."""
+    val, fid = key
+    masks, points = _FRAME_LIST[fid]
+    return CompactState(val, masks, points, fid)
 
 
 def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]],
@@ -620,11 +631,35 @@ class CompactEngine:
             node = self._nodes[i]
             if node[0] == _C:  # only the designated worlds matter: search from them, stop at a ¬φ world
                 return _common_at(s, node[1], self.ev(s, node[2]))
+            if node[0] in (_AND, _OR, _NOT, _K):  # only the designated worlds matter: evaluate there
+                at = self._at
+                return all(at(s, i, p) for p in s.points)
             b = self.ev(s, i)
         for p in s.points:
             if not (b >> p) & 1:
                 return False
         return True
+
+    def _at(self, s: CompactState, i: int, w: int) -> bool:
+        """Node ``i`` at world ``w`` alone: connectives short-circuit, K_a φ reads a's successors of w
+        against φ's mask; other nodes (and K of a non-propositional formula) through :meth:`ev`."""
+        b = s.memo.get(i)
+        if b is not None:
+            return bool((b >> w) & 1)
+        tab = self._ptab[i]
+        if tab is not None:
+            return bool(tab[s.val[w]])
+        node = self._nodes[i]
+        op = node[0]
+        if op == _AND:
+            return all(self._at(s, g, w) for g in node[1])
+        if op == _OR:
+            return any(self._at(s, g, w) for g in node[1])
+        if op == _NOT:
+            return not self._at(s, node[1], w)
+        if op == _K and self._ptab[node[2]] is not None:
+            return not s.masks[node[1]][w] & ~self.ev(s, node[2])
+        return bool((self.ev(s, i) >> w) & 1)
 
     def ev(self, s: CompactState, i: int) -> int:  # noqa: C901 - one clause per operator
         """Bit mask of node ``i`` on ``s`` — the clauses of delkit.semantics."""
@@ -826,9 +861,27 @@ class CompactEngine:
         """
         return self.apply_compiled(s, self.compile(em))
 
+    def _apply_public(self, s: CompactState, tab: dict, npre: int | None, nposts: tuple) -> CompactState | None:
+        """s ⊗ E for a one-event E that every relation maps to itself (an ontic action all agents observe, a
+        public announcement without a "no" event): the product is s with new valuations, cut to the worlds
+        where the precondition holds — no pair table."""
+        row = self._row(s, tab, npre, nposts)
+        if any(row[p] < 0 for p in s.points):
+            return None
+        masks: Sequence[Sequence[int]] = s.masks
+        if min(row) < 0:
+            ok = 0
+            for w, x in enumerate(row):
+                if x >= 0:
+                    ok |= 1 << w
+            masks = [tuple(m & ok for m in per) for per in masks]
+        return _generated_quotient(row, masks, s.points)
+
     def apply_compiled(self, s: CompactState, comp: tuple) -> CompactState | None:
         """:meth:`apply` with the event model already compiled (``comp = self.compile(em)``)."""
         q, k, designated, others, tabs, _lits, npre, nposts, shapes, stat, _dlits = comp
+        if k == 1 and len(s.val) > 64 and all(r[0] == (0,) for r in q):  # (smaller: the shape cache below)
+            return self._apply_public(s, tabs[0], npre[0], nposts[0])
         val = s.val
         for p in s.points:  # inapplicable at a designated world: known from its valuation alone (tables)
             v = val[p]
@@ -931,6 +984,65 @@ class CompactEngine:
             pick = itemgetter(*at) if len(at) > 1 else (lambda f, _i=at[0]: (f[_i],))
             shapes[skey] = (pick, rmasks, cps, fid)
         return CompactState(tuple(cval), rmasks, cps, fid)
+
+
+    def refine_update(self, s: CompactState, full: Sequence[int], fids: Sequence[int]) -> CompactState:
+        """Contracted s ⊗ E for an mA* sensing or announcement E in which every agent observes, fully (the
+        agent indices ``full``) or partially, and s has no group relations; ``fids`` are the node ids of the
+        sensed (announced) formulas. Such an E has one event per truth assignment of the formulas and no
+        postconditions, so every world w of s meets exactly one event e_w, and the product is s itself with
+        each full observer's successors of w cut to the worlds that agree with w on every formula (partial
+        observers relate all events: their relations stay), generated from the designated worlds (the caller
+        checks applicability: an announced formula true at every designated world). The same state as
+        :meth:`apply` builds from the product, without building the product."""
+        n = len(s.val)
+        every = (1 << n) - 1
+        same = [every] * n
+        for c in fids:
+            b = self.ev(s, c)
+            nb = every & ~b
+            same = [x & (b if (b >> w) & 1 else nb) for w, x in enumerate(same)]
+        masks = list(s.masks)
+        for a in full:
+            masks[a] = tuple(m & same[w] for w, m in enumerate(masks[a]))
+        return _generated_quotient(s.val, masks, s.points)
+
+
+
+def _generated_quotient(val: Sequence[int], masks: Sequence[Sequence[int]], points: Sequence[int]) -> CompactState:
+    """The contracted, canonical state of the model with valuations ``val``, successor masks ``masks`` (per
+    relation, per world) and designated worlds ``points``, on the part generated by ``points``."""
+    n = len(val)
+    seen = _mask(points)
+    todo = seen
+    while todo:
+        reach = 0
+        for w in bit_positions(todo):
+            for per in masks:
+                reach |= per[w]
+        todo = reach & ~seen
+        seen |= todo
+    pts = set(points)
+    order = list(points) + [w for w in bit_positions(seen) if w not in pts]
+    idx = [-1] * n
+    for t, w in enumerate(order):
+        idx[w] = t
+    dist: list[list[list[int]]] = []
+    cls: list[list[int]] = []
+    for per in masks:
+        intern: dict[int, int] = {}
+        lists: list[list[int]] = []
+        row = []
+        for w in order:
+            m = per[w]
+            j = intern.get(m)
+            if j is None:
+                j = intern[m] = len(lists)
+                lists.append([idx[v] for v in bit_positions(m)])
+            row.append(j)
+        dist.append(lists)
+        cls.append(row)
+    return refine_key([val[w] for w in order], dist, cls, range(len(points)))
 
 
 class _Table(dict):

@@ -17,12 +17,15 @@ Goals (Sec. 5; "one agent" = either robot, a disjunction over both directions):
 
 γ and δ are not defined (ND) for one colour. :func:`generate` builds an :class:`Instance`; the default
 layout (``seed=None``) generalises the seed's Listing 5 scene (robot1's *red* block under *black* in stack 1);
-``seed=S`` draws a random layout.
+``seed=S`` draws a random layout. Which model: a :class:`Reading` — by default the paper's (§4.4: both
+robots ignorant of their own colours, 4^n worlds); ``owners=("robot1",)`` the reduced one (2^n worlds);
+per-colour sensing; hand-over takes (for the §5 prose macro) — named in every output.
 """
 
 from __future__ import annotations
 
 import random
+import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,8 +34,8 @@ from typing import Any
 
 from delkit.errors import DelkitError
 
-__all__ = ["EpicoError", "Layout", "Instance", "generate", "GOALS", "PALETTE", "ROBOTS", "domain_path",
-           "problem_text", "defined"]
+__all__ = ["EpicoError", "Layout", "Instance", "Reading", "generate", "GOALS", "PALETTE", "ROBOTS",
+           "domain_path", "domain_text", "problem_text", "defined", "reading_of"]
 
 ROBOTS = ("robot1", "robot2")
 #: colour names in the order instances use them (1 colour = red, 2 = red black, ...)
@@ -210,7 +213,7 @@ def goal_text(goal: str, colors: Iterable[str], owners: Iterable[str] = ROBOTS) 
     return f"(and {know}\n    {_FREE})" if g in ("beta", "delta") else know
 
 
-def problem_text(layout: Layout, goal: str, *, colors: int | None = None, owners: Iterable[str] = ("robot1",),
+def problem_text(layout: Layout, goal: str, *, colors: int | None = None, owners: Iterable[str] = ROBOTS,
                  known: Mapping[str, Iterable[Any]] | None = None, name: str | None = None) -> str:
     """The epistemic problem of a layout: the colours of the ``owners`` (the robots whose colours are modelled;
     the others learn them), common knowledge of the shared table, ``known`` (robot ↦ colours C — or
@@ -250,9 +253,97 @@ def problem_text(layout: Layout, goal: str, *, colors: int | None = None, owners
             f"  (:goal {goal_text(g, cols, owners)}))\n")
 
 
+#: the robots whose colours are fluents in the paper's reading (§4.4: both robots)
+PAPER_OWNERS = ROBOTS
+SENSINGS = ("table", "color")
+TAKES = ("seen", "handover")
+
+
+@dataclass(frozen=True)
+class Reading:
+    """Which e-PICO model an instance is (seed 004 leaves these choices open; §4.4 fixes the first).
+
+    * ``owners``: the robots whose colours are fluents. The paper (§4.4): "Initially, they do not know
+      what blocks they are able to manipulate" — both robots (4^n worlds for n colours), the default.
+      ``("robot1",)`` is the reduced reading (2^n worlds; robot2 learns robot1's colours).
+    * ``sensing``: ``table`` — one ``sense_table ?ag`` reveals all of the robot's colours (default);
+      ``color`` — one ``sense_color ?ag ?c`` per colour (the prose "sensing actions" allows it too).
+    * ``takes``: ``seen`` — any robot may take a block from the shared table, both see it (default);
+      ``handover`` — the block goes to the other robot (the one that did not put it), whose take the owner
+      only partially observes (it cannot tell whether the table was cleared): the observability under
+      which the §5 prose macro "take from the shared table + announce that it is free"
+      (``take_and_announce``) carries information.
+    """
+
+    owners: tuple[str, ...] = PAPER_OWNERS
+    sensing: str = "table"
+    takes: str = "seen"
+
+    def __post_init__(self) -> None:
+        own = tuple(self.owners)
+        if not own or len(set(own)) != len(own) or any(o not in ROBOTS for o in own):
+            raise EpicoError(f"owners must be distinct robots among {', '.join(ROBOTS)}, got {list(own)}")
+        object.__setattr__(self, "owners", tuple(r for r in ROBOTS if r in own))
+        if self.sensing == "colour":
+            object.__setattr__(self, "sensing", "color")
+        if self.sensing not in SENSINGS:
+            raise EpicoError(f"sensing {self.sensing!r}: use {' or '.join(SENSINGS)}")
+        if self.takes not in TAKES:
+            raise EpicoError(f"takes {self.takes!r}: use {' or '.join(TAKES)}")
+
+    @property
+    def is_paper(self) -> bool:
+        return self == Reading()
+
+    @property
+    def name(self) -> str:
+        """``paper``, ``owner robot1``, ``per-colour sensing``, ``hand-over`` (several joined by ``, ``)."""
+        parts = []
+        if self.owners != PAPER_OWNERS:
+            parts.append("owner " + "+".join(self.owners))
+        if self.sensing == "color":
+            parts.append("per-colour sensing")
+        if self.takes == "handover":
+            parts.append("hand-over")
+        return ", ".join(parts) or "paper"
+
+    def describe(self) -> str:
+        """One line: whose colours are unknown, how many worlds, how a robot senses, who takes."""
+        who = " and ".join(f"{o}'s" for o in self.owners)
+        sense = ("one sense_table ?ag reveals all of a robot's colours" if self.sensing == "table"
+                 else "one sense_color ?ag ?c per colour")
+        take = ("any robot takes from the shared table, both see it" if self.takes == "seen" else
+                "the other robot takes, the owner only partially observes it (macro take_and_announce)")
+        return (f"{self.name} reading: {who} colours unknown ({'2' if len(self.owners) == 1 else '4'}^n worlds "
+                f"for n colours); {sense}; {take}")
+
+    def to_json(self) -> dict[str, Any]:
+        return {"name": self.name, "owners": list(self.owners), "sensing": self.sensing, "takes": self.takes}
+
+
+def reading_of(owners: Iterable[str] | str | None = None, *, sensing: str = "table", takes: str = "seen",
+               symmetric: bool | None = None) -> Reading:
+    """The :class:`Reading` of :func:`generate`'s keywords (``owners`` None = both robots, the paper's; a
+    robot name or ``robot1,robot2`` is accepted). ``symmetric`` is the old spelling, kept for a while: True =
+    both robots (the default now), False = ``owners=("robot1",)``; it warns (DeprecationWarning)."""
+    if symmetric is not None:
+        import warnings
+
+        warnings.warn("symmetric= is deprecated: both robots' colours (the paper's reading) are the default; "
+                      "pass owners=('robot1',) for the reduced reading", DeprecationWarning, stacklevel=3)
+        if owners is None:
+            owners = PAPER_OWNERS if symmetric else ("robot1",)
+    if owners is None:
+        owners = PAPER_OWNERS
+    elif isinstance(owners, str):
+        owners = tuple(o.strip() for o in owners.replace("+", ",").split(",") if o.strip())
+    return Reading(tuple(owners), sensing, takes)
+
+
 @dataclass(frozen=True)
 class Instance:
-    """An e-PICO instance: the layout, the goal, the E-PDDL texts and the classical initial state."""
+    """An e-PICO instance: the layout, the goal, the reading, the E-PDDL texts and the classical initial
+    state."""
 
     layout: Layout
     goal: str
@@ -260,7 +351,12 @@ class Instance:
     domain_text: str
     problem_text: str
     known: Mapping[str, tuple] = field(default_factory=dict)
-    owners: tuple[str, ...] = ("robot1",)
+    reading: Reading = Reading()
+
+    @property
+    def owners(self) -> tuple[str, ...]:
+        """The robots whose colours are fluents (the objects of type ``owner``)."""
+        return self.reading.owners
 
     @property
     def classical_init(self):
@@ -271,19 +367,74 @@ class Instance:
         k = {r: tuple(v) for r, v in (known or {}).items()}
         return Instance(self.layout, self.goal, self.colors, self.domain_text,
                         problem_text(self.layout, self.goal, colors=self.colors, owners=self.owners, known=k),
-                        MappingProxyType(k), self.owners)
+                        MappingProxyType(k), self.reading)
 
     def to_json(self) -> dict[str, Any]:
-        return {"goal": self.goal, "colors": self.colors, "owners": list(self.owners),
-                "layout": self.layout.to_json(),
+        return {"goal": self.goal, "colors": self.colors, "reading": self.reading.to_json(),
+                "owners": list(self.owners), "layout": self.layout.to_json(),
                 "classical_init": self.classical_init.to_json(), "known": {r: list(v) for r, v in self.known.items()}}
 
 
+def domain_text(reading: Reading = Reading()) -> str:
+    """The E-PDDL domain of a reading: ``specs/epico/domain.epddl``; for per-colour sensing its
+    ``sense_table`` replaced by ``sense_color``; for hand-over takes its ``take_from_shared`` replaced and
+    ``announce_table_free`` and the macro ``take_and_announce`` added — the forms of
+    ``specs/epico/variants.txt``."""
+    text = domain_path().read_text()
+    if reading.sensing == "table" and reading.takes == "seen":
+        return text
+    forms = _variant_forms()
+    if reading.sensing == "color":
+        text = _replace_form(text, "(:action sense_table", forms["sense_color"])
+    if reading.takes == "handover":
+        text = _replace_form(text, "(:action take_from_shared", forms["take_from_shared"])
+        end = text.rstrip().rfind(")")
+        text = text[:end].rstrip() + "\n\n  " + forms["announce_table_free"] + "\n\n  " + \
+            forms["take_and_announce"] + "\n)\n"
+    return text
+
+
+def _form_end(text: str, i: int) -> int:
+    """The index just after the parenthesised form that starts at ``text[i]``."""
+    depth = 0
+    for j in range(i, len(text)):
+        if text[j] == "(":
+            depth += 1
+        elif text[j] == ")":
+            depth -= 1
+            if depth == 0:
+                return j + 1
+    raise EpicoError(f"unbalanced parentheses in the form at offset {i}")
+
+
+def _replace_form(text: str, head: str, new: str) -> str:
+    """``text`` with the form starting with ``head`` (and the comment lines just above it) replaced by ``new``."""
+    i = text.index(head)
+    start = text.rfind("\n", 0, i) + 1
+    while start > 0:  # the comment block that describes the replaced form goes with it
+        prev = text.rfind("\n", 0, start - 1) + 1
+        if not text[prev:start].lstrip().startswith(";"):
+            break
+        start = prev
+    return text[:start] + "  " + new + text[_form_end(text, i):]
+
+
+def _variant_forms() -> dict[str, str]:
+    """``specs/epico/variants.txt``: name ↦ the text of its ``(:action NAME ...)`` / ``(:macro NAME ...)``."""
+    text = (domain_path().parent / "variants.txt").read_text()
+    return {m.group(2): text[m.start():_form_end(text, m.start())]
+            for m in re.finditer(r"\((:action|:macro)\s+([A-Za-z_][\w-]*)", text)}
+
+
 def generate(goal: str, colors: int, seed: int | None = None, *, layout: Layout | None = None,
-             symmetric: bool = False) -> Instance:
+             owners: Iterable[str] | str | None = None, sensing: str = "table", takes: str = "seen",
+             reading: Reading | None = None, symmetric: bool | None = None) -> Instance:
     """The instance of ``goal`` with ``colors`` colours: the seed's layout (``seed=None``), a random one, or
-    the given ``layout``. By default robot1's colours are modelled and robot2 is the robot that learns
-    them (2^n worlds); ``symmetric`` models both robots' colours and lets either learn the other's (4^n)."""
+    the given ``layout``. By default the paper's reading (§4.4): both robots ignorant of their own colours
+    (4^n worlds), either may learn the other's; ``owners=("robot1",)`` is the reduced reading (robot1's
+    colours only, 2^n worlds, robot2 learns them). ``sensing``, ``takes``: see :class:`Reading` (or pass
+    ``reading``)."""
+    rd = reading if reading is not None else reading_of(owners, sensing=sensing, takes=takes, symmetric=symmetric)
     g = goal_name(goal)
     if not isinstance(colors, int) or not 1 <= colors <= len(PALETTE):
         raise EpicoError(f"--colors must be 1..{len(PALETTE)}, got {colors!r}")
@@ -291,15 +442,6 @@ def generate(goal: str, colors: int, seed: int | None = None, *, layout: Layout 
         raise EpicoError(f"goal {g} is not defined (ND) with 1 colour: it asks for two different colours")
     if layout is None:
         layout = default_layout(colors) if seed is None else random_layout(
-            colors, seed, need_two=g in ("gamma", "delta"), owner_two=not symmetric)
-    owners = ROBOTS if symmetric else ("robot1",)
-    return Instance(layout, g, colors, domain_path().read_text(),
-                    problem_text(layout, g, colors=colors, owners=owners), owners=owners)
-
-
-def __getattr__(name: str):  # solve / Solution live in planners.hierarchy (lazy: no import cycle)
-    if name in ("solve", "Solution"):
-        from planners import hierarchy
-
-        return getattr(hierarchy, name)
-    raise AttributeError(name)
+            colors, seed, need_two=g in ("gamma", "delta"), owner_two=rd.owners == ("robot1",))
+    return Instance(layout, g, colors, domain_text(rd), problem_text(layout, g, colors=colors, owners=rd.owners),
+                    reading=rd)

@@ -22,9 +22,10 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
+from delkit.formula import TOP
 from planners.classical import CAction, CState, goal_for, solve_bfs, solve_classical
-from planners.epico import ROBOTS, EpicoError, Instance
-from planners.task import ActionSpec, MacroSpec, Task
+from planners.epico import ROBOTS, EpicoError, Instance, Reading
+from planners.task import ActionSpec, EventAction, MacroSpec, Task
 
 __all__ = ["EpicoLimits", "Solution", "solve", "process_e_plan", "TaskRecord", "epistemic_task"]
 
@@ -62,7 +63,7 @@ class Solution:
     breakdown; seconds) and the number of classical calls."""
 
     instance: Instance
-    macros: bool
+    macros: bool | tuple[str, ...]
     epistemic_plan: tuple[str, ...]
     flat_plan: tuple[str, ...]
     primitive_plan: dict[str, Any]
@@ -75,7 +76,8 @@ class Solution:
     classical_call_cpu: tuple[float, ...] = ()
 
     def to_json(self) -> dict[str, Any]:
-        return {"goal": self.instance.goal, "colors": self.instance.colors, "macros": self.macros,
+        return {"goal": self.instance.goal, "colors": self.instance.colors, "reading": self.instance.reading.to_json(),
+                "macros": self.macros if isinstance(self.macros, bool) else list(self.macros),
                 "epistemic_plan": list(self.epistemic_plan), "flat_plan": list(self.flat_plan),
                 "primitive_plan": self.primitive_plan, "times": {k: round(v, 6) for k, v in self.times.items()},
                 "classical_calls": self.classical_calls,
@@ -90,35 +92,81 @@ class Solution:
         Path(path).write_text(json.dumps(self.primitive_plan, indent=2) + "\n")
 
 
-def epistemic_task(instance: Instance, *, macros: bool = True) -> tuple[Task, Task, list[MacroSpec]]:
-    """(primitive task, task offered to the planner, grounded macros) of an instance."""
+def epistemic_task(instance: Instance, *, macros: bool | Iterable[str] = True) -> tuple[Task, Task, list[MacroSpec]]:
+    """(primitive task, task offered to the planner, grounded macros) of an instance; ``macros`` True (every
+    macro the domain declares), False, or the names of the declarations to offer. An ontic action with
+    partially observant agents (the hand-over reading's ``take_from_shared``) becomes an
+    :class:`~planners.task.EventAction` (:func:`partially_observed_ontic`)."""
+    from dataclasses import replace
+
     from planners.lang.epddl import parse_epddl
     from planners.macros import ground_macros, parse_macros, with_macros
 
     task = parse_epddl(instance.domain_text, instance.problem_text, domain_source="specs/epico/domain.epddl",
                        problem_source=f"epico_{instance.goal}_{instance.colors}")
-    if not macros:
+    if any(isinstance(a, ActionSpec) and a.kind == "ontic" and a.partial for a in task.actions):
+        task = replace(task, actions=tuple(partially_observed_ontic(a, task.agents)
+                                           if isinstance(a, ActionSpec) and a.kind == "ontic" and a.partial
+                                           else a for a in task.actions), _cache={})
+    if macros is False:
         return task, task, []
-    ms = ground_macros(task, parse_macros(instance.domain_text, source="specs/epico/domain.epddl"),
-                       instance.problem_text)
+    decls = parse_macros(instance.domain_text, source="specs/epico/domain.epddl")
+    if macros is not True:
+        wanted = set(macros)  # type: ignore[arg-type]
+        unknown = sorted(wanted - {d.name for d in decls})
+        if unknown:
+            raise EpicoError(f"macro(s) {', '.join(unknown)} not declared in this reading's domain "
+                             f"(declared: {', '.join(d.name for d in decls)})")
+        decls = [d for d in decls if d.name in wanted]
+        if not decls:
+            return task, task, []
+    ms = ground_macros(task, decls, instance.problem_text)
     return task, with_macros(task, ms), ms
 
 
-def _search(ptask: Task, limits: EpicoLimits):
-    """The epistemic search on the planner's default backend (it applies a MacroSpec as the composed event
-    model of its steps, Definition 4.1)."""
-    from planners.epistemic import Limits, best_first, bfs, make_space
+def partially_observed_ontic(act: ActionSpec, agents: tuple[str, ...]) -> EventAction:
+    """An ontic action whose ``partial`` agents cannot tell it from doing nothing: events ``e`` (its effects)
+    and ``skip`` (no change), both with precondition ⊤ (executability is checked at the designated world,
+    as for every mA* action), ``e`` designated; full observers tell them apart, partial observers do not,
+    the others are oblivious. (mA* defines partial observability for sensing and announcements only; this
+    is the reading delkit gives it for an ontic action.) Observers must be unconditional."""
+    from delkit.events import action, ontic
+
+    if any(c != TOP for _, c in (*act.full, *act.partial)):
+        raise EpicoError(f"{act.name}: a partially observed ontic action needs unconditional observers")
+    full = [a for a, _ in act.full]
+    partial = [a for a, _ in act.partial if a not in full]
+    post = ontic(list(act.effects), agents, full=agents, name=act.name).post[0]
+    em = action(agents, [("e", TOP, post), ("skip", TOP, {})], full=full, partial=partial, designated=["e"],
+                name=act.name)
+    return EventAction(act.name, lambda bits: em, (), act.executable, act.where, kind="ontic",
+                       designated_pre=(TOP,))
+
+
+def _space(ptask: Task):
+    """The planner's default state space (the compact backend; it applies a MacroSpec as the composed event
+    model of its steps, Definition 4.1), with its initial state built."""
+    from planners.epistemic import make_space
 
     space = make_space(ptask)
+    space.initial()
+    return space
+
+
+def _search(space, limits: EpicoLimits):
+    """The epistemic search: BFS (optimal length) or a best-first search."""
+    from planners.epistemic import Limits, best_first, bfs
+
     lim = Limits(timeout=limits.timeout)
     if limits.search == "bfs":
         return bfs(space, lim)
     return best_first(space, lim, kind=limits.search)  # type: ignore[arg-type]
 
 
-def solve(instance: Instance, *, macros: bool = True, known: Mapping[str, Iterable[Any]] | None = None,
+def solve(instance: Instance, *, macros: bool | Iterable[str] = True, known: Mapping[str, Iterable[Any]] | None = None,
           limits: EpicoLimits = EpicoLimits()) -> Solution:
     """Spec → epistemic plan (with or without macros) → flattened plan → classical breakdown → plan/1.
+    ``macros``: True (all the domain's macros), False, or the names of the macro declarations to offer.
 
     ``known`` (robot ↦ colours, or (owner, colour) pairs) says what each robot already knows, e.g. when
     replanning from what was observed. Raises :class:`EpicoError` if no plan is found within the limits or
@@ -127,16 +175,19 @@ def solve(instance: Instance, *, macros: bool = True, known: Mapping[str, Iterab
 
     if known:
         instance = instance.with_known(known)
+    if not isinstance(macros, bool):
+        macros = tuple(macros)
     import delkit.semantics  # noqa: F401 - imports (≈0.5 s cold) are not part of the initial-state time
     import planners.spaces  # noqa: F401
 
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), time.process_time()
     task, ptask, ms = epistemic_task(instance, macros=macros)
-    t_init = time.perf_counter() - t0
-    res = _search(ptask, limits)
+    space = _space(ptask)  # the initial state: grounded task, its Kripke model and its compact form
+    t_init, c_init = time.perf_counter() - t0, time.process_time() - c0
+    res = _search(space, limits)
     if not res.solved:
         raise EpicoError(f"epistemic planner: no plan for {instance.goal} with {instance.colors} colour(s) "
-                         f"({'with' if macros else 'without'} macros): {res.reason}")
+                         f"({instance.reading.name} reading, {_macro_words(macros)}): {res.reason}")
     eplan = tuple(res.plan or ())
     flat = tuple(flatten(eplan, ms))
     t1 = time.perf_counter()
@@ -149,12 +200,17 @@ def solve(instance: Instance, *, macros: bool = True, known: Mapping[str, Iterab
     primitive = {"format": "delkit.arms.plan/1", "world": instance.layout.to_world(), "actions": actions}
     _check_primitive(primitive)
     return Solution(instance, macros, eplan, flat, primitive,
-                    {"initial": t_init, "epistemic": res.seconds, "classical": t_class,
+                    {"initial": t_init, "initial_cpu": c_init, "epistemic": res.seconds, "classical": t_class,
                      "hierarchy": t_hier, "total": t_init + res.seconds + t_hier,
                      "classical_cpu": sum(c for _, c in calls)},
                     len(calls), tuple(w for w, _ in calls), tuple(records),
                     {"expanded": res.expanded, "generated": res.generated, "dead_ends": res.dead_ends,
                      "search": res.search, "length": len(eplan)}, final, tuple(c for _, c in calls))
+
+
+def _macro_words(macros: bool | tuple[str, ...]) -> str:
+    return ("with macros" if macros else "without macros") if isinstance(macros, bool) else \
+        "with macro(s) " + ", ".join(macros) if macros else "without macros"
 
 
 def _check_primitive(obj: dict) -> None:
@@ -200,7 +256,7 @@ class _Runner:
     def process_simple_task(self, name: str, macro: str = "") -> None:
         task, i = self.task, len(self.records) + 1
         act = task.action(name)
-        if not isinstance(act, ActionSpec):
+        if not isinstance(act, (ActionSpec, EventAction)):
             raise EpicoError(f"task {i} ({name}) is not a simple task (a macro inside a macro?)")
         new = self.fs.step(self.s, name)
         if new is None:
@@ -251,8 +307,10 @@ def _anchor(task: Task, fs, s, c_state: CState, i: int, name: str) -> None:
 def _epistemic_primitive(name: str, c_state: CState, task: Task) -> dict[str, Any]:
     robot = next((r for r in task.agents if name.split("_").count(r)), ROBOTS[0])
     color = name.rsplit("_", 1)[-1]
-    if name.startswith("sense_table_"):
+    if name.startswith(("sense_table_", "sense_color_")):  # the arms look at all the robot's stacks
         return {"robot": robot, "action": "sense"}
+    if name.startswith("announce_table_free_"):
+        return {"robot": robot, "action": "announce", "to": [r for r in task.agents if r != robot]}
     if name.startswith("announce_block_on_barrier_"):
         block = next((b for b in c_state.barrier if c_state.colors[b] == color), None)
         if block is None:
@@ -287,20 +345,31 @@ PEER_TABLE1: dict[str, dict[int, tuple[float | None, float | None]]] = {
 }
 
 
-def table_cell(goal: str, colors: int, *, repeat: int = 1, timeout: float = 110.0,
-               symmetric: bool = False) -> dict[str, Any]:
-    """One cell of Tables 1–2: macros off and on, ``repeat`` runs each; wall and CPU seconds (mean) of
-    initial state + epistemic search + hierarchy, classical seconds and calls. ``status`` per side is
-    ``ok`` / ``TO`` / ``ND``."""
-    from planners.epico import defined, generate
+#: the macro sides of a Table-1 cell: name ↦ ``solve``'s ``macros`` (False, True or declaration names)
+TABLE_SIDES: tuple[tuple[str, bool | tuple[str, ...]], ...] = (("off", False), ("on", True))
+#: the hand-over reading's sides: no macro, Listing 4's, the §5 prose macro, both
+HANDOVER_SIDES: tuple[tuple[str, bool | tuple[str, ...]], ...] = (
+    ("off", False), ("pspb", ("pspb_and_announce",)), ("take", ("take_and_announce",)), ("on", True))
 
-    out: dict[str, Any] = {"goal": goal, "colors": colors, "symmetric": symmetric}
+
+def table_cell(goal: str, colors: int, *, repeat: int = 1, timeout: float = 110.0,
+               reading: Reading | None = None, sides: Iterable[tuple[str, Any]] = TABLE_SIDES,
+               symmetric: bool | None = None) -> dict[str, Any]:
+    """One cell of Tables 1–2 for a reading (default: the paper's), each macro side (default: off and on)
+    run ``repeat`` times; wall and CPU seconds (mean) of initial state + epistemic search + hierarchy, the
+    initial state alone, states expanded, classical seconds and calls. ``status`` per side is ``ok`` /
+    ``TO`` (no plan within the limit) / ``ND`` (not defined: γ and δ with one colour)."""
+    from planners.epico import defined, generate, reading_of
+
+    rd = reading if reading is not None else reading_of(symmetric=symmetric)
+    sides = tuple(sides)
+    out: dict[str, Any] = {"goal": goal, "colors": colors, "reading": rd.name, "sides": [n for n, _ in sides]}
     if not defined(goal, colors):
         out["status"] = "ND"
         return out
-    inst = generate(goal, colors, symmetric=symmetric)
-    for side, macros in (("off", False), ("on", True)):
-        walls, cpus, sol = [], [], None
+    inst = generate(goal, colors, reading=rd)
+    for side, macros in sides:
+        walls, cpus, inits, sol = [], [], [], None
         for _ in range(repeat):
             c0, w0 = time.process_time(), time.perf_counter()
             try:
@@ -312,19 +381,25 @@ def table_cell(goal: str, colors: int, *, repeat: int = 1, timeout: float = 110.
                 break
             walls.append(time.perf_counter() - w0)
             cpus.append(time.process_time() - c0)
+            inits.append(sol.times["initial_cpu"])
         else:
             assert sol is not None
             out[side] = {"status": "ok", "wall": sum(walls) / len(walls), "cpu": sum(cpus) / len(cpus),
-                         "initial": sol.times["initial"], "epistemic": sol.times["epistemic"],
-                         "classical": sol.times["classical"], "calls": sol.classical_calls,
+                         "initial": sol.times["initial"], "initial_cpu": sum(inits) / len(inits),
+                         "epistemic": sol.times["epistemic"],
+                         "classical": sol.times["classical"], "classical_cpu": sol.times["classical_cpu"],
+                         "calls": sol.classical_calls,
                          "max_call": max(sol.classical_call_seconds, default=0.0),
                          "max_call_cpu": max(sol.classical_call_cpu, default=0.0),
-                         "plan": list(sol.epistemic_plan), "flat_length": len(sol.flat_plan),
-                         "primitive_length": len(sol.primitive_plan["actions"]), "expanded": sol.search["expanded"]}
-    off, on = out.get("off", {}), out.get("on", {})
-    out["status"] = "ok" if off.get("status") == on.get("status") == "ok" else "TO"
-    if out["status"] == "ok":  # macro-off / macro-on, on CPU time (the machine is shared: wall is noisy)
-        out["ratio"] = off["cpu"] / on["cpu"] if on["cpu"] > 0 else None
+                         "plan": list(sol.epistemic_plan), "flat_plan": list(sol.flat_plan),
+                         "flat_length": len(sol.flat_plan),
+                         "primitive_length": len(sol.primitive_plan["actions"]), "expanded": sol.search["expanded"],
+                         "generated": sol.search["generated"],
+                         "branching": sol.search["generated"] / max(sol.search["expanded"], 1)}
+    first, last = out.get(sides[0][0], {}), out.get(sides[-1][0], {})
+    out["status"] = "ok" if all(out.get(n, {}).get("status") == "ok" for n, _ in sides) else "TO"
+    if first.get("status") == last.get("status") == "ok":  # first / last side on CPU time (wall is noisy here)
+        out["ratio"] = first["cpu"] / last["cpu"] if last["cpu"] > 0 else None
     return out
 
 

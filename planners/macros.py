@@ -126,7 +126,7 @@ def ground_macros(task: Task, decls: Sequence[MacroDecl], problem_text: str) -> 
     """One MacroSpec per binding of each declaration's parameters (bindings whose steps do not all exist as
     grounded actions are skipped; a step naming an unknown action is an error)."""
     objs = _objects(task, problem_text)
-    names = {a.name: a for a in task.actions if isinstance(a, ActionSpec)}
+    names = {a.name: a for a in task.actions if not isinstance(a, MacroSpec)}
     bases = {n.split("_")[0] for n in names}
     out: list[MacroSpec] = []
     for d in decls:

@@ -29,7 +29,7 @@ from collections.abc import Hashable, Iterator
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
 
-from delkit.compact import CompactEngine, CompactState, PlainEvents, bit_positions
+from delkit.compact import CompactEngine, CompactState, PlainEvents, bit_positions, state_of_key
 from delkit.errors import PlanningError
 from delkit.formula import Formula, Top, is_propositional, props_of
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, goal_conjuncts, plain_event_model
@@ -100,6 +100,8 @@ class CompactSpace:
         self.allow_inconsistent = allow_inconsistent
         self.dead_ends = 0
         self.engine = CompactEngine(task.props, task.agents, groups=task_groups(task))
+        self._has_groups = bool(self.engine.groups)
+        self._sensed_ids: dict[str, tuple[int, ...]] = {}  # action name -> node ids of its sensed formulas
         self.aidx = self.engine.aidx
         self._conj = goal_conjuncts(task.goal)
         self._goal = self.engine.cid(task.goal)
@@ -124,6 +126,11 @@ class CompactSpace:
             self._select.append(({}, support))
         self._watch, self._watched, self._always = self._literal_index()
         self._by_point: dict[Any, list] = {}
+        # commuting actions (:meth:`_commuting`) and what is known of their transitions: (state key, action
+        # name) -> successor key, and successor key -> [(state key, action name)] it was reached by
+        self._commute = self._commuting()
+        self._succ: dict[tuple, Hashable] = {}
+        self._origin: dict[Hashable, list[tuple[Hashable, str]]] = {}
 
     def _literal_index(self) -> tuple[dict[int, list[tuple[int, int, int]]], int, list[tuple[int, Any]]]:
         """A successor generator: for the actions whose designated events' preconditions are known without
@@ -221,6 +228,53 @@ class CompactSpace:
         if kind == "event":
             bits = tuple(at(s, c) for c in entry[3])
             return self.task.events_for_bits(act, bits)
+        fm, pm, sm = self._observed(s, entry)
+        key = (act.name, fm, pm, sm)
+        em = self._ems.get(key)
+        if em is None:
+            ags = self.task.agents
+            em = plain_event_model(act, ags, frozenset(ag for i, ag in enumerate(ags) if (fm >> i) & 1),
+                                   frozenset(ag for i, ag in enumerate(ags) if (pm >> i) & 1),
+                                   tuple(f for j, (f, _) in enumerate(act.sensed) if (sm >> j) & 1))
+            self._ems[key] = em
+        return em
+
+    def _commuting(self) -> frozenset[str]:
+        """The mA* sensing and announcement actions whose executability, observability conditions, sensed
+        formulas and their conditions are all propositional. Any two of them commute: their event models
+        have propositional preconditions and no postconditions and are chosen by the designated worlds'
+        valuations, which neither changes, so E_a;E_b ≅ E_b;E_a ((e, f) ↦ (f, e)) and each is applicable
+        after the other iff it is before: s·a·b ≅ s·b·a. Empty when the task has group relations."""
+        if self._has_groups:
+            return frozenset()
+        out = []
+        for e in self._acts:
+            if e[0] != "spec" or e[1].kind not in ("sensing", "announcement") or e[1].effects:
+                continue
+            act = e[1]
+            forms = [act.executable, *(c for _, c in act.full), *(c for _, c in act.partial),
+                     *(f for f, _ in act.sensed), *(c for _, c in act.sensed)]
+            if all(is_propositional(f) for f in forms):
+                out.append(act.name)
+        return frozenset(out) if len(out) > 1 else frozenset()
+
+    def _predicted(self, ks: Hashable, name: str) -> Hashable | None:
+        """The key of s·a when s was reached from p by a commuting b, and p·a·b is known: s·a = p·b·a ≅
+        p·a·b (:meth:`_commuting`); None when not known."""
+        succ = self._succ
+        for kp, b in self._origin.get(ks, ()):
+            if b != name:
+                y = succ.get((kp, name))
+                if y is not None:
+                    z = succ.get((y, b))
+                    if z is not None:
+                        return z
+        return None
+
+    def _observed(self, s: CompactState, entry: tuple) -> tuple[int, int, int]:
+        """(full, partial, sensed) of an mA* action in ``s``: the fully and partially observant agents and
+        the active sensed/announced formulas, as bit masks (agent index / position in ``act.sensed``)."""
+        at = self.engine.holds_id
         _, _, _, full, partial, sensed = entry
         fm = 0
         for a, c in full:
@@ -235,15 +289,61 @@ class CompactSpace:
         for j, c in enumerate(sensed):
             if at(s, c):
                 sm |= 1 << j
-        key = (act.name, fm, pm, sm)
-        em = self._ems.get(key)
-        if em is None:
-            ags = self.task.agents
-            em = plain_event_model(act, ags, frozenset(ag for i, ag in enumerate(ags) if (fm >> i) & 1),
-                                   frozenset(ag for i, ag in enumerate(ags) if (pm >> i) & 1),
-                                   tuple(f for j, (f, _) in enumerate(act.sensed) if (sm >> j) & 1))
-            self._ems[key] = em
-        return em
+        return fm, pm, sm
+
+    def _loop_test(self, s: CompactState, entry: tuple) -> tuple | None:
+        """For an mA* sensing or announcement action (no postconditions) applicable in ``s``: (kind, the
+        full observers' indices, the node ids of the active sensed/announced formulas), which
+        :meth:`_is_loop` reads; None for any other action or when the task has group relations."""
+        if entry[0] != "spec" or entry[1].kind not in ("sensing", "announcement") or self._has_groups:
+            return None
+        act = entry[1]
+        ids = self._sensed_ids.get(act.name)
+        if ids is None:
+            ids = self._sensed_ids[act.name] = tuple(self.engine.cid(f) for f, _ in act.sensed)
+        fm, pm, sm = self._observed(s, entry)
+        n = len(self.task.agents)
+        return (act.kind, tuple(a for a in range(n) if (fm >> a) & 1),
+                tuple(c for j, c in enumerate(ids) if (sm >> j) & 1), (fm | pm) == (1 << n) - 1)
+
+    def _is_loop(self, s: CompactState, test: tuple) -> bool:
+        """Whether the action of ``test`` (:meth:`_loop_test`, applicable in ``s``) leads back to ``s``, read
+        from ``s`` without the product: a sensing whose full observers already know, at every world, whether
+        each sensed formula holds (each one's successor set lies inside the world's class of the formula),
+        or an announcement of formulas true at every world. Then (w, e_w) ↦ w (and (w, ε) ↦ w for oblivious
+        agents) is a bounded morphism from s ⊗ E onto s: the successor is bisimilar to s, the same key."""
+        kind, agents, fids, _ = test
+        ev = self.engine.ev
+        if kind == "announcement":
+            every = (1 << len(s.val)) - 1
+            return all(ev(s, c) == every for c in fids)
+        masks = s.masks
+        for c in fids:
+            b = ev(s, c)
+            nb = ~b
+            for a in agents:
+                w = 0
+                for m in masks[a]:
+                    if m & (nb if (b >> w) & 1 else b):
+                        return False
+                    w += 1
+        return True
+
+    def _epistemic_successor(self, s: CompactState, test: tuple) -> CompactState | None:
+        """The successor of ``s`` by a sensing or announcement with the :meth:`_loop_test` ``test`` when
+        nobody is oblivious of it: ``s`` itself (:meth:`_is_loop`) or its refinement
+        (:meth:`CompactEngine.refine_update`) — no product; None if an announced formula is false at a
+        designated world (not applicable)."""
+        if self._is_loop(s, test):
+            return s
+        kind, full, fids, _ = test
+        if kind == "announcement":
+            ev = self.engine.ev
+            for c in fids:
+                b = ev(s, c)
+                if any(not (b >> p) & 1 for p in s.points):
+                    return None
+        return self.engine.refine_update(s, full, fids)
 
     def _macro_model(self, s: CompactState, entry: tuple) -> EventModel | None:
         """The composed event model E₁;…;Eₙ of a macro in ``s`` (None if a step is not applicable).
@@ -322,10 +422,11 @@ class CompactSpace:
         """The successor of ``s`` by the action ``name`` (None if not applicable)."""
         return self.apply_entry(s, self._acts[self._index[name]])
 
-    def _candidates(self, s: CompactState, here: Any) -> list[tuple[str, tuple | None, tuple | None]]:
-        """The actions that may apply in ``s`` as (name, entry, None) — decided per state — or (name, None,
-        compiled event model) — chosen by the designated worlds' valuations ``here`` and not excluded by them
-        (some designated event's propositional precondition holds at every designated world). Computed once per
+    def _candidates(self, s: CompactState, here: Any) -> list[tuple[str, tuple | None, tuple | None, Any]]:
+        """The actions that may apply in ``s`` as (name, entry, None, None) — decided per state — or (name,
+        None, compiled event model, loop test) — chosen by the designated worlds' valuations ``here`` and not
+        excluded by them (some designated event's propositional precondition holds at every designated
+        world); the loop test (:meth:`_loop_test`, decided by ``here`` too) or None. Computed once per
         ``here`` (cached by :meth:`successors`), so it is not on the per-state path."""
         single = not isinstance(here, frozenset)
         compile_em, may = self.engine.compile, self.engine.may_apply
@@ -334,7 +435,7 @@ class CompactSpace:
         for i in self._enabled((here,) if single else tuple(sorted(here))):
             entry, sel = acts[i], select[i]
             if sel is None:
-                out.append((entry[1].name, entry, None))
+                out.append((entry[1].name, entry, None, None))
                 continue
             table, support = sel
             at = here & support if single else frozenset([v & support for v in here])
@@ -343,7 +444,7 @@ class CompactSpace:
                 em = self.event_model(s, entry)
                 comp = table[at] = None if em is None else compile_em(em)
             if comp is not None and may(comp, (here,) if single else here):
-                out.append((entry[1].name, None, comp))
+                out.append((entry[1].name, None, comp, self._loop_test(s, entry)))
         return out
 
     def successors(self, s: CompactState) -> Iterator[tuple[str, CompactState, Hashable]]:
@@ -354,14 +455,66 @@ class CompactSpace:
         if cands is None:
             cands = self._by_point[here] = self._candidates(s, here)
         apply = self.engine.apply_compiled
-        for name, entry, comp in cands:
-            new = apply(s, comp) if comp is not None else self.apply_entry(s, entry)  # type: ignore[arg-type]
+        loop_ok: bool | None = None  # s itself as a successor: is it consistent? (decided on first use)
+        commute, ks = self._commute, s.key
+        for name, entry, comp, test in cands:
+            if name in commute:
+                z = self._predicted(ks, name)
+                if z is not None:  # known by commutation; it was yielded before, so it is consistent
+                    yield name, (s if z == ks else state_of_key(z)), z  # type: ignore[arg-type]
+                    continue
+            # a sensing or announcement that cannot change s (:meth:`_is_loop`) yields s itself: the search
+            # sees the same key as the product would give, without the product being built
+            if comp is not None:
+                if test is None:
+                    new = apply(s, comp)
+                elif test[3]:
+                    new = self._epistemic_successor(s, test)
+                else:
+                    new = s if self._is_loop(s, test) else apply(s, comp)
+            elif entry[0] == "spec" and entry[1].kind != "ontic" and not self._has_groups:  # type: ignore[index]
+                em = self.event_model(s, entry)  # type: ignore[arg-type]
+                if em is None:
+                    continue
+                t = self._loop_test(s, entry)  # type: ignore[arg-type]
+                if t is None:
+                    new = self.engine.apply(s, em)
+                elif t[3]:
+                    new = self._epistemic_successor(s, t)
+                else:
+                    new = s if self._is_loop(s, t) else self.engine.apply(s, em)
+            else:
+                new = self.apply_entry(s, entry)  # type: ignore[arg-type]
             if new is None:
+                continue
+            if new is s:
+                if loop_ok is None:
+                    loop_ok = self.allow_inconsistent or not self.engine.believes_bottom(s)
+                if not loop_ok:
+                    self.dead_ends += 1
+                    continue
+                if name in commute:
+                    self._remember(ks, name, ks)
+                yield name, s, s.key
                 continue
             if not self.allow_inconsistent and self.engine.believes_bottom(new):
                 self.dead_ends += 1
                 continue
+            if name in commute:
+                self._remember(ks, name, new.key)
             yield name, new, new.key
+
+    #: at most this many remembered transitions of commuting actions (a bound on the memory they take)
+    MEMO_LIMIT = 2_000_000
+
+    def _remember(self, ks: Hashable, name: str, kn: Hashable) -> None:
+        if len(self._succ) >= self.MEMO_LIMIT:
+            return
+        self._succ[(ks, name)] = kn
+        if kn != ks:
+            org = self._origin.setdefault(kn, [])
+            if len(org) < 4:
+                org.append((ks, name))
 
 
 _MISSING = object()

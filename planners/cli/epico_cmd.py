@@ -8,6 +8,28 @@ from pathlib import Path
 
 import typer
 
+_OWNER_HELP = ("ROBOT: a robot whose colours are unknown fluents (repeatable). Default: both robots — the "
+               "paper's reading (§4.4), 4^n worlds for n colours; --owner robot1 is the reduced reading "
+               "(robot1's colours only, 2^n worlds)")
+_SENSING_HELP = "table: one sense_table per robot (default); color: one sense_color per robot and colour"
+_TAKES_HELP = ("seen: any robot takes from the shared table, both see it (default); handover: the other robot "
+               "takes, the owner only partially observes it (the §5 prose macro take_and_announce)")
+_SYMMETRIC_HELP = "accepted for old scripts: both robots' colours, which is the default now"
+
+
+def _reading(owner: list[str], sensing: str, takes: str, symmetric: bool = False):
+    """The Reading of the CLI options; ``--owner`` values with ``=`` (BLOCK=ROBOT) are not robots (solve
+    --world) and are left out here."""
+    from planners.epico import ROBOTS, EpicoError, reading_of
+
+    robots = [o for o in owner if "=" not in o]
+    bad = [o for o in robots if o not in ROBOTS]
+    if bad:
+        raise EpicoError(f"--owner {bad[0]!r}: a robot ({', '.join(ROBOTS)}), or BLOCK=ROBOT with --world")
+    if symmetric and robots and tuple(sorted(robots)) != ROBOTS:
+        raise EpicoError("--symmetric (both robots' colours) contradicts --owner " + " ".join(robots))
+    return reading_of(tuple(robots) or None, sensing=sensing, takes=takes)
+
 
 def register(app: typer.Typer) -> None:
     """Attach the ``epico`` sub-app."""
@@ -19,17 +41,18 @@ def register(app: typer.Typer) -> None:
     @sub.command("generate")
     def generate_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
                      colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
-                     seed: int | None = typer.Option(None, "--seed",
-                                                     help="random layout (default: the layout of the e-PICO paper)"),
-                     symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
-                                                    "(either may learn the other's; 4^n worlds instead of 2^n)"),
+                     seed: int | None = typer.Option(None, "--seed", help="random layout (default: the layout of the e-PICO paper)"),
+                     owner: list[str] = typer.Option([], "--owner", help=_OWNER_HELP),
+                     sensing: str = typer.Option("table", "--sensing", help=_SENSING_HELP),
+                     takes: str = typer.Option("seen", "--takes", help=_TAKES_HELP),
+                     symmetric: bool = typer.Option(False, "--symmetric", help=_SYMMETRIC_HELP),
                      out: Path | None = typer.Option(None, "--out", help="output directory (default: print "
                                                      "the problem, or everything with --json)"),
                      as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Write domain.epddl, problem.epddl (epistemic level), classical.json and world.json (same layout)."""
         from planners.epico import generate
 
-        inst = generate(goal, colors, seed, symmetric=symmetric)
+        inst = generate(goal, colors, seed, reading=_reading(owner, sensing, takes, symmetric))
         if out is None:
             if as_json:
                 typer.echo(json.dumps({**inst.to_json(), "problem": inst.problem_text}))
@@ -45,21 +68,24 @@ def register(app: typer.Typer) -> None:
         if as_json:
             typer.echo(json.dumps({"files": files, **inst.to_json()}))
         else:
-            typer.echo(f"{inst.goal} with {colors} colour(s): " + ", ".join(files))
+            typer.echo(f"{inst.goal} with {colors} colour(s), {inst.reading.describe()}: " + ", ".join(files))
 
     @sub.command("solve")
     def solve_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
                   colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
-                  symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
-                                                 "(either may learn the other's; 4^n worlds instead of 2^n)"),
+                  owner: list[str] = typer.Option([], "--owner", help=_OWNER_HELP + "; with --world also "
+                                                  "BLOCK=ROBOT: whose block lies on the shared table"),
+                  sensing: str = typer.Option("table", "--sensing", help=_SENSING_HELP),
+                  takes: str = typer.Option("seen", "--takes", help=_TAKES_HELP),
+                  symmetric: bool = typer.Option(False, "--symmetric", help=_SYMMETRIC_HELP),
                   macros: bool = typer.Option(True, "--macros/--no-macros", help="offer the macros to the planner"),
                   timeout: float = typer.Option(110.0, "--timeout", help="epistemic search limit, seconds"),
                   classical: str = typer.Option("bfs", "--classical", help="classical engine: bfs or clingo"),
                   world: Path | None = typer.Option(None, "--world", help="start from this layout: a world JSON "
                                                     "or a plan/1 JSON (its world), e.g. observed after a fault, "
                                                     "or `epico generate --seed S --out DIR`'s DIR/world.json"),
-                  owner: list[str] = typer.Option([], "--owner", help="BLOCK=ROBOT: whose block lies on the "
-                                                  "shared table of --world (repeatable)"),
+                  block_owner: list[str] = typer.Option([], "--block-owner", help="BLOCK=ROBOT: whose block "
+                                                        "lies on the shared table of --world (repeatable)"),
                   known: list[str] = typer.Option([], "--known", help="ROBOT:COLOUR,COLOUR — colours whose "
                                                   "presence the robot already knows (repeatable)"),
                   out: Path | None = typer.Option(None, "--out", help="write the primitive plan (plan/1 JSON)"),
@@ -81,17 +107,21 @@ def register(app: typer.Typer) -> None:
             except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
                 raise EpicoError(f"{world}: cannot read a world JSON ({exc})") from None
             obj = obj.get("world", obj) if isinstance(obj, dict) else obj
-            owners = dict(o.split("=", 1) for o in owner if "=" in o)
-            if len(owners) != len(owner):
-                raise EpicoError(f"--owner takes BLOCK=ROBOT, got {owner}")
+            pairs = [*block_owner, *(o for o in owner if "=" in o)]
+            owners = dict(o.split("=", 1) for o in pairs if "=" in o)
+            if len(owners) != len(pairs):
+                raise EpicoError(f"--block-owner takes BLOCK=ROBOT, got {pairs}")
             layout = Layout.from_world(obj, owners)
+        elif block_owner or any("=" in o for o in owner):
+            raise EpicoError("--block-owner BLOCK=ROBOT (or --owner BLOCK=ROBOT) needs --world")
         knows: dict[str, list[str]] = {}
         for k in known:
             robot, sep, cols = k.partition(":")
             if not sep or not cols:
                 raise EpicoError(f"--known takes ROBOT:COLOUR,COLOUR, got {k!r}")
             knows.setdefault(robot, []).extend(c for c in cols.split(",") if c)
-        sol = solve(generate(goal, colors, symmetric=symmetric, layout=layout), macros=macros,
+        sol = solve(generate(goal, colors, layout=layout, reading=_reading(owner, sensing, takes, symmetric)),
+                    macros=macros,
                     known=knows or None, limits=EpicoLimits(timeout=timeout, classical=classical))
         if out is not None:
             sol.write(out)
@@ -99,6 +129,7 @@ def register(app: typer.Typer) -> None:
             typer.echo(json.dumps(sol.to_json()))
             return
         t = sol.times
+        typer.echo(sol.instance.reading.describe())
         typer.echo(f"{sol.instance.goal}, {colors} colour(s), macros {'on' if macros else 'off'}: initial state "
                    f"{t['initial']:.3f} s, epistemic search {t['epistemic']:.3f} s, classical {t['classical']:.4f} s "
                    f"({sol.classical_calls} call(s))")
@@ -145,13 +176,18 @@ def register(app: typer.Typer) -> None:
     def table_cmd(repeat: int = typer.Option(1, "--repeat", min=1, help="runs per cell (mean)"),
                   colors: str = typer.Option("1,2,3,4", "--colors", help="comma-separated colour counts"),
                   timeout: float = typer.Option(110.0, "--timeout", help="limit per run, seconds"),
-                  symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
-                                                 "(either may learn the other's; 4^n worlds instead of 2^n)"),
+                  owner: list[str] = typer.Option([], "--owner", help=_OWNER_HELP),
+                  sensing: str = typer.Option("table", "--sensing", help=_SENSING_HELP),
+                  takes: str = typer.Option("seen", "--takes", help=_TAKES_HELP),
+                  symmetric: bool = typer.Option(False, "--symmetric", help=_SYMMETRIC_HELP),
                   as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
-        """Tables 1 and 2 of the e-PICO paper (Soldà, Fabiano, Dovier): every (goal, colours) cell, macros
-        off and on, beside the paper's numbers; a legend of the columns is printed below the tables."""
+        """Tables 1 and 2: every (goal, colours) cell, macros off and on, beside the paper's numbers. Default:
+        the paper's reading (both robots ignorant of their own colours); the reading is printed."""
         from planners.epico import GOALS, EpicoError
-        from planners.hierarchy import table_cell
+        from planners.hierarchy import HANDOVER_SIDES, TABLE_SIDES, table_cell
+
+        rd = _reading(owner, sensing, takes, symmetric)
+        sides = HANDOVER_SIDES if rd.takes == "handover" else TABLE_SIDES
 
         try:
             cols = [int(c) for c in colors.split(",") if c.strip()]
@@ -167,68 +203,74 @@ def register(app: typer.Typer) -> None:
             job = prog.add_task("e-PICO table", total=len(GOALS) * len(cols))
             for g in GOALS:
                 for n in cols:
-                    cells.append(table_cell(g, n, repeat=repeat, timeout=timeout, symmetric=symmetric))
+                    cells.append(table_cell(g, n, repeat=repeat, timeout=timeout, reading=rd, sides=sides))
                     prog.advance(job)
         if as_json:
-            typer.echo(json.dumps({"cells": cells, "repeat": repeat}))
+            typer.echo(json.dumps({"reading": rd.to_json(), "description": rd.describe(), "cells": cells,
+                                   "repeat": repeat}))
             return
-        typer.echo(format_tables(cells))
+        typer.echo(format_tables(cells, rd))
 
 
-def format_tables(cells: list[dict]) -> str:
-    """Tables 1 and 2 as text, delkit beside the seed (and the peer where measured)."""
+LEGEND = """Legend: reading = which model (paper: both robots ignorant of their own colours, as §4.4 states;
+  owner robot1: only robot1's colours are fluents; per-colour sensing: one sense_color per colour).
+  off / on = macros offered to the planner: none / the domain's macros (pspb_and_announce, Listing 4 as
+  Definition 4.1 builds it; with hand-over takes also take_and_announce, the §5 prose macro).
+  CPU s = CPU seconds of one solve (initial state + epistemic search + breakdown into primitive actions +
+  plan check), mean of the repeats. init = CPU seconds of the initial state alone (grounding, Kripke model,
+  compact form). exp = states expanded by the breadth-first search; br = successors generated per expanded
+  state (branching factor). off/on = CPU ratio (> 1: macros help). paper = seed 004 Table 1, seconds
+  (Intel i7-8565U, EFP; search from a given initial state); paper init = the paper's initial-state seconds
+  (§5). echosys = the peer implementation (PyPI echosys) on a machine like ours, seconds.
+  ND = not defined (γ, δ need two colours); TO = no plan within the time limit (110 s, as the paper)."""
+
+
+def format_tables(cells: list[dict], reading=None) -> str:
+    """Tables 1 and 2 as text for one reading, delkit beside the paper (and the peer where measured)."""
     from planners.hierarchy import PEER_TABLE1, SEED_INITIAL, SEED_TABLE1, SEED_TABLE2
 
     def f(x):
         return "TO" if x is None else f"{x:.3f}"
 
-    lines = ["Table 1: seconds to a plan (initial state + epistemic search + breakdown; wall, CPU in brackets), "
-             "macro no / yes",
-             f"{'goal':6} {'col':>3} | {'delkit no':>15} {'delkit yes':>15} {'no/yes':>6} | {'seed no':>8} "
-             f"{'seed yes':>8} | {'peer no':>7} {'peer yes':>8} | {'init s':>7}"]
+    sides = cells[0].get("sides", ["off", "on"]) if cells else ["off", "on"]
+    head = [reading.describe() if reading is not None else f"reading: {cells[0].get('reading', 'paper')}"
+            if cells else "", "",
+            "Table 1: CPU seconds to a plan, per macro side; states expanded (exp), branching (br)"]
+    side_h = " ".join(f"{s + ' CPU s':>10} {'exp':>5} {'br':>5}" for s in sides)
+    lines = head + [f"{'goal':6} {'col':>3} | {side_h} {sides[0] + '/' + sides[-1]:>7} | {'init':>7} "
+                    f"{'paper init':>10} | {'paper no':>8} {'paper yes':>9} | {'echosys no':>10} {'yes':>7}"]
     for c in cells:
         g, n = c["goal"], c["colors"]
         if c["status"] == "ND":
-            lines.append(f"{g:6} {n:>3} | {'ND':>15} {'ND':>15} {'':>6} | {'ND':>8} {'ND':>8} |")
+            lines.append(f"{g:6} {n:>3} | " + " ".join(f"{'ND':>10} {'':>5} {'':>5}" for _ in sides))
             continue
-        off, on = c.get("off", {}), c.get("on", {})
+        parts = []
+        for s in sides:
+            d = c.get(s, {})
+            parts.append(f"{f(d['cpu']):>10} {d['expanded']:>5} {d['branching']:>5.1f}" if d.get("status") == "ok"
+                         else f"{'TO':>10} {'':>5} {'':>5}")
         sn, sy = SEED_TABLE1.get(g, {}).get(n, ("-", "-"))
         pn, py = PEER_TABLE1.get(g, {}).get(n, ("-", "-"))
-        dn = f"{f(off['wall'])} ({f(off['cpu'])})" if off.get("status") == "ok" else "TO"
-        dy = f"{f(on['wall'])} ({f(on['cpu'])})" if on.get("status") == "ok" else "TO"
         ratio = f"{c['ratio']:.2f}" if c.get("ratio") else "-"
-        init = f"{on['initial']:.4f}" if on.get("status") == "ok" else "-"
-        lines.append(f"{g:6} {n:>3} | {dn:>15} {dy:>15} {ratio:>6} | "
-                     f"{sn if isinstance(sn, str) else f(sn):>8} {sy if isinstance(sy, str) else f(sy):>8} | "
-                     f"{pn if isinstance(pn, str) else f(pn):>7} {py if isinstance(py, str) else f(py):>8} | {init:>7}")
-    lines += ["", "Table 2: classical breakdown (macros on): cumulative wall seconds, calls, slowest call (wall and "
-              "CPU ms); seed beside",
-              f"{'goal':6} {'col':>3} | {'seconds':>8} {'calls':>5} {'max ms':>7} {'cpu ms':>7} | {'seed s':>7} "
-              f"{'seed calls':>10}"]
+        last = c.get(sides[-1], {})
+        init = f"{last['initial_cpu']:.4f}" if last.get("status") == "ok" else "-"
+        lines.append(f"{g:6} {n:>3} | {' '.join(parts)} {ratio:>7} | {init:>7} {SEED_INITIAL.get(n, '-'):>10} | "
+                     f"{sn if isinstance(sn, str) else f(sn):>8} {sy if isinstance(sy, str) else f(sy):>9} | "
+                     f"{pn if isinstance(pn, str) else f(pn):>10} {py if isinstance(py, str) else f(py):>7}")
+    last_side = sides[-1]
+    lines += ["", f"Table 2: classical breakdown (macros {last_side}): cumulative CPU ms, calls, slowest call (CPU "
+              "ms); paper beside (seconds, calls)",
+              f"{'goal':6} {'col':>3} | {'cpu ms':>8} {'calls':>5} {'max ms':>7} | {'paper s':>7} {'paper calls':>11}"]
     for c in cells:
         g, n = c["goal"], c["colors"]
-        on = c.get("on", {})
+        on = c.get(last_side, {})
         seed = SEED_TABLE2.get(g, {}).get(n, "ND" if c["status"] == "ND" else "-")
         ss = seed if isinstance(seed, str) else ("TO", "TO") if seed is None else (f"{seed[0]:.3f}", seed[1])
         if on.get("status") != "ok":
             first = ss[0] if isinstance(ss, tuple) else ss
-            lines.append(f"{g:6} {n:>3} | {c['status']:>8} {'':>5} {'':>7} {'':>7} | {first:>7}")
+            lines.append(f"{g:6} {n:>3} | {c['status']:>8} {'':>5} {'':>7} | {first:>7}")
             continue
-        lines.append(f"{g:6} {n:>3} | {on['classical']:8.4f} {on['calls']:>5} {on['max_call'] * 1000:7.2f} "
+        lines.append(f"{g:6} {n:>3} | {on.get('classical_cpu', on['classical']) * 1000:8.2f} {on['calls']:>5} "
                      f"{on.get('max_call_cpu', 0.0) * 1000:7.2f} | "
-                     f"{ss[0] if isinstance(ss, tuple) else ss:>7} {ss[1] if isinstance(ss, tuple) else '':>10}")
-    lines += ["", "seed initial states: " + ", ".join(f"{k} colours {v} s" for k, v in SEED_INITIAL.items())]
-    lines += ["", *TABLE_LEGEND]
-    return "\n".join(lines)
-
-
-#: what the columns of `delkit epico table` mean (printed below the tables)
-TABLE_LEGEND = [
-    "Columns: goal = e-PICO goal (alpha, beta, gamma, delta); col = number of colours;",
-    "  delkit no / yes = delkit with macros off / on: wall seconds, CPU seconds in brackets; no/yes = their ratio;",
-    "  seed no / yes, seed s, seed calls = the numbers published in the e-PICO paper (Soldà, Fabiano, Dovier);",
-    "  peer no / yes = the peer implementation (echosys, PyPI) measured on a machine like this one;",
-    "  init s = seconds to build the initial state; seconds / calls / max ms / cpu ms = the classical planner's",
-    "  total wall time, number of calls, slowest call (wall and CPU milliseconds).",
-    "Entries: TO = time-out (--timeout); ND = not defined (gamma and delta need two colours); - = not measured.",
-]
+                     f"{ss[0] if isinstance(ss, tuple) else ss:>7} {ss[1] if isinstance(ss, tuple) else '':>11}")
+    return "\n".join(lines + ["", LEGEND])

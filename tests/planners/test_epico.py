@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
-from arms.plan import parse_plan, symbolic_trace
-from planners.epico import GOALS, EpicoError, defined, generate
+from planners.epico import GOALS, ROBOTS, EpicoError, Reading, defined, generate, reading_of
 from planners.hierarchy import epistemic_task, solve
+from planners.primitive import parse_plan, symbolic_trace
 from planners.validate import check_plan
 
 
@@ -23,7 +25,7 @@ def _accepts(sol) -> None:
     if sol.instance.goal in ("beta", "delta"):
         assert on_table == []  # the shared table is free at the end
     # every block the knower learnt about was on the shared table at some point
-    announced = {a["args"][0] for a in sol.primitive_plan["actions"] if a["action"] == "announce"}
+    announced = {a["args"][0] for a in sol.primitive_plan["actions"] if a["action"] == "announce" and a.get("args")}
     need = 1 if sol.instance.goal in ("alpha", "beta") else 2
     assert len({sol.instance.layout.colors[b] for b in announced}) >= need
 
@@ -86,20 +88,105 @@ def test_random_layouts_and_known():
     _accepts(sol)
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("goal", GOALS)
-@pytest.mark.parametrize("colors", [1, 2, 3, 4])
-def test_table1_every_cell(goal, colors):
-    """Every defined cell of Table 1, macros off and on: same validity, fewer or equal search steps."""
+def test_default_is_the_papers_reading(capsys):
+    """§4.4: "Initially, they do not know what blocks they are able to manipulate" — both robots. The
+    default instance models both robots' colours (4^n worlds), says so, and the reduced reading is asked
+    for by name."""
+    from delkit.cli import main
+
+    inst = generate("alpha", 2)
+    assert inst.owners == ROBOTS and inst.reading == Reading() and inst.reading.name == "paper"
+    assert "robot1 robot2 - owner" in inst.problem_text
+    task, _, _ = epistemic_task(inst, macros=False)
+    assert task.initial.n_worlds == 4 ** 2
+    reduced = generate("alpha", 2, owners=("robot1",))
+    assert reduced.reading.name == "owner robot1"
+    assert epistemic_task(reduced, macros=False)[0].initial.n_worlds == 2 ** 2
+    assert solve(inst).to_json()["reading"]["name"] == "paper"
+    with pytest.warns(DeprecationWarning):
+        assert generate("alpha", 2, symmetric=False).owners == ("robot1",)
+    assert main(["epico", "table", "--colors", "1", "--json"]) in (0, None)
+    data = json.loads(capsys.readouterr().out)
+    assert data["reading"]["name"] == "paper" and {c["reading"] for c in data["cells"]} == {"paper"}
+    assert main(["epico", "solve", "--goal", "alpha", "--colors", "1", "--owner", "robot1"]) in (0, None)
+    out = capsys.readouterr().out
+    assert out.startswith("owner robot1 reading: robot1's colours unknown (2^n worlds")
+    assert main(["epico", "table", "--colors", "1"]) in (0, None)
+    out = capsys.readouterr().out
+    assert out.lstrip().startswith("paper reading:") and "Legend:" in out and "ND = not defined" in out
+
+
+def _table1(goal: str, colors: int, reading: Reading) -> None:
+    """A Table-1 cell, macros off and on: both plans accepted by the DEL checker (and the primitive plan by
+    the block-world trace), equally long when flattened (BFS is optimal), Table 2's call counts."""
     if not defined(goal, colors):
         pytest.skip("ND")
-    inst = generate(goal, colors)
+    inst = generate(goal, colors, reading=reading)
     off, on = solve(inst, macros=False), solve(inst, macros=True)
     for sol in (off, on):
         _accepts(sol)
     assert len(on.flat_plan) == len(off.flat_plan)  # BFS: both optimal in primitive epistemic steps
     assert len(on.epistemic_plan) <= len(off.epistemic_plan)
+    assert on.search["expanded"] <= off.search["expanded"]
     assert on.classical_calls == off.classical_calls == {"alpha": 1, "beta": 2, "gamma": 3, "delta": 4}[goal]
+
+
+READINGS = {"paper": Reading(), "owner robot1": reading_of(("robot1",))}
+
+
+@pytest.mark.parametrize("reading", READINGS)
+@pytest.mark.parametrize("goal", GOALS)
+@pytest.mark.parametrize("colors", [1, 2, 3])
+def test_table1_cells(goal, colors, reading):
+    _table1(goal, colors, READINGS[reading])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("reading", READINGS)
+@pytest.mark.parametrize("goal", GOALS)
+def test_table1_four_colours(goal, reading):
+    _table1(goal, 4, READINGS[reading])
+
+
+@pytest.mark.parametrize("goal", ["gamma", "delta"])
+def test_per_colour_sensing(goal):
+    """Per-colour sensing: one sense_color per colour the plan needs (γ, δ: two)."""
+    inst = generate(goal, 2, sensing="color")
+    for macros in (False, True):
+        sol = solve(inst, macros=macros)
+        _accepts(sol)
+        assert sum(n.startswith("sense_color_") for n in sol.flat_plan) == 2
+        assert not any(n.startswith("sense_table") for n in sol.flat_plan)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("goal", GOALS)
+def test_per_colour_sensing_four_colours(goal):
+    _table1(goal, 4, reading_of(sensing="color"))
+
+
+def test_handover_prose_macro():
+    """The hand-over reading: the owner cannot tell whether the other robot cleared the shared table, so it
+    must be told before it puts again — γ and δ plans take and announce (the §5 prose macro), and with the
+    macro they use take_and_announce; the announcement is what lets the owner's second put be executable."""
+    from planners.task import EventAction
+
+    inst = generate("gamma", 2, takes="handover")
+    task, _, _ = epistemic_task(inst, macros=False)
+    take = task.action("take_from_shared_robot2_robot1_red")
+    assert isinstance(take, EventAction)
+    assert not task.executable(task.action("take_from_shared_robot1_robot1_red"), task.initial)  # owner never
+    off = solve(inst, macros=False)
+    i = off.flat_plan.index("take_from_shared_robot2_robot1_red")
+    assert off.flat_plan[i + 1] == "announce_table_free_robot2"
+    on = solve(inst, macros=True)
+    assert "take_and_announce_robot2_robot1_red" in on.epistemic_plan
+    for sol in (off, on):
+        _accepts(sol)
+    # without the announcement the owner's next put is not executable (it does not know the table is free)
+    bad = off.flat_plan[:i + 1] + off.flat_plan[i + 2:]
+    res = check_plan(task, list(bad))
+    assert not res.valid and res.step == i + 2, res.reason
 
 
 def test_oblivious_variant_only_succeeds_vacuously():
@@ -140,3 +227,66 @@ def test_replan_from_observed_layout():
     assert not any(n.startswith(("sense", "put_on_shared")) for n in sol.flat_plan)
     assert sol.classical_calls == 1  # only the take
     _accepts(sol)
+
+
+@pytest.mark.parametrize("reading", [Reading(), reading_of(("robot1",)), reading_of(sensing="color"),
+                                     reading_of(takes="handover")], ids=lambda r: r.name)
+def test_successors_equal_the_product(reading):
+    """The compact space's shortcuts (a sensing/announcement that cannot change the state yields it, a
+    refinement instead of a product when nobody is oblivious, commuting sensings read from known
+    transitions, one-event public actions without the pair table) give the state delkit's product update
+    gives, along a breadth-first search (where the commutation shortcut fires) and random walks."""
+    import random
+
+    from delkit.update import product_update
+    from planners.epistemic import Limits, bfs
+    from planners.spaces import CompactSpace
+
+    rng = random.Random(7)
+    cases = (("beta", False), ("beta", True)) if reading.sensing == "color" else (("delta", False), ("gamma", True))
+    for goal, macros in cases:  # (per-colour sensing: the smaller goal keeps the test at a few seconds)
+        inst = generate(goal, 2, reading=reading)
+        _, ptask, _ = epistemic_task(inst, macros=macros)
+        sp = CompactSpace(ptask)
+        inner = sp.successors
+        checked = []
+
+        def succ(s, inner=inner, sp=sp, checked=checked):
+            k = sp.to_kripke(s)
+            out = list(inner(s))
+            for name, nxt, key in out:
+                entry = sp._acts[sp._index[name]]
+                em = sp._macro_model(s, entry) if entry[0] == "macro" else sp.event_model(s, entry)
+                assert nxt.key == key == sp.engine.from_kripke(product_update(k, em)).key, name
+                checked.append(name)
+            yield from out
+
+        sp.successors = succ
+        assert bfs(sp, Limits(timeout=120)).solved
+        s, _ = sp.initial()
+        for _ in range(6):
+            nxt = list(sp.successors(s))
+            s = rng.choice(nxt)[1]
+        assert len(checked) > 20
+
+
+def test_big_public_updates_equal_the_product():
+    """Four colours (256 worlds: the compact backend's one-event public update without the pair table, and
+    the refinement shortcut): along a plan of δ, every successor equals delkit's product update."""
+    from delkit.update import product_update
+    from planners.spaces import CompactSpace
+
+    inst = generate("delta", 4)
+    task, _, _ = epistemic_task(inst, macros=False)
+    sp = CompactSpace(task)
+    s, _ = sp.initial()
+    plan = solve(inst, macros=False).flat_plan
+    kinds = set()
+    for step in plan[:5]:
+        k = sp.to_kripke(s)
+        for name, _nxt, key in sp.successors(s):
+            entry = sp._acts[sp._index[name]]
+            assert key == sp.engine.from_kripke(product_update(k, sp.event_model(s, entry))).key, name
+            kinds.add(entry[1].kind)
+        s = sp.step(s, step)
+    assert kinds == {"ontic", "sensing", "announcement"} and len(s.val) > 64

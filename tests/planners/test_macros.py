@@ -31,9 +31,11 @@ def alpha2():
 
 def test_grounding_and_flatten(alpha2):
     _, task, ms = alpha2
-    assert {m.name for m in ms} == {f"pspb_and_announce_robot1_{c}" for c in ("red", "black")}
-    sym = generate("alpha", 2, symmetric=True)
-    assert len(epistemic_task(sym)[2]) == 4  # both robots' colours modelled: robot2's macros too
+    # the paper's reading (the default): both robots' colours are modelled, so both robots' macros
+    assert {m.name for m in ms} == {f"pspb_and_announce_{r}_{c}" for r in ("robot1", "robot2")
+                                    for c in ("red", "black")}
+    reduced = generate("alpha", 2, owners=("robot1",))
+    assert {m.name for m in epistemic_task(reduced)[2]} == {f"pspb_and_announce_robot1_{c}" for c in ("red", "black")}
     m = ms[0]
     assert m.step_names == ("put_on_shared_robot1_red", "announce_block_on_barrier_robot1_red")
     assert flatten(["sense_table_robot1", m.name], ms) == ["sense_table_robot1", *m.step_names]
