@@ -1,4 +1,4 @@
-"""``delkit epico``: the e-PICO pipeline (seed 004) — generate an instance, solve it to a primitive plan,
+"""``delkit epico``: the e-PICO pipeline (Soldà, Fabiano, Dovier) — generate an instance, solve it to a primitive plan,
 print Tables 1 and 2. Heavy imports stay inside the commands."""
 
 from __future__ import annotations
@@ -41,7 +41,8 @@ def register(app: typer.Typer) -> None:
     @sub.command("generate")
     def generate_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
                      colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
-                     seed: int | None = typer.Option(None, "--seed", help="random layout (default: the layout of the e-PICO paper)"),
+                     seed: int | None = typer.Option(None, "--seed",
+                                                     help="random layout (default: the layout of the e-PICO paper)"),
                      owner: list[str] = typer.Option([], "--owner", help=_OWNER_HELP),
                      sensing: str = typer.Option("table", "--sensing", help=_SENSING_HELP),
                      takes: str = typer.Option("seen", "--takes", help=_TAKES_HELP),
@@ -219,7 +220,7 @@ LEGEND = """Legend: reading = which model (paper: both robots ignorant of their 
   CPU s = CPU seconds of one solve (initial state + epistemic search + breakdown into primitive actions +
   plan check), mean of the repeats. init = CPU seconds of the initial state alone (grounding, Kripke model,
   compact form). exp = states expanded by the breadth-first search; br = successors generated per expanded
-  state (branching factor). off/on = CPU ratio (> 1: macros help). paper = seed 004 Table 1, seconds
+  state (branching factor). off/on = CPU ratio (> 1: macros help). paper = the e-PICO paper's Table 1, seconds
   (Intel i7-8565U, EFP; search from a given initial state); paper init = the paper's initial-state seconds
   (§5). echosys = the peer implementation (PyPI echosys) on a machine like ours, seconds.
   ND = not defined (γ, δ need two colours); TO = no plan within the time limit (110 s, as the paper)."""
