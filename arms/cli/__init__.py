@@ -10,7 +10,7 @@ from typing import Any
 __all__ = ["register", "DEMO_SECTIONS", "EXTRA", "REQUIRES"]
 
 EXTRA = "arms"
-REQUIRES = ("mujoco", "mink", "pinocchio")
+REQUIRES = ("mujoco", "mink", "pinocchio", "frankik")
 
 
 def register(app: Any) -> None:
