@@ -54,6 +54,9 @@ FLANGE_FRAME = "panda_link8"
 CHECK_POS = 1e-6
 CHECK_ROT = 1e-6
 ANALYTIC = "analytic (He & Liu, frankik)"
+#: a closed-form branch this close (rad) outside a joint limit is rounding (a pose whose solution has a joint
+#: exactly at its limit): it is clipped onto the limit, and the FK check decides
+LIMIT_SLACK = 1e-9
 _LEVELS = (16, 32, 64, 128, 256)
 
 
@@ -70,7 +73,9 @@ class BatchCLIK:
 
     Batched FK of the URDF chain (revolute-z joints at pinocchio's joint placements, then the TCP frame's
     placement), the world-frame geometric Jacobian, error e = (p* − p, log(R* Rᵀ)), damping
-    λ = λ₀ + ‖e‖² per member, Δq = Jᵀ(JJᵀ + λI)⁻¹e (one batched 6×6 solve), q ← clip(q + Δq).
+    λ = λ₀ + ‖e‖² per member, Δq = Jᵀ(JJᵀ + λI)⁻¹e (one batched 6×6 solve); the joints that this step
+    would push through a limit are held there (their Jacobian columns zeroed) and the step re-solved for
+    the rest (plain clipping stalls at a limit); q ← clip(q + Δq).
     """
 
     def __init__(self, arm: PinocchioArm):
@@ -119,6 +124,11 @@ class BatchCLIK:
         e[:, 3:] = w * scale[:, None]
         return e
 
+    @staticmethod
+    def _dls(jac: np.ndarray, e: np.ndarray, lam: np.ndarray, eye6: np.ndarray) -> np.ndarray:
+        gram = jac @ jac.transpose(0, 2, 1) + lam[:, None, None] * eye6
+        return np.einsum("bji,bj->bi", jac, np.linalg.solve(gram, e[:, :, None])[:, :, 0])
+
     def solve(self, target: np.ndarray, starts: np.ndarray, rng: np.random.Generator, *, deadline: float,
               clock, batch: int = 8, max_iter: int = 40, damping: float = 1e-6, pos_tol: float = CHECK_POS,
               rot_tol: float = CHECK_ROT) -> tuple[np.ndarray | None, int, int]:
@@ -145,8 +155,10 @@ class BatchCLIK:
             if clock() > deadline:
                 return None, iters, restarts
             lam = damping + np.einsum("bi,bi->b", e, e)
-            gram = jac @ jac.transpose(0, 2, 1) + lam[:, None, None] * eye6
-            dq = np.einsum("bji,bj->bi", jac, np.linalg.solve(gram, e[:, :, None])[:, :, 0])
+            dq = self._dls(jac, e, lam, eye6)
+            blocked = (q + dq < lo) | (q + dq > hi)
+            if blocked.any():  # joints the step pushes through a limit are held there; the rest re-solve
+                dq = self._dls(jac * ~blocked[:, None, :], e, lam, eye6)
             q = np.minimum(np.maximum(q + dq, lo), hi)
             iters += 1
             age += 1
@@ -226,10 +238,10 @@ class AnalyticArm:
               pos_tol: float = CHECK_POS, rot_tol: float = CHECK_ROT) -> IKResult:
         """The in-limit solution nearest ``q0`` (default: the middle of the joint ranges).
 
-        ``quick`` > 0: accept the nearest branch at q0's own q7 at once if no joint moves more than
-        ``quick`` rad from q0 (continuous tracking); otherwise the full sweep. ``budget`` (s on ``clock``)
-        bounds the whole call, the numerical fallback included; ``seed`` seeds the fallback's restarts
-        (deterministic for a given seed)."""
+        ``quick`` (rad, a number or one per joint) > 0: accept the nearest branch at q0's own q7 at once if
+        no joint moves more than ``quick`` from q0 (continuous tracking); otherwise the full sweep.
+        ``budget`` (s on ``clock``) bounds the whole call, the numerical fallback included; ``seed`` seeds
+        the fallback's restarts (deterministic for a given seed)."""
         t0 = clock()
         ref = self.mid if q0 is None else np.asarray(q0, dtype=float)
         target = np.asarray(target, dtype=float)
@@ -248,22 +260,25 @@ class AnalyticArm:
             """In-limit branches (k × 7) of these q7 values and the q7 of each (one numpy pass)."""
             nonlocal calls
             q7s = np.asarray(q7s, dtype=float)
-            s = np.stack([ik_full(flange, ref, q7) for q7 in q7s.tolist()]).reshape(-1, 7)
+            if not len(q7s):
+                return np.zeros((0, 7)), q7s
+            s = np.concatenate([ik_full(flange, ref, q7) for q7 in q7s.tolist()])
             calls += len(q7s)
             q7_of = np.repeat(q7s, 4)
             real = ~np.isnan(s).any(axis=1)
-            inside = real & ((s >= lo) & (s <= hi)).all(axis=1)
+            inside = real & ((s >= lo - LIMIT_SLACK) & (s <= hi + LIMIT_SLACK)).all(axis=1)
             if len(near_misses) < 16 and (real & ~inside).any():
                 near_misses.extend(s[real & ~inside][:16])
-            return s[inside], q7_of[inside]
+            return np.minimum(np.maximum(s[inside], lo), hi), q7_of[inside]
 
         q7_ref = float(np.clip(ref[6], self.lower[6], self.upper[6]))
-        if quick > 0.0:
+        quick = np.asarray(quick, dtype=float)
+        if (quick > 0.0).all():
             s, _ = candidates([q7_ref])
             if len(s):
-                dist = np.abs(s - ref).max(axis=1)
+                dist = (np.abs(s - ref) / quick).max(axis=1)
                 i = int(np.argmin(dist))
-                if dist[i] <= quick:
+                if dist[i] <= 1.0:
                     ok, dp, dr = self._accept(s[i], target, pos_tol, rot_tol)
                     if ok:
                         return finish(s[i], dp, dr, ANALYTIC)
@@ -286,23 +301,21 @@ class AnalyticArm:
             if best is None:
                 continue
             step = self.pitch[level] / 2.0
-            for _ in range(refine):  # pattern search on q7 towards the seed
+            for _ in range(refine):  # pattern search on q7 towards the seed: both sides in one pass
+                sides = [q7 for q7 in (best_q7 - step, best_q7 + step) if self.lower[6] <= q7 <= self.upper[6]]
+                c, c_q7 = candidates(sides)
                 improved = False
-                for q7 in (best_q7 - step, best_q7 + step):
-                    if not self.lower[6] <= q7 <= self.upper[6]:
-                        continue
-                    c, _ = candidates([q7])
-                    if not len(c):
-                        continue
+                if len(c):
                     d2c = ((c - ref) ** 2).sum(axis=1)
-                    j = int(np.argmin(d2c))
-                    if d2c[j] < best_d2:
+                    for j in np.argsort(d2c, kind="stable"):
+                        if d2c[j] >= best_d2:
+                            break
                         ok, dp, dr = self._accept(c[j], target, pos_tol, rot_tol)
                         if ok:
-                            best, best_q7, best_d2, best_err = c[j], q7, d2c[j], (dp, dr)
+                            best, best_q7, best_d2, best_err = c[j], c_q7[j], d2c[j], (dp, dr)
                             improved = True
-                        else:
-                            rejected += 1
+                            break
+                        rejected += 1
                 if not improved:
                     step /= 2.0
             return finish(best, *best_err, ANALYTIC)
@@ -323,8 +336,36 @@ class AnalyticArm:
                       restarts=restarts, reason=reason + f"; the batch CLIK found none within the budget "
                                                          f"({restarts} restarts)")
 
-    def track(self, target: np.ndarray, q_prev: np.ndarray, *, max_step: float = 0.2, budget: float = 0.005,
-              clock=time.perf_counter) -> IKResult:
-        """The executor's per-tick IK: the branch at q_prev's q7 nearest q_prev if no joint moves more than
-        ``max_step`` rad, else the full sweep (nearest q_prev)."""
-        return self.solve(target, q_prev, budget=budget, clock=clock, quick=max_step)
+    def track(self, target: np.ndarray, q_prev: np.ndarray, *, max_step=0.2, q7_offsets=(0.0,),
+              sweep: bool = False, budget: float = 0.005, clock=time.perf_counter) -> IKResult:
+        """The executor's per-tick IK: of the in-limit branches at q7 = q_prev's q7 + each of ``q7_offsets``,
+        the one whose largest joint motion relative to ``max_step`` (rad, a number or one per joint) is
+        smallest, accepted if no joint moves more than ``max_step`` and it passes the FK check. Otherwise
+        (``sweep``) the full sweep nearest q_prev, or (default) a non-converged result saying why."""
+        if sweep:
+            return self.solve(target, q_prev, budget=budget, clock=clock, quick=max_step)
+        t0 = clock()
+        q_prev = np.asarray(q_prev, dtype=float)
+        step = np.broadcast_to(np.asarray(max_step, dtype=float), (7,))
+        flange = self.flange_target(np.asarray(target, dtype=float))
+        lo7, hi7 = self.lower[6], self.upper[6]
+        q7s = [min(max(q_prev[6] + o, lo7), hi7) for o in q7_offsets]
+        s = np.stack([ik_full(flange, q_prev, q7) for q7 in q7s]).reshape(-1, 7)
+        lo, hi = self.lower, self.upper
+        s = s[~np.isnan(s).any(axis=1) & ((s >= lo - LIMIT_SLACK) & (s <= hi + LIMIT_SLACK)).all(axis=1)]
+        s = np.minimum(np.maximum(s, lo), hi)
+        why = "no in-limit branch at these q7"
+        if len(s):
+            ratio = (np.abs(s - q_prev) / step).max(axis=1)
+            i = int(np.argmin(ratio))
+            if ratio[i] <= 1.0:
+                ok, dp, dr = self._accept(s[i], target, CHECK_POS, CHECK_ROT)
+                if ok:
+                    return IKResult(q={"arm": s[i]}, converged=True, position_error=dp, orientation_error=dr,
+                                    iterations=len(q7s), restarts=0, seconds=clock() - t0, solver=ANALYTIC)
+                why = f"the branch fails the FK check ({dp:.1e} m, {dr:.1e} rad)"
+            else:
+                why = f"every in-limit branch at these q7 moves a joint {ratio[i]:.2f}× max_step"
+        return IKResult(q={"arm": q_prev.copy()}, converged=False, position_error=math.inf,
+                        orientation_error=math.inf, iterations=len(q7s), restarts=0, seconds=clock() - t0,
+                        solver=ANALYTIC, reason=why)
