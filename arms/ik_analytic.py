@@ -208,6 +208,11 @@ class AnalyticArm:
     def _in_limits(self, s: np.ndarray) -> np.ndarray:
         return ((s >= self.lower) & (s <= self.upper)).all(axis=1)
 
+    def _feasible(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(mask of the real rows within the limits up to ``LIMIT_SLACK``, mask of the real rows)."""
+        real = ~np.isnan(s).any(axis=1)
+        return real & ((s >= self.lower - LIMIT_SLACK) & (s <= self.upper + LIMIT_SLACK)).all(axis=1), real
+
     def _check_model(self) -> None:
         """Refuse to run if the closed form's constants are not the URDF's: for random configurations q,
         every branch of the closed form at q's q7 must put the TCP where pinocchio FK of q puts it."""
@@ -265,8 +270,7 @@ class AnalyticArm:
             s = np.concatenate([ik_full(flange, ref, q7) for q7 in q7s.tolist()])
             calls += len(q7s)
             q7_of = np.repeat(q7s, 4)
-            real = ~np.isnan(s).any(axis=1)
-            inside = real & ((s >= lo - LIMIT_SLACK) & (s <= hi + LIMIT_SLACK)).all(axis=1)
+            inside, real = self._feasible(s)
             if len(near_misses) < 16 and (real & ~inside).any():
                 near_misses.extend(s[real & ~inside][:16])
             return np.minimum(np.maximum(s[inside], lo), hi), q7_of[inside]
@@ -350,22 +354,16 @@ class AnalyticArm:
         flange = self.flange_target(np.asarray(target, dtype=float))
         lo7, hi7 = self.lower[6], self.upper[6]
         q7s = [min(max(q_prev[6] + o, lo7), hi7) for o in q7_offsets]
-        s = np.stack([ik_full(flange, q_prev, q7) for q7 in q7s]).reshape(-1, 7)
-        lo, hi = self.lower, self.upper
-        s = s[~np.isnan(s).any(axis=1) & ((s >= lo - LIMIT_SLACK) & (s <= hi + LIMIT_SLACK)).all(axis=1)]
-        s = np.minimum(np.maximum(s, lo), hi)
-        why = "no in-limit branch at these q7"
+        s = np.concatenate([ik_full(flange, q_prev, q7) for q7 in q7s])
+        s = np.minimum(np.maximum(s[self._feasible(s)[0]], self.lower), self.upper)
+        q, dp, dr, why = q_prev.copy(), math.inf, math.inf, "no in-limit branch at these q7"
         if len(s):
             ratio = (np.abs(s - q_prev) / step).max(axis=1)
             i = int(np.argmin(ratio))
             if ratio[i] <= 1.0:
                 ok, dp, dr = self._accept(s[i], target, CHECK_POS, CHECK_ROT)
-                if ok:
-                    return IKResult(q={"arm": s[i]}, converged=True, position_error=dp, orientation_error=dr,
-                                    iterations=len(q7s), restarts=0, seconds=clock() - t0, solver=ANALYTIC)
-                why = f"the branch fails the FK check ({dp:.1e} m, {dr:.1e} rad)"
+                q, why = (s[i], "") if ok else (q, f"the branch fails the FK check ({dp:.1e} m, {dr:.1e} rad)")
             else:
                 why = f"every in-limit branch at these q7 moves a joint {ratio[i]:.2f}× max_step"
-        return IKResult(q={"arm": q_prev.copy()}, converged=False, position_error=math.inf,
-                        orientation_error=math.inf, iterations=len(q7s), restarts=0, seconds=clock() - t0,
-                        solver=ANALYTIC, reason=why)
+        return IKResult(q={"arm": q}, converged=not why, position_error=dp, orientation_error=dr,
+                        iterations=len(q7s), restarts=0, seconds=clock() - t0, solver=ANALYTIC, reason=why)
