@@ -304,3 +304,57 @@ def test_track_follows_a_straight_line_continuously():
         assert np.abs(res.q["arm"] - q).max() < 0.05
         q = res.q["arm"]
         _assert_solution(_ARM, q, t)
+
+
+# -- the executor's per-tick IK (issue 25) ------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def executor():
+    from arms.demo import demo_plan
+    from arms.executor import Executor
+
+    return Executor(demo_plan().world)
+
+
+def test_clearance_bound_never_exceeds_the_true_arm_distance(executor):
+    """The bound that lets a tick skip the QP's collision constraint (and the contact count) is a lower
+    bound on the exact geom–geom distance (mj_geomDistance) for random configurations of both arms."""
+    import mujoco
+
+    ex = executor
+    rng = np.random.default_rng(2)
+    g1, g2 = ex._sphere_geoms
+    fromto = np.zeros(6)
+    near = 0
+    for _ in range(40):
+        for r in ex.world.robots:
+            ex.data.qpos[ex._arm_adr[r]] = rng.uniform(_ARM.lower, _ARM.upper)
+        mujoco.mj_kinematics(ex.model, ex.data)
+        bound = ex.arm_clearance_bound()
+        true = min(mujoco.mj_geomDistance(ex.model, ex.data, int(a), int(b), 2.0, fromto) for a in g1 for b in g2)
+        assert bound <= true + 1e-9, (bound, true)
+        near += bound < 0.17
+    assert near >= 5  # the sample does reach configurations where the QP is needed
+
+
+def test_executor_uses_the_analytic_ik_by_default_and_mink_on_request():
+    from arms.demo import demo_plan
+    from arms.executor import Executor
+    from arms.world import ArmsError
+
+    world = demo_plan().world
+    lay = world.layout
+    target = pose([lay.stack_x, lay.stack_xy(0, 1)[1], lay.table_z + 0.2])
+    for ik, used in (("analytic", "analytic"), ("mink", "mink")):
+        ex = Executor(world, ik=ik)
+        err = ex.move("robot1", target)
+        assert err < 3e-4
+        assert ex.ik_ticks[used] > 0
+        if ik == "mink":
+            assert ex.ik_ticks["analytic"] == 0
+        else:  # every analytic set-point the arm was sent to is within the limits (checked per tick)
+            q = ex.q_ik[ex.ik.qadr["robot1"]]
+            assert np.all(q >= _ARM.lower) and np.all(q <= _ARM.upper)
+        assert np.linalg.norm(ex.tcp_actual("robot1")[:3, 3] - target[:3, 3]) < 5e-3
+    with pytest.raises(ArmsError, match="ik must be"):
+        Executor(world, ik="ikfast")
