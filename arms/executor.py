@@ -3,12 +3,12 @@
 Control: every ``control_dt`` (10 ms) the IK gives the joint set-points q*, which the position servos
 of the scene track for ``control_dt / timestep`` physics steps. With ``ik="analytic"`` (the default) a
 tick uses the closed-form Panda IK of :mod:`arms.ik_analytic` for each arm whose target changed: of the
-branches at q7 = the arm's current q7 + 0, ±½, ±1 times q7's velocity limit × dt (the redundancy used,
-as the QP uses it, to keep joint speeds down), the one with the smallest largest joint speed, taken only
-if it is within the joint limits, passes the pinocchio FK check and moves no joint faster than its
-velocity limit — and only *while the two arms are provably apart*: a lower bound on their distance
-(bounding spheres of every arm geom, from the simulation) above ``ANALYTIC_CLEARANCE``, farther than the
-QP's collision-detection distance, so that its avoidance constraint would be inactive anyway. Otherwise
+branches at q7 = the arm's current q7 + 0, ±½, ±1 times q7's velocity limit × dt (the redundancy used
+only when holding q7 would make a joint exceed its velocity limit), within the joint limits and moving no
+joint faster than its velocity limit, the one that moves q7 least, if it passes the pinocchio FK check;
+and only *while the two arms are provably apart*: a lower bound on their distance (bounding spheres of
+every arm geom, from the simulation) above ``ANALYTIC_CLEARANCE``, farther than the QP's
+collision-detection distance, so that its avoidance constraint would be inactive anyway. Otherwise
 (arms near each other, or no such branch) the tick is one mink QP step (both arms, TCP frame tasks,
 posture, configuration and velocity limits, arm–arm collision avoidance). ``ik="mink"`` uses the QP on
 every tick (the behaviour before issue 25); ``Executor.ik_ticks`` counts the ticks of each.

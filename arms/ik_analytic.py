@@ -342,9 +342,9 @@ class AnalyticArm:
 
     def track(self, target: np.ndarray, q_prev: np.ndarray, *, max_step=0.2, q7_offsets=(0.0,),
               sweep: bool = False, budget: float = 0.005, clock=time.perf_counter) -> IKResult:
-        """The executor's per-tick IK: of the in-limit branches at q7 = q_prev's q7 + each of ``q7_offsets``,
-        the one whose largest joint motion relative to ``max_step`` (rad, a number or one per joint) is
-        smallest, accepted if no joint moves more than ``max_step`` and it passes the FK check. Otherwise
+        """The executor's per-tick IK: of the in-limit branches at q7 = q_prev's q7 + each of ``q7_offsets``
+        that move no joint more than ``max_step`` (rad, a number or one per joint), the one with the least q7
+        motion (then the smallest joint motion relative to ``max_step``), if it passes the FK check. Otherwise
         (``sweep``) the full sweep nearest q_prev, or (default) a non-converged result saying why."""
         if sweep:
             return self.solve(target, q_prev, budget=budget, clock=clock, quick=max_step)
@@ -355,11 +355,15 @@ class AnalyticArm:
         lo7, hi7 = self.lower[6], self.upper[6]
         q7s = [min(max(q_prev[6] + o, lo7), hi7) for o in q7_offsets]
         s = np.concatenate([ik_full(flange, q_prev, q7) for q7 in q7s])
-        s = np.minimum(np.maximum(s[self._feasible(s)[0]], self.lower), self.upper)
+        feasible = self._feasible(s)[0]
+        s = np.minimum(np.maximum(s[feasible], self.lower), self.upper)
+        offset = np.abs(np.repeat(np.asarray(q7s) - q_prev[6], 4)[feasible])
         q, dp, dr, why = q_prev.copy(), math.inf, math.inf, "no in-limit branch at these q7"
         if len(s):
             ratio = (np.abs(s - q_prev) / step).max(axis=1)
-            i = int(np.argmin(ratio))
+            # the least q7 motion that keeps every joint within max_step (no chattering of q7), then the
+            # smallest joint speed
+            i = int(np.lexsort((ratio, np.where(ratio <= 1.0, offset, np.inf)))[0])
             if ratio[i] <= 1.0:
                 ok, dp, dr = self._accept(s[i], target, CHECK_POS, CHECK_ROT)
                 q, why = (s[i], "") if ok else (q, f"the branch fails the FK check ({dp:.1e} m, {dr:.1e} rad)")
