@@ -2,10 +2,10 @@
 
 Control: every ``control_dt`` (10 ms) the IK gives the joint set-points q*, which the position servos
 of the scene track for ``control_dt / timestep`` physics steps. With ``ik="analytic"`` (the default) a
-tick uses the closed-form Panda IK of :mod:`arms.ik_analytic` for each arm whose target changed: of the
-branches at q7 = the arm's current q7 + 0, ±½, ±1 times q7's velocity limit × dt (the redundancy used
-only when holding q7 would make a joint exceed its velocity limit), within the joint limits and moving no
-joint faster than its velocity limit, the one that moves q7 least, if it passes the pinocchio FK check;
+tick uses the closed-form Panda IK of :mod:`arms.ik_analytic` for each arm whose target changed, the
+redundancy resolved as a minimum-norm differential IK resolves it: q7 within one velocity step of the
+arm's current q7 minimising Σ (Δq_j / (v_max,j dt))² (``AnalyticArm.track``), the branch within the joint
+limits, moving no joint faster than its velocity limit and passing the pinocchio FK check;
 and only *while the two arms are provably apart*: a lower bound on their distance (bounding spheres of
 every arm geom, from the simulation) above ``ANALYTIC_CLEARANCE``, farther than the QP's
 collision-detection distance, so that its avoidance constraint would be inactive anyway. Otherwise
@@ -170,7 +170,6 @@ class Executor:
 
             self.analytic = {r: AnalyticArm(arm=self.ik.pin[r]) for r in world.robots}
         self._max_step = VELOCITY_LIMITS * control_dt  # joint motion allowed in one tick (rad)
-        self._q7_offsets = tuple(f * self._max_step[6] for f in (0.0, -0.5, 0.5, -1.0, 1.0))
         self._solved: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # robot -> (target, q) of its last tick
         self.q_ik = self.ik.full_q()
         self.tcp_cmd = {r: self.ik.tcp_pose(self.q_ik, r) for r in world.robots}
@@ -236,7 +235,7 @@ class Executor:
             last = self._solved.get(r)
             if last is not None and np.array_equal(last[0], t) and np.array_equal(last[1], prev):
                 continue  # same target, already there (an arm holding still)
-            res = self.analytic[r].track(t, prev, max_step=self._max_step, q7_offsets=self._q7_offsets)
+            res = self.analytic[r].track(t, prev, max_step=self._max_step)
             if not res.converged:
                 return None
             q[adr] = res.q["arm"]

@@ -178,6 +178,7 @@ class AnalyticArm:
         m, d = self.arm.model, self.arm.data
         self.lower, self.upper = self.arm.lower, self.arm.upper
         self.mid = (self.lower + self.upper) / 2.0
+        self._lo_slack, self._hi_slack = self.lower - LIMIT_SLACK, self.upper + LIMIT_SLACK
         qf = pin.neutral(m)
         pin.framesForwardKinematics(m, d, qf)
         flange = m.getFrameId(FLANGE_FRAME)
@@ -208,10 +209,9 @@ class AnalyticArm:
     def _in_limits(self, s: np.ndarray) -> np.ndarray:
         return ((s >= self.lower) & (s <= self.upper)).all(axis=1)
 
-    def _feasible(self, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(mask of the real rows within the limits up to ``LIMIT_SLACK``, mask of the real rows)."""
-        real = ~np.isnan(s).any(axis=1)
-        return real & ((s >= self.lower - LIMIT_SLACK) & (s <= self.upper + LIMIT_SLACK)).all(axis=1), real
+    def _feasible(self, s: np.ndarray) -> np.ndarray:
+        """Mask of the rows within the limits up to ``LIMIT_SLACK`` (NaN rows compare false: excluded)."""
+        return ((s >= self._lo_slack) & (s <= self._hi_slack)).all(axis=1)
 
     def _check_model(self) -> None:
         """Refuse to run if the closed form's constants are not the URDF's: for random configurations q,
@@ -270,7 +270,8 @@ class AnalyticArm:
             s = np.concatenate([ik_full(flange, ref, q7) for q7 in q7s.tolist()])
             calls += len(q7s)
             q7_of = np.repeat(q7s, 4)
-            inside, real = self._feasible(s)
+            inside = self._feasible(s)
+            real = ~np.isnan(s).any(axis=1)
             if len(near_misses) < 16 and (real & ~inside).any():
                 near_misses.extend(s[real & ~inside][:16])
             return np.minimum(np.maximum(s[inside], lo), hi), q7_of[inside]
@@ -340,12 +341,25 @@ class AnalyticArm:
                       restarts=restarts, reason=reason + f"; the batch CLIK found none within the budget "
                                                          f"({restarts} restarts)")
 
-    def track(self, target: np.ndarray, q_prev: np.ndarray, *, max_step=0.2, q7_offsets=(0.0,),
-              sweep: bool = False, budget: float = 0.005, clock=time.perf_counter) -> IKResult:
-        """The executor's per-tick IK: of the in-limit branches at q7 = q_prev's q7 + each of ``q7_offsets``
-        that move no joint more than ``max_step`` (rad, a number or one per joint), the one with the least q7
-        motion (then the smallest joint motion relative to ``max_step``), if it passes the FK check. Otherwise
-        (``sweep``) the full sweep nearest q_prev, or (default) a non-converged result saying why."""
+    def _nearest_branch(self, flange, q_prev, q7, step) -> tuple[np.ndarray | None, float, float]:
+        """(branch at this q7 nearest q_prev in Σ(Δq/step)², that cost, its largest |Δq|/step)."""
+        s = ik_full(flange, q_prev, q7)
+        s = np.minimum(np.maximum(s[self._feasible(s)], self.lower), self.upper)
+        if not len(s):
+            return None, math.inf, math.inf
+        r = (s - q_prev) / step
+        cost = np.einsum("ij,ij->i", r, r)
+        i = int(np.argmin(cost))
+        return s[i], float(cost[i]), float(np.abs(r[i]).max())
+
+    def track(self, target: np.ndarray, q_prev: np.ndarray, *, max_step=0.2, sweep: bool = False,
+              budget: float = 0.005, clock=time.perf_counter) -> IKResult:
+        """The executor's per-tick IK, the redundancy resolved as a minimum-norm differential IK resolves it:
+        q7 ∈ q_prev's q7 + [−h, h] (h = ``max_step`` of q7) minimising Σ_j (Δq_j / max_step_j)² over the
+        nearest in-limit branch — the cost at −h, 0, +h, then at the vertex of the parabola through them
+        (so q7 moves smoothly from tick to tick) — accepted if no joint moves more than ``max_step`` (rad, a
+        number or one per joint) and it passes the FK check. Otherwise (``sweep``) the full sweep nearest
+        q_prev, or (default) a non-converged result saying why."""
         if sweep:
             return self.solve(target, q_prev, budget=budget, clock=clock, quick=max_step)
         t0 = clock()
@@ -353,21 +367,26 @@ class AnalyticArm:
         step = np.broadcast_to(np.asarray(max_step, dtype=float), (7,))
         flange = self.flange_target(np.asarray(target, dtype=float))
         lo7, hi7 = self.lower[6], self.upper[6]
-        q7s = [min(max(q_prev[6] + o, lo7), hi7) for o in q7_offsets]
-        s = np.concatenate([ik_full(flange, q_prev, q7) for q7 in q7s])
-        feasible = self._feasible(s)[0]
-        s = np.minimum(np.maximum(s[feasible], self.lower), self.upper)
-        offset = np.abs(np.repeat(np.asarray(q7s) - q_prev[6], 4)[feasible])
+        h = float(step[6])
+        q7s = [min(max(q_prev[6] + o, lo7), hi7) for o in (-h, 0.0, h)]
+        tries = [self._nearest_branch(flange, q_prev, q7, step) for q7 in q7s]
+        cm, c0, cp = (t[1] for t in tries)
+        curv = cm - 2.0 * c0 + cp
+        if math.isfinite(curv) and curv > 0.0:
+            vertex = min(max(q_prev[6] + h * (cm - cp) / (2.0 * curv), q7s[0]), q7s[2])
+            tries.append(self._nearest_branch(flange, q_prev, vertex, step))
+        tries.sort(key=lambda t: t[1])
         q, dp, dr, why = q_prev.copy(), math.inf, math.inf, "no in-limit branch at these q7"
-        if len(s):
-            ratio = (np.abs(s - q_prev) / step).max(axis=1)
-            # the least q7 motion that keeps every joint within max_step (no chattering of q7), then the
-            # smallest joint speed
-            i = int(np.lexsort((ratio, np.where(ratio <= 1.0, offset, np.inf)))[0])
-            if ratio[i] <= 1.0:
-                ok, dp, dr = self._accept(s[i], target, CHECK_POS, CHECK_ROT)
-                q, why = (s[i], "") if ok else (q, f"the branch fails the FK check ({dp:.1e} m, {dr:.1e} rad)")
-            else:
-                why = f"every in-limit branch at these q7 moves a joint {ratio[i]:.2f}× max_step"
+        for branch, _cost, ratio in tries:
+            if branch is None:
+                continue
+            if ratio > 1.0:
+                why = f"every in-limit branch near this q7 moves a joint {ratio:.2f}× max_step"
+                break  # the cheapest branch already moves too fast; the others are worse in the norm
+            ok, dp, dr = self._accept(branch, target, CHECK_POS, CHECK_ROT)
+            if ok:
+                q, why = branch, ""
+                break
+            why = f"the branch fails the FK check ({dp:.1e} m, {dr:.1e} rad)"
         return IKResult(q={"arm": q}, converged=not why, position_error=dp, orientation_error=dr,
-                        iterations=len(q7s), restarts=0, seconds=clock() - t0, solver=ANALYTIC, reason=why)
+                        iterations=len(tries), restarts=0, seconds=clock() - t0, solver=ANALYTIC, reason=why)
