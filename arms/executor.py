@@ -10,8 +10,11 @@ and only *while the two arms are provably apart*: a lower bound on their distanc
 every arm geom, from the simulation) above ``ANALYTIC_CLEARANCE``, farther than the QP's
 collision-detection distance, so that its avoidance constraint would be inactive anyway. Otherwise
 (arms near each other, or no such branch) the tick is one mink QP step (both arms, TCP frame tasks,
-posture, configuration and velocity limits, arm–arm collision avoidance). ``ik="mink"`` uses the QP on
-every tick (the behaviour before issue 25); ``Executor.ik_ticks`` counts the ticks of each.
+posture, configuration and velocity limits, arm–arm collision avoidance), and the rest of that move
+(and the waits after it) stays on the QP: the QP's set-points lag the path, and switching back to the
+exact closed form would catch the lag up at the joints' velocity limits — a jolt that let a friction-held
+block slip 10.6 mm on γ/3. ``ik="mink"`` uses the QP on every tick (the behaviour before issue 25);
+``Executor.ik_ticks`` counts the ticks of each.
 
 A Cartesian move follows a minimum-jerk profile s(τ) = 10τ³ − 15τ⁴ + 6τ⁵ from the commanded pose to the
 target: the position on the straight line, the rotation on the SO(3) geodesic (``_pose_path``; until
@@ -171,6 +174,7 @@ class Executor:
             self.analytic = {r: AnalyticArm(arm=self.ik.pin[r]) for r in world.robots}
         self._max_step = VELOCITY_LIMITS * control_dt  # joint motion allowed in one tick (rad)
         self._solved: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # robot -> (target, q) of its last tick
+        self._qp_latched = False  # a QP tick happened in the current move
         self.q_ik = self.ik.full_q()
         self.tcp_cmd = {r: self.ik.tcp_pose(self.q_ik, r) for r in world.robots}
         self.held: dict[str, str] = {}
@@ -244,7 +248,7 @@ class Executor:
 
     def _tick(self, targets: Mapping[str, np.ndarray], *, posture: bool = True) -> None:
         clearance = self.arm_clearance_bound()
-        q = self._analytic_tick(targets, clearance) if self.analytic else None
+        q = self._analytic_tick(targets, clearance) if self.analytic and not self._qp_latched else None
         if q is None:
             try:
                 q = self.ik.step(self.q_ik, targets, self.control_dt, posture=posture)
@@ -252,6 +256,7 @@ class Executor:
                 raise MotionError(f"the IK QP has no solution at t = {self.data.time:.2f} s (limits or the "
                                   "arm–arm distance constraint cannot be met)") from None
             self.ik_ticks["mink"] += 1
+            self._qp_latched = True  # the rest of this move stays on the QP (see module docstring)
         else:
             self.ik_ticks["analytic"] += 1
         self.q_ik = q
@@ -278,6 +283,7 @@ class Executor:
 
     def move(self, robot: str, target: np.ndarray, *, speed: float = 0.3) -> float:
         """Cartesian min-jerk move of one TCP; returns the final IK position error (m)."""
+        self._qp_latched = False
         path = _pose_path(self.tcp_cmd[robot], np.asarray(target, dtype=float))
         dp, dr = pose_error(self.tcp_cmd[robot], target)
         duration = max(0.2, dp / speed, dr / 1.5)
