@@ -1,11 +1,26 @@
 """Run a primitive plan in MuJoCo physics and check the world against the symbolic state after each action.
 
-Control: every ``control_dt`` (10 ms) one mink QP step (both arms, TCP frame tasks, posture,
-configuration and velocity limits, arm–arm collision avoidance) gives the joint set-points q*, which the
-position servos of the scene track for ``control_dt / timestep`` physics steps. A Cartesian move follows
-a minimum-jerk profile s(τ) = 10τ³ − 15τ⁴ + 6τ⁵ along the SE(3) geodesic from the commanded pose to the
-target. The idle arm holds its TCP pose (its frame task stays on, weighted 10× the moving arm's, so
-that when the arms meet the moving one gives way).
+Control: every ``control_dt`` (10 ms) the IK gives the joint set-points q*, which the position servos
+of the scene track for ``control_dt / timestep`` physics steps. With ``ik="analytic"`` (the default) a
+tick uses the closed-form Panda IK of :mod:`arms.ik_analytic` for each arm whose target changed, the
+redundancy resolved as a minimum-norm differential IK resolves it: q7 within one velocity step of the
+arm's current q7 minimising Σ (Δq_j / (v_max,j dt))² (``AnalyticArm.track``), the branch within the joint
+limits, moving no joint faster than its velocity limit and passing the pinocchio FK check;
+and only *while the two arms are provably apart*: a lower bound on their distance (bounding spheres of
+every arm geom, from the simulation) above ``ANALYTIC_CLEARANCE``, farther than the QP's
+collision-detection distance, so that its avoidance constraint would be inactive anyway. Otherwise
+(arms near each other, or no such branch) the tick is one mink QP step (both arms, TCP frame tasks,
+posture, configuration and velocity limits, arm–arm collision avoidance), and the rest of that move
+(and the waits after it) stays on the QP: the QP's set-points lag the path, and switching back to the
+exact closed form would catch the lag up at the joints' velocity limits — a jolt that let a friction-held
+block slip 10.6 mm on γ/3. ``ik="mink"`` uses the QP on every tick (the behaviour before issue 25);
+``Executor.ik_ticks`` counts the ticks of each.
+
+A Cartesian move follows a minimum-jerk profile s(τ) = 10τ³ − 15τ⁴ + 6τ⁵ from the commanded pose to the
+target: the position on the straight line, the rotation on the SO(3) geodesic (``_pose_path``; until
+issue 25 the SE(3) geodesic, the same path whenever the rotation does not change, as in every move of
+the skills after the first). The idle arm holds its TCP pose (its frame task stays on, weighted 10× the
+moving arm's, so that when the arms meet the moving one gives way).
 
 Verification: after action *i* the symbolic state s_i (``arms.plan.symbolic_trace``) says where every
 block must be; the executor measures every block's centre in the simulation and fails the run at the
@@ -30,14 +45,24 @@ import mink
 import mujoco
 import numpy as np
 
-from arms.ik import DualArmIK, pose, pose_error
+from arms.ik import VELOCITY_LIMITS, DualArmIK, pose, pose_error
 from arms.plan import Action, Plan, apply_action
 from arms.scene import FINGER_OPEN, Scene, build_scene
 from arms.sensing import Sighting, look
 from arms.skills import pick, place
 from arms.world import ArmsError, PlanError, SymbolicState, World, initial_state
 
-__all__ = ["ActionOutcome", "RunResult", "Executor", "MotionError", "run_plan"]
+__all__ = ["ActionOutcome", "RunResult", "Executor", "MotionError", "run_plan", "IK_MODES", "ANALYTIC_CLEARANCE"]
+
+#: per-tick IK: the analytic IK while the arms are apart (mink QP otherwise), or the mink QP always
+IK_MODES = ("analytic", "mink")
+#: the per-tick IK of an Executor built without ``ik=`` (benchmarks switch it to compare)
+DEFAULT_IK = "analytic"
+#: lower bound on the arm–arm distance (m) above which a tick may use the analytic IK: the QP's collision
+#: detection distance (0.12 m) plus 5 cm for the tick's motion and the servo's lag
+ANALYTIC_CLEARANCE = 0.17
+#: lower bound on the arm–arm distance (m) above which a tick's physics steps skip the contact count
+CONTACT_SKIP = 0.05
 
 
 class MotionError(ArmsError):
@@ -103,11 +128,32 @@ def _min_jerk(tau: float) -> float:
     return tau * tau * tau * (10.0 - 15.0 * tau + 6.0 * tau * tau)
 
 
+def _pose_path(start: np.ndarray, goal: np.ndarray) -> Callable[[float], np.ndarray]:
+    """s ∈ [0, 1] ↦ 4×4 pose: position p₀ + s(p₁ − p₀), rotation R₀ Exp(s Log(R₀ᵀR₁)) (pinocchio's
+    log3/exp3, a few µs where mink's SE3.interpolate took ~0.1 ms)."""
+    import pinocchio as pin
+
+    p0, dp = start[:3, 3].copy(), goal[:3, 3] - start[:3, 3]
+    r0 = start[:3, :3].copy()
+    w = pin.log3(r0.T @ goal[:3, :3])
+
+    def at(s: float) -> np.ndarray:
+        t = np.eye(4)
+        t[:3, :3] = r0 @ pin.exp3(s * w)
+        t[:3, 3] = p0 + s * dp
+        return t
+
+    return at
+
+
 class Executor:
     """Physics, control and verification for one world (see module docstring)."""
 
     def __init__(self, world: World, *, grasp: str = "friction", tolerance: float = 0.01,
-                 control_dt: float = 0.01, record_fps: float = 0.0) -> None:
+                 control_dt: float = 0.01, record_fps: float = 0.0, ik: str | None = None) -> None:
+        ik = DEFAULT_IK if ik is None else ik
+        if ik not in IK_MODES:
+            raise ArmsError(f"ik must be one of {', '.join(IK_MODES)}, not {ik!r}")
         self.world = world
         self.scene: Scene = build_scene(world, grasp=grasp)
         self.model = self.scene.model
@@ -119,6 +165,16 @@ class Executor:
         self.control_dt = control_dt
         self.n_sub = max(1, round(control_dt / self.model.opt.timestep))
         self.ik = DualArmIK(world.robots, world.layout)
+        self.ik_mode = ik
+        self.ik_ticks = {"analytic": 0, "mink": 0}
+        self.analytic = {}
+        if ik == "analytic":
+            from arms.ik_analytic import AnalyticArm
+
+            self.analytic = {r: AnalyticArm(arm=self.ik.pin[r]) for r in world.robots}
+        self._max_step = VELOCITY_LIMITS * control_dt  # joint motion allowed in one tick (rad)
+        self._solved: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # robot -> (target, q) of its last tick
+        self._qp_latched = False  # a QP tick happened in the current move
         self.q_ik = self.ik.full_q()
         self.tcp_cmd = {r: self.ik.tcp_pose(self.q_ik, r) for r in world.robots}
         self.held: dict[str, str] = {}
@@ -137,6 +193,9 @@ class Executor:
         self._arm_adr = {r: self.scene.arm_qpos_adr(r) for r in world.robots}
         self._arm_act = {r: self.scene.arm_actuators(r) for r in world.robots}
         self._tcp_id = {r: self.model.body(self.scene.tcp_body(r)).id for r in world.robots}
+        self._sphere_geoms = [np.array(sorted(g), dtype=np.int64) for g in (g1, g2)]
+        rb = self.model.geom_rbound
+        self._rbound_sum = rb[self._sphere_geoms[0]][:, None] + rb[self._sphere_geoms[1]][None, :]
         self.sightings: list[Sighting] = []  # what the last sense action saw
         self._record()
 
@@ -146,24 +205,64 @@ class Executor:
             self.frames.append(self.data.qpos.copy())
             self._next_frame += 1.0 / self.record_fps
 
-    def _physics(self, n: int) -> None:
+    def _physics(self, n: int, clearance: float | None = None) -> None:
+        """n physics steps; arm–arm contacts are counted after every step, except when ``clearance`` (a
+        lower bound on the arm–arm distance at the start, m) exceeds ``CONTACT_SKIP``: no geom moves that
+        far in n steps of 2 ms (that would take > 5 m/s), so no arm–arm contact can occur."""
         m, d, lut = self.model, self.data, self._arm_of_geom
+        count = clearance is None or clearance < CONTACT_SKIP
         for _ in range(n):
             mujoco.mj_step(m, d)
-            if d.ncon:  # a contact between a geom of arm 1 (lut 1) and one of arm 2 (lut 2): product 2
+            if count and d.ncon:  # a contact between a geom of arm 1 (lut 1) and one of arm 2 (lut 2): product 2
                 self.arm_contacts += int(np.count_nonzero(lut[d.contact.geom1] * lut[d.contact.geom2] == 2))
             if self.record_fps > 0:
                 self._record()
 
+    def arm_clearance_bound(self) -> float:
+        """A lower bound on the distance between the two arms in the simulation (m): the smallest gap
+        between the bounding spheres (``geom_rbound``) of a geom of arm 1 and one of arm 2."""
+        g1, g2 = self._sphere_geoms
+        if not len(g1) or not len(g2):
+            return float("inf")
+        x = self.data.geom_xpos
+        diff = x[g1][:, None, :] - x[g2][None, :, :]
+        return float((np.sqrt(np.einsum("ijk,ijk->ij", diff, diff)) - self._rbound_sum).min())
+
+    def _analytic_tick(self, targets: Mapping[str, np.ndarray], clearance: float) -> np.ndarray | None:
+        """Set-points from the closed-form IK, or None if this tick needs the QP (see module docstring)."""
+        if clearance < ANALYTIC_CLEARANCE:
+            return None
+        q = self.q_ik.copy()
+        for r, t in targets.items():
+            adr = self.ik.qadr[r]
+            prev = q[adr]
+            last = self._solved.get(r)
+            if last is not None and np.array_equal(last[0], t) and np.array_equal(last[1], prev):
+                continue  # same target, already there (an arm holding still)
+            res = self.analytic[r].track(t, prev, max_step=self._max_step)
+            if not res.converged:
+                return None
+            q[adr] = res.q["arm"]
+            self._solved[r] = (np.array(t, dtype=float), q[adr].copy())
+        return q
+
     def _tick(self, targets: Mapping[str, np.ndarray], *, posture: bool = True) -> None:
-        try:
-            self.q_ik = self.ik.step(self.q_ik, targets, self.control_dt, posture=posture)
-        except mink.NoSolutionFound:
-            raise MotionError(f"the IK QP has no solution at t = {self.data.time:.2f} s (limits or the "
-                              "arm–arm distance constraint cannot be met)") from None
+        clearance = self.arm_clearance_bound()
+        q = self._analytic_tick(targets, clearance) if self.analytic and not self._qp_latched else None
+        if q is None:
+            try:
+                q = self.ik.step(self.q_ik, targets, self.control_dt, posture=posture)
+            except mink.NoSolutionFound:
+                raise MotionError(f"the IK QP has no solution at t = {self.data.time:.2f} s (limits or the "
+                                  "arm–arm distance constraint cannot be met)") from None
+            self.ik_ticks["mink"] += 1
+            self._qp_latched = True  # the rest of this move stays on the QP (see module docstring)
+        else:
+            self.ik_ticks["analytic"] += 1
+        self.q_ik = q
         for r in self.world.robots:
             self.data.ctrl[self._arm_act[r]] = self.q_ik[self.ik.qadr[r]]
-        self._physics(self.n_sub)
+        self._physics(self.n_sub, clearance)
 
     def _hold_targets(self) -> dict[str, np.ndarray]:
         return dict(self.tcp_cmd)
@@ -184,15 +283,15 @@ class Executor:
 
     def move(self, robot: str, target: np.ndarray, *, speed: float = 0.3) -> float:
         """Cartesian min-jerk move of one TCP; returns the final IK position error (m)."""
-        start = mink.SE3.from_matrix(self.tcp_cmd[robot])
-        goal = mink.SE3.from_matrix(np.asarray(target, dtype=float))
+        self._qp_latched = False
+        path = _pose_path(self.tcp_cmd[robot], np.asarray(target, dtype=float))
         dp, dr = pose_error(self.tcp_cmd[robot], target)
         duration = max(0.2, dp / speed, dr / 1.5)
         n = max(1, math.ceil(duration / self.control_dt))
         targets = self._hold_targets()
         self._priority(robot)
         for k in range(1, n + 1):
-            targets[robot] = start.interpolate(goal, _min_jerk(k / n)).as_matrix()
+            targets[robot] = path(_min_jerk(k / n))
             self._tick(targets)
         targets[robot] = np.asarray(target, dtype=float)
         self.tcp_cmd[robot] = targets[robot]

@@ -98,6 +98,8 @@ class IKResult:
     solver: str
     fk_disagreement: float = float("nan")
     extra: Mapping[str, float] = field(default_factory=dict)
+    #: why a solve failed (empty when it converged)
+    reason: str = ""
 
 
 class SeedLibrary:

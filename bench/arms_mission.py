@@ -2,6 +2,7 @@
 
     .venv/bin/python bench/arms_mission.py [--goal alpha] [--colors 1 2 3 4] [--layouts 20]
         [--faults none drop@0 misplace@0 swap-colours] [--workers 1] [--json FILE] [--results FILE]
+        [--default-layout [--repeat K]] [--ik analytic|mink]
 
 For every colour count and layout seed 0 … N−1 (``planners.epico.generate(goal, colors, seed)``: a random
 layout), one mission per fault setting: the e-PICO plan (epistemic + classical) executed on the two
@@ -31,9 +32,12 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 
-def one(goal: str, colors: int, seed: int, fault: str) -> dict:
+def one(goal: str, colors: int, seed: int | None, fault: str, ik: str = "analytic") -> dict:
+    import arms.executor
     from arms.cli.epico_run import run_mission
     from arms.mission import parse_fault
+
+    arms.executor.DEFAULT_IK = ik  # the executor's per-tick IK (--ik)
 
     faults = () if fault == "none" else (parse_fault(fault),)
     t0, c0 = time.perf_counter(), time.process_time()
@@ -85,6 +89,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--layouts", type=int, default=20)
     ap.add_argument("--first-seed", type=int, default=0)
     ap.add_argument("--faults", nargs="+", default=["none", "drop@0", "misplace@0", "swap-colours"])
+    ap.add_argument("--default-layout", action="store_true",
+                    help="the seed's default layout (`delkit epico run` without --seed) instead of random ones")
+    ap.add_argument("--repeat", type=int, default=1, help="with --default-layout: run it this many times")
+    ap.add_argument("--ik", choices=("analytic", "mink"), default="analytic",
+                    help="the executor's per-tick IK (default analytic; mink: the QP on every tick)")
     ap.add_argument("--workers", type=int, default=1)
     ap.add_argument("--json", type=Path, default=None, help="write every mission's row (JSON lines)")
     ap.add_argument("--results", type=Path, default=None, help="write the markdown table to this file")
@@ -100,8 +109,8 @@ def main(argv: list[str] | None = None) -> int:
     from delkit.progress import progress
 
     # seed by seed (every colour count and fault for seed 0, then seed 1, ...): a partial run covers all cells
-    jobs = [(args.goal, c, s, f) for s in range(args.first_seed, args.first_seed + args.layouts)
-            for c in args.colors for f in args.faults]
+    seeds = [None] * args.repeat if args.default_layout else range(args.first_seed, args.first_seed + args.layouts)
+    jobs = [(args.goal, c, s, f, args.ik) for s in seeds for c in args.colors for f in args.faults]
     rows: list[dict] = []
     load0 = os.getloadavg()[0]
     t0 = time.perf_counter()
@@ -132,8 +141,10 @@ def main(argv: list[str] | None = None) -> int:
     machine = (f"{platform.machine()}, {os.cpu_count()} cores shared with other jobs, Python "
                f"{platform.python_version()}, load average {load0:.1f} → {os.getloadavg()[0]:.1f}")
     text = "\n".join([
-        f"Goal {args.goal}; layouts: seeds {args.first_seed}…{args.first_seed + args.layouts - 1} per colour count; "
-        f"faults: {', '.join(args.faults)}; friction grasps",
+        f"Goal {args.goal}; layouts: "
+        + (f"the default layout, {args.repeat} run(s)" if args.default_layout else
+           f"seeds {args.first_seed}…{args.first_seed + args.layouts - 1}")
+        + f" per colour count; faults: {', '.join(args.faults)}; friction grasps; per-tick IK: {args.ik}",
         table(rows), "", "Failures:" if fails else "Failures: none", *fails, "",
         f"machine: {machine}; {len(rows)} missions in {time.perf_counter() - t0:.0f} s wall",
         f"date: {datetime.datetime.now(datetime.UTC).strftime('%Y-%m-%d %H:%M UTC')}",

@@ -3,7 +3,9 @@
     .venv/bin/python bench/ik.py [--targets 1000] [--seed 0] [--protocol trac-ik|seed-table|both]
                                  [--clock wall|cpu|both] [--results FILE]
 
-IK: N random joint vectors within the Panda's limits → FK → solve IK for that TCP pose; success =
+IK: the analytic solver (``arms.ik_analytic``: He & Liu's closed form over a q7 sweep, batch-CLIK
+fallback), mink and the pinocchio CLIK, one after another on the same targets.
+N random joint vectors within the Panda's limits → FK → solve IK for that TCP pose; success =
 position error < 1e-5 m and orientation error < 1e-4 rad within the 5 ms budget. Protocol ``trac-ik``
 (default, TRAC-IK's own): every query starts from the middle of the joint ranges, random restarts
 inside the budget, mean (TRAC-IK's statistic) and median of every query's time. ``seed-table``: the

@@ -128,7 +128,7 @@ def register(app: typer.Typer) -> None:
                                                    "TRAC-IK measures) or seed-table (nearest precomputed "
                                                    "configurations first; not comparable with TRAC-IK)"),
                  as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
-        """IK on N random reachable TCP poses: success rate, mean / median / p95 time (mink and CLIK)."""
+        """IK on N random reachable TCP poses: success rate, mean / median / p95 time (analytic, mink, CLIK)."""
         from arms.benchmark import PROTOCOLS, TRAC_IK_PANDA, benchmark_ik
         from arms.world import ArmsError
 
@@ -143,7 +143,7 @@ def register(app: typer.Typer) -> None:
         require(1024.0 * targets, f"--targets {targets} (the random poses and per-solve records)",
                 "use fewer --targets")
 
-        cb, stop = _progress_cb(2 * targets, "IK")
+        cb, stop = _progress_cb(3 * targets, "IK")
         try:
             stats = benchmark_ik(targets, seed=seed, budget=budget_ms / 1000.0, clock=clock, protocol=protocol,
                                  progress=cb)
@@ -168,7 +168,13 @@ def register(app: typer.Typer) -> None:
                           f"{s.p95_s * 1e3:.3f}")
         for n, r, t in TRAC_IK_PANDA:
             table.add_row(f"{n} (published, its protocol)", f"{r:.2f}", f"{t:.2f}", "-", "-")
-        Console().print(table)
+        con = Console()
+        con.print(table)
+        for s in stats:  # which poses failed, and why (the analytic solver says why; the others time out)
+            if s.failures:
+                shown = "; ".join(f"#{i}: {r}" for i, r in s.failures[:5])
+                more = f" (+{len(s.failures) - 5} more)" if len(s.failures) > 5 else ""
+                con.print(f"{s.solver}: {len(s.failures)} failed — {shown}{more}", highlight=False)
 
     @sub.command("scene")
     def scene(out: Path = typer.Argument(..., help="MJCF file to write"),

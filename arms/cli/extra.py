@@ -2,4 +2,4 @@
 (read by :func:`delkit.errors.require_extra` before any of them is imported)."""
 
 EXTRA = "arms"
-REQUIRES = ("mujoco", "mink", "pinocchio")
+REQUIRES = ("mujoco", "mink", "pinocchio", "frankik")

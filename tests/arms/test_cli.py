@@ -54,10 +54,13 @@ def test_bench_ik_json(capsys):
     assert rc == 0 and out["targets"] == 15
     names = [s["solver"] for s in out["solvers"]]
     assert any("mink" in n for n in names) and any("CLIK" in n for n in names)
+    assert names[0].startswith("analytic")
     for s in out["solvers"]:
         assert 0.0 <= s["success_rate"] <= 1.0 and s["median_ms"] > 0
     clik = next(s for s in out["solvers"] if "CLIK" in s["solver"])
     assert clik["success_rate"] >= 0.8
+    analytic = out["solvers"][0]
+    assert analytic["success_rate"] == 1.0 and analytic["failures"] == []
 
 
 def test_arms_scene_writes_mjcf(tmp_path):

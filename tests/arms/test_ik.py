@@ -151,3 +151,210 @@ def test_clik_is_the_fallback_when_mink_runs_out_of_budget(ik):
     assert res.fk_disagreement < 1e-9
     dp, dr = pose_error(ik.pin["robot1"].fk(res.q["robot1"]), target["robot1"])
     assert dp < POS_TOL and dr < ROT_TOL
+
+
+# -- the analytic IK (issue 25) -----------------------------------------------------------------------------
+
+def _ticks(step: float = 1e-3):
+    """A deterministic clock (``step`` s per reading): budgets that do not depend on the machine's load."""
+    ticks = iter(range(1, 10**9))
+    return lambda: next(ticks) * step
+
+
+def _analytic(arm: PinocchioArm | None = None, **kw):
+    from arms.ik_analytic import AnalyticArm
+
+    return AnalyticArm(arm=arm or _ARM, **kw)
+
+
+_AN: list = []
+
+
+def _an():
+    if not _AN:
+        _AN.append(_analytic())
+    return _AN[0]
+
+
+def _assert_solution(arm: PinocchioArm, q: np.ndarray, target: np.ndarray) -> None:
+    """What every returned solution must satisfy: pinocchio FK of the URDF within 1e-6 m / 1e-6 rad of
+    the target, and every joint within the URDF's limits."""
+    from arms.ik_analytic import CHECK_POS, CHECK_ROT
+
+    dp, dr = pose_error(arm.fk(q), target)
+    assert dp <= CHECK_POS and dr <= CHECK_ROT, (dp, dr)
+    assert np.all(q >= arm.lower) and np.all(q <= arm.upper), q
+
+
+@settings(max_examples=60, deadline=None)
+@given(_unit, _unit)
+def test_analytic_solutions_satisfy_fk_and_limits_property(u, useed):
+    """For any reachable pose (FK of a q within the limits) and any seed within the limits, the analytic
+    IK returns a configuration that pinocchio FK puts on the pose (1e-6 m, 1e-6 rad), within the limits."""
+    an = _an()
+    q = _ARM.lower + np.asarray(u) * (_ARM.upper - _ARM.lower)
+    seed = _ARM.lower + np.asarray(useed) * (_ARM.upper - _ARM.lower)
+    target = _ARM.fk(q)
+    res = an.solve(target, seed, budget=1.0, clock=_ticks(1e-5))
+    assert res.converged, res
+    _assert_solution(_ARM, res.q["arm"], target)
+
+
+def test_analytic_is_deterministic_and_solves_all_benchmark_poses():
+    an = _an()
+    qs = np.random.default_rng(7).uniform(_ARM.lower, _ARM.upper, size=(150, 7))
+    for i, t in enumerate(_ARM.fk(q) for q in qs):
+        a = an.solve(t, budget=1.0, seed=i, clock=_ticks(1e-5))
+        b = an.solve(t, budget=1.0, seed=i, clock=_ticks(1e-5))
+        assert a.converged and a.solver.startswith("analytic"), a
+        assert np.array_equal(a.q["arm"], b.q["arm"])
+        _assert_solution(_ARM, a.q["arm"], t)
+
+
+def _broken_arm(joint: int = 4, dx: float = 1e-3) -> PinocchioArm:
+    """The URDF's Panda with one joint's offset moved by ``dx`` m along its parent's x axis."""
+    import pinocchio as pin
+
+    arm = PinocchioArm()
+    m = arm.model.jointPlacements[joint]
+    arm.model.jointPlacements[joint] = pin.SE3(m.rotation, m.translation + np.array([dx, 0.0, 0.0]))
+    arm.data = arm.model.createData()
+    return arm
+
+
+def test_breaking_one_joint_offset_fails_the_fk_check():
+    """The closed form's constants are the Panda's; on a URDF with joint 4's offset moved by 1 mm its
+    branches no longer satisfy FK: the model check refuses the arm, the property's check fails on the raw
+    branches, and the solver rejects every branch (it returns none of them)."""
+    from arms.ik_analytic import CHECK_POS, CHECK_ROT, AnalyticArm
+    from arms.world import ArmsError
+
+    broken = _broken_arm()
+    with pytest.raises(ArmsError, match="does not reproduce"):
+        AnalyticArm(arm=broken)
+    an = AnalyticArm(arm=broken, check_model=False)
+    rng = np.random.default_rng(5)
+    checked = 0
+    for _ in range(20):
+        q = rng.uniform(broken.lower, broken.upper)
+        target = broken.fk(q)
+        raw = an.branches(an.flange_target(target), q[6], q)
+        if len(raw):
+            checked += 1
+            for branch in raw:  # every branch misses the pose by more than the tolerance
+                dp, dr = pose_error(broken.fk(branch), target)
+                assert dp > CHECK_POS or dr > CHECK_ROT
+            with pytest.raises(AssertionError):
+                _assert_solution(broken, raw[0], target)
+        res = an.solve(target, budget=1.0, clock=_ticks(1e-5), fallback=False)
+        assert not res.converged
+    assert checked >= 10
+    # the intact model passes the same raw-branch check
+    good = _an()
+    q = rng.uniform(_ARM.lower, _ARM.upper)
+    t = _ARM.fk(q)
+    raw = good.branches(good.flange_target(t), q[6], q)
+    _assert_solution(_ARM, raw[np.argmin(np.abs(raw - q).max(axis=1))], t)
+
+
+def test_unreachable_pose_is_reported_with_the_reason():
+    an = _an()
+    res = an.solve(pose([1.5, 0.0, 0.3]), budget=0.02, clock=_ticks(1e-4))
+    assert not res.converged and "outside the workspace" in res.reason
+    assert np.all(res.q["arm"] >= _ARM.lower) and np.all(res.q["arm"] <= _ARM.upper)
+
+
+def test_batch_clik_fallback_solves_reachable_poses():
+    """The numerical fallback alone (a batch of 8 starts per iteration) on random reachable poses."""
+    from arms.ik_analytic import BatchCLIK
+
+    batch = BatchCLIK(_ARM)
+    qs = np.random.default_rng(1).uniform(_ARM.lower, _ARM.upper, size=(5, 7))
+    t, jac = batch.fk_jac(qs)
+    for qi, ti, ji in zip(qs, t, jac, strict=True):  # batched FK and Jacobian = pinocchio's
+        assert np.allclose(ti, _ARM.fk(qi), atol=1e-12)
+        eps = 1e-7
+        num = np.stack([(batch.fk_jac((qi + eps * np.eye(7)[j])[None])[0][0][:3, 3] - ti[:3, 3]) / eps
+                        for j in range(7)], axis=1)
+        assert np.allclose(ji[:3], num, atol=1e-5)
+    solved = 0
+    for i, q in enumerate(np.random.default_rng(9).uniform(_ARM.lower, _ARM.upper, size=(20, 7))):
+        target = _ARM.fk(q)
+        clock = _ticks(1e-4)
+        q, _it, _re = batch.solve(target, np.zeros((0, 7)), np.random.default_rng(i), deadline=clock() + 1.0,
+                                  clock=clock)
+        if q is not None:
+            _assert_solution(_ARM, q, target)
+            solved += 1
+    assert solved == 20
+
+
+def test_track_follows_a_straight_line_continuously():
+    """The executor's per-tick use: along a 20 cm vertical line the answers move each joint by little."""
+    an = _an()
+    from arms.scene import HOME_Q
+
+    q = HOME_Q.copy()
+    start = _ARM.fk(q)
+    for k in range(1, 41):
+        t = start.copy()
+        t[2, 3] -= 0.2 * k / 40
+        res = an.track(t, q, clock=_ticks(1e-5))
+        assert res.converged
+        assert np.abs(res.q["arm"] - q).max() < 0.05
+        q = res.q["arm"]
+        _assert_solution(_ARM, q, t)
+
+
+# -- the executor's per-tick IK (issue 25) ------------------------------------------------------------------
+
+@pytest.fixture(scope="module")
+def executor():
+    from arms.demo import demo_plan
+    from arms.executor import Executor
+
+    return Executor(demo_plan().world)
+
+
+def test_clearance_bound_never_exceeds_the_true_arm_distance(executor):
+    """The bound that lets a tick skip the QP's collision constraint (and the contact count) is a lower
+    bound on the exact geom–geom distance (mj_geomDistance) for random configurations of both arms."""
+    import mujoco
+
+    ex = executor
+    rng = np.random.default_rng(2)
+    g1, g2 = ex._sphere_geoms
+    fromto = np.zeros(6)
+    near = 0
+    for _ in range(40):
+        for r in ex.world.robots:
+            ex.data.qpos[ex._arm_adr[r]] = rng.uniform(_ARM.lower, _ARM.upper)
+        mujoco.mj_kinematics(ex.model, ex.data)
+        bound = ex.arm_clearance_bound()
+        true = min(mujoco.mj_geomDistance(ex.model, ex.data, int(a), int(b), 2.0, fromto) for a in g1 for b in g2)
+        assert bound <= true + 1e-9, (bound, true)
+        near += bound < 0.17
+    assert near >= 5  # the sample does reach configurations where the QP is needed
+
+
+def test_executor_uses_the_analytic_ik_by_default_and_mink_on_request():
+    from arms.demo import demo_plan
+    from arms.executor import Executor
+    from arms.world import ArmsError
+
+    world = demo_plan().world
+    lay = world.layout
+    target = pose([lay.stack_x, lay.stack_xy(0, 1)[1], lay.table_z + 0.2])
+    for ik, used in (("analytic", "analytic"), ("mink", "mink")):
+        ex = Executor(world, ik=ik)
+        err = ex.move("robot1", target)
+        assert err < 3e-4
+        assert ex.ik_ticks[used] > 0
+        if ik == "mink":
+            assert ex.ik_ticks["analytic"] == 0
+        else:  # every analytic set-point the arm was sent to is within the limits (checked per tick)
+            q = ex.q_ik[ex.ik.qadr["robot1"]]
+            assert np.all(q >= _ARM.lower) and np.all(q <= _ARM.upper)
+        assert np.linalg.norm(ex.tcp_actual("robot1")[:3, 3] - target[:3, 3]) < 5e-3
+    with pytest.raises(ArmsError, match="ik must be"):
+        Executor(world, ik="ikfast")
