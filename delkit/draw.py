@@ -484,7 +484,11 @@ def _layout(nodes: list[Node], edges: list[Edge], layout: str, seed: int,
         import numpy as np
 
         # any seed 0..2^63-1 (the CLI's range for every seed), mapped to the 32 bits numpy's RandomState takes
-        pos = nx.spring_layout(g, seed=int(np.random.SeedSequence(seed).generate_state(1)[0]))
+        s32 = int(np.random.SeedSequence(seed).generate_state(1)[0])
+        if n > 300:  # networkx's spring layout takes 5-20 s on 1,000 nodes; a vectorised one, < 1 s
+            pos = _force_layout(n, [(e.u, e.v) for e in edges if e.u != e.v], s32)
+        else:
+            pos = nx.spring_layout(g, seed=s32)
     pts = [(float(pos[i][0]), float(pos[i][1])) for i in range(n)]
     dmin = _min_distance(pts)
     scale = pitch / max(dmin, 1e-6)
@@ -492,6 +496,36 @@ def _layout(nodes: list[Node], edges: list[Edge], layout: str, seed: int,
     for nd, (x, y) in zip(nodes, pts, strict=True):
         nd.x, nd.y = x * scale, -y * scale
     _place_labels(nodes, edges)
+
+
+def _force_layout(n: int, pairs: list[tuple[int, int]], seed: int, iterations: int = 40) -> Any:
+    """Fruchterman–Reingold with numpy (all-pairs repulsion in blocks of rows, attraction along edges,
+    linear cooling), for the viewer's large models."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    pos = rng.random((n, 2))
+    k = math.sqrt(1.0 / n)
+    u = np.array([a for a, _ in pairs], dtype=np.int64)
+    v = np.array([b for _, b in pairs], dtype=np.int64)
+    t = 0.1
+    for _ in range(iterations):
+        disp = np.zeros((n, 2))
+        for lo in range(0, n, 256):
+            d = pos[lo:lo + 256, None, :] - pos[None, :, :]
+            dist2 = np.maximum((d * d).sum(-1), 1e-6)
+            disp[lo:lo + 256] += (d * (k * k / dist2)[..., None]).sum(1)
+        if len(u):
+            d = pos[u] - pos[v]
+            dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
+            f = d * (dist / k)[:, None]
+            np.add.at(disp, u, -f)
+            np.add.at(disp, v, f)
+        length = np.maximum(np.hypot(disp[:, 0], disp[:, 1]), 1e-9)
+        pos += disp / length[:, None] * np.minimum(length, t)[:, None]
+        t -= 0.1 / (iterations + 1)
+    pos -= pos.mean(0)
+    return pos
 
 
 def _min_distance(pts: list[tuple[float, float]]) -> float:
@@ -523,21 +557,40 @@ def _layered(valuations: list[tuple[bool, ...]]) -> list[tuple[float, float]] | 
         return None
     k = len(vary)
     weight = {i: j - (k - 1) / 2 for j, i in enumerate(vary)}
-    places: dict[tuple[int, float], list[int]] = {}
+    places: dict[tuple[int, float], dict[tuple[bool, ...], list[int]]] = {}
     for w, val in enumerate(valuations):
-        row = sum(val[i] for i in vary)
-        places.setdefault((row, sum(weight[i] for i in vary if val[i])), []).append(w)
-    width = max(len(ws) for ws in places.values())
+        key = tuple(val[i] for i in vary)
+        row = sum(key)
+        x = sum(weight[i] for i in vary if val[i])
+        places.setdefault((row, x), {}).setdefault(key, []).append(w)
+    # in a place: distinct valuations ordered by a second weight that the mirror also reverses (cubes);
+    # on the axis (x = 0) the mirror maps each valuation to itself, so they are stacked, not spread
+    slots, stack = 1, 1
+    for (_, x), groups in places.items():
+        if x == 0 and len(groups) > 1:
+            slots = max(slots, max(len(ws) for ws in groups.values()))
+            stack = max(stack, len(groups))
+        else:
+            slots = max(slots, sum(len(ws) for ws in groups.values()))
     rows: dict[int, int] = {}
-    for (row, _), ws in places.items():
-        rows[row] = rows.get(row, 0) + len(ws)
+    for (row, _), groups in places.items():
+        rows[row] = rows.get(row, 0) + sum(len(ws) for ws in groups.values())
     if max(rows.values()) > _LAYERED_MAX[2]:
         return None
+    gap = 1.0 + 0.55 * (stack - 1)
     out: list[tuple[float, float]] = [(0.0, 0.0)] * n
-    for (row, x), ws in places.items():
-        m = len(ws)
+    for (row, x), groups in places.items():
+        order = sorted(groups, key=lambda key: (sum(weight[i] ** 3 for i, b in zip(vary, key, strict=True) if b),
+                                                key))
+        if x == 0 and len(groups) > 1:
+            for s_, key in enumerate(order):
+                ws = groups[key]
+                for j, w in enumerate(ws):
+                    out[w] = (j - (len(ws) - 1) / 2, -row * gap + (s_ - (len(order) - 1) / 2) * 0.55)
+            continue
+        ws = [w for key in order for w in groups[key]]
         for j, w in enumerate(ws):
-            out[w] = (x * width + (j - (m - 1) / 2), -float(row))
+            out[w] = (x * slots + (j - (len(ws) - 1) / 2), -row * gap)
     return out
 
 
@@ -588,10 +641,15 @@ def _place_labels(nodes: list[Node], edges: list[Edge]) -> None:
             cands = [(cx, cy), (cx + dx * h, cy + dy * h), (cx - dy * (w / 2 + 20), cy + dx * (w / 2 + 20)),
                      (cx + dy * (w / 2 + 20), cy - dx * (w / 2 + 20))]
         else:
-            for t in (0.5, 0.4, 0.6, 0.32, 0.68, 0.25, 0.75):
-                x, y, nx_, ny_ = _bezier(e, nodes, t)
-                for off in (0.0, h * 0.8, -h * 0.8):
+            for off in (0.0, h * 0.8, -h * 0.8, h * 1.6, -h * 1.6):
+                for t in (0.5, 0.4, 0.6, 0.32, 0.68, 0.25, 0.75, 0.18, 0.82):
+                    x, y, nx_, ny_ = _bezier(e, nodes, t)
                     cands.append((x + nx_ * off, y + ny_ * off))
+        x, y = cands[0]
+        for ring in range(1, 9):  # then around the first place, ring by ring
+            for q in range(8 * ring):
+                a = 2 * math.pi * q / (8 * ring)
+                cands.append((x + math.cos(a) * ring * h * 0.9, y + math.sin(a) * ring * h * 0.9))
         best, best_cost = cands[0], float("inf")
         for x, y in cands:
             box = (x - w / 2, y - h / 2, x + w / 2, y + h / 2)

@@ -14,6 +14,7 @@ with :meth:`KripkeModel.check`; :func:`possible` lists an agent's accessible wor
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -225,7 +226,8 @@ def graph_json(model: Any) -> dict:
     for e in pic.edges:
         lx, ly = pic.label_xy(e)
         edges.append({"u": e.u, "v": e.v, "agents": e.label.split(","), "both": e.both, "bend": e.bend,
-                      "color": e.color, "lx": round(lx, 1), "ly": round(ly, 1)})
+                      "color": e.color, "lx": round(lx, 1), "ly": round(ly, 1),
+                      "loop": round(math.degrees(math.atan2(e.loop[0], -e.loop[1])), 1)})
     s5 = [a for a in model.agents if _equivalence(model.relations[a])]
     return {"nodes": nodes, "edges": edges, "agents": list(model.agents), "s5": s5,
             "colors": {a: draw.agent_color(i) for i, a in enumerate(model.agents)},

@@ -62,9 +62,11 @@ function elements(graph) {
     const classes = [e.both ? "both" : "oneway"];
     if (e.u === e.v) classes.push("loop");
     else if (e.bend) classes.push("bent");
-    els.push({ group: "edges", classes: classes.join(" "),
-               data: { id: "e" + i, source: "n" + e.u, target: "n" + e.v, color: e.color, agents: e.agents,
-                       both: e.both, cpd: -e.bend * dist * 0.125 } });
+    const item = { group: "edges", classes: classes.join(" "),
+                   data: { id: "e" + i, source: "n" + e.u, target: "n" + e.v, color: e.color, agents: e.agents,
+                           both: e.both, cpd: -e.bend * dist * 0.125 } };
+    if (e.u === e.v) item.style = { "loop-direction": e.loop + "deg" };
+    els.push(item);
     if (labels) {
       const text = e.agents.join(",");
       els.push({ group: "nodes", classes: "elabel", selectable: false, grabbable: false,
@@ -108,15 +110,18 @@ function renderFrame(k) {
     box.appendChild(el("div", { class: "caption" }, p.graph.caption.join("; ")));
     panels.appendChild(box);
     const cy = cytoscape({ container: g, elements: elements(p.graph), style: STYLE, layout: { name: "preset" },
-                           wheelSensitivity: 0.3, textureOnViewport: p.graph.nodes.length > 300,
+                           maxZoom: 3, textureOnViewport: p.graph.nodes.length > 300,
                            hideEdgesOnViewport: p.graph.nodes.length > 300 });
-    cy.fit(undefined, 20);
     cy.on("tap", "node.world", (ev) => askPossible(p.key, ev.target.data("idx")));
     state.cys[p.key] = cy;
     if (p.kripke) evalSel.appendChild(el("option", { value: p.key }, p.title));
     for (const a of p.graph.agents) { agents.add(a); colors[a] = p.graph.colors[a]; }
   }
+  // fit once the panels have their final size (flex layout)
+  for (const cy of Object.values(state.cys)) fitGraph(cy);
+  const carried = fr.data && fr.data.carried;
   if ([...evalSel.options].some((o) => o.value === previous)) evalSel.value = previous;
+  else if (carried && [...evalSel.options].some((o) => o.value === carried)) evalSel.value = carried;
   document.getElementById("formula-box").hidden = evalSel.options.length === 0;
   const agentSel = document.getElementById("agent");
   const chosen = agentSel.value;
@@ -146,6 +151,12 @@ function renderFrame(k) {
   const f = document.getElementById("formula").value.trim();
   if (f) return evaluate(f);
   return Promise.resolve(null);
+}
+
+function fitGraph(cy) {
+  cy.resize();
+  cy.fit(undefined, 16);
+  if (cy.zoom() > 1.2) { cy.zoom(1.2); cy.center(); }
 }
 
 function clearClasses(cy, names) {
