@@ -499,33 +499,40 @@ def _layout(nodes: list[Node], edges: list[Edge], layout: str, seed: int,
 
 
 def _force_layout(n: int, pairs: list[tuple[int, int]], seed: int, iterations: int = 40) -> Any:
-    """Fruchterman–Reingold with numpy (all-pairs repulsion in blocks of rows, attraction along edges,
-    linear cooling), for the viewer's large models."""
+    """Fruchterman–Reingold with numpy (all-pairs repulsion as n×n float32 arrays, attraction along edges,
+    linear cooling), for the viewer's large models (in blocks of rows above 1,500 nodes)."""
     import numpy as np
 
     rng = np.random.default_rng(seed)
-    pos = rng.random((n, 2))
-    k = math.sqrt(1.0 / n)
+    pos = rng.random((n, 2)).astype(np.float32)
+    k2 = np.float32(1.0 / n)
     u = np.array([a for a, _ in pairs], dtype=np.int64)
     v = np.array([b for _, b in pairs], dtype=np.int64)
     t = 0.1
+    block = n if n <= 1500 else 512  # rows at a time: at most ~1500 × n float32 per array
     for _ in range(iterations):
-        disp = np.zeros((n, 2))
-        for lo in range(0, n, 256):
-            d = pos[lo:lo + 256, None, :] - pos[None, :, :]
-            dist2 = np.maximum((d * d).sum(-1), 1e-6)
-            disp[lo:lo + 256] += (d * (k * k / dist2)[..., None]).sum(1)
+        x, y = pos[:, 0], pos[:, 1]
+        disp = np.empty_like(pos)
+        for lo in range(0, n, block):
+            dx = x[lo:lo + block, None] - x[None, :]
+            dy = y[lo:lo + block, None] - y[None, :]
+            inv = dx * dx
+            inv += dy * dy
+            np.maximum(inv, 1e-6, out=inv)
+            np.divide(k2, inv, out=inv)
+            disp[lo:lo + block, 0] = (dx * inv).sum(1)
+            disp[lo:lo + block, 1] = (dy * inv).sum(1)
         if len(u):
             d = pos[u] - pos[v]
             dist = np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-6)
-            f = d * (dist / k)[:, None]
+            f = d * (dist / math.sqrt(k2))[:, None]
             np.add.at(disp, u, -f)
             np.add.at(disp, v, f)
         length = np.maximum(np.hypot(disp[:, 0], disp[:, 1]), 1e-9)
         pos += disp / length[:, None] * np.minimum(length, t)[:, None]
         t -= 0.1 / (iterations + 1)
     pos -= pos.mean(0)
-    return pos
+    return pos.astype(float)
 
 
 def _min_distance(pts: list[tuple[float, float]]) -> float:

@@ -177,9 +177,9 @@ def test_thousand_world_model(browser, serve, tmp_path):
     path = tmp_path / "big.json"
     path.write_text(dumps(m))
     open_page(browser, serve(load_document([path])), timeout=60)
-    answer = type_formula(browser, "K_a p0 | ~K_b p1")
+    answer = type_formula(browser, "K_a p0 & ~K_b p1")
     truth = np.asarray(answer["truth"])
-    assert truth.shape == (1000,) and (truth == m.check(parse("K_a p0 | ~K_b p1"))).all()
+    assert truth.shape == (1000,) and (truth == m.check(parse("K_a p0 & ~K_b p1"))).all()
     shown = browser.execute_script("return window.delkitView.highlighted('state').length")
     assert shown == int(truth.sum())
     screenshot(browser, "kripke-1000-worlds.png")

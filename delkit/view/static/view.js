@@ -2,7 +2,7 @@
 // from the JSON API (api/eval, api/possible); the layout comes from delkit.draw (api/doc).
 "use strict";
 
-const state = { doc: null, frame: 0, cys: {}, ready: false, lastEval: null, lastPossible: null, timings: {} };
+const state = { doc: null, frame: 0, views: {}, ready: false, lastEval: null, lastPossible: null, timings: {} };
 window.delkitView = state;
 
 function el(tag, attrs, text) {
@@ -77,6 +77,129 @@ function elements(graph) {
   return els;
 }
 
+// One view per panel: cytoscape.js for graphs below BIG worlds; a plain canvas above (cytoscape needs seconds
+// to build ~7,000 elements on a loaded 2-core machine; the canvas draws them in milliseconds).
+const BIG = 300;
+
+class CyView {
+  constructor(container, graph, onTap) {
+    this.graph = graph;
+    this.cy = cytoscape({ container, elements: elements(graph), style: STYLE, layout: { name: "preset" },
+                          maxZoom: 3, motionBlur: false });
+    this.cy.on("tap", "node.world", (ev) => onTap(ev.target.data("idx")));
+  }
+  fit() {
+    this.cy.resize();
+    this.cy.fit(undefined, 16);
+    if (this.cy.zoom() > 1.2) { this.cy.zoom(1.2); this.cy.center(); }
+  }
+  worlds() { return this.cy.nodes("node.world"); }
+  setTruth(truth) {
+    this.cy.batch(() => this.worlds().forEach((n) => {
+      n.removeClass("holds fails marked");
+      if (truth) n.addClass(truth[n.data("idx")] ? "holds" : "fails");
+    }));
+  }
+  setMarked(set) {
+    this.cy.batch(() => this.worlds().forEach((n) => {
+      n.removeClass("holds fails marked");
+      if (set.has(n.data("idx"))) n.addClass("marked");
+    }));
+  }
+  setPossible(set, color, from) {
+    this.cy.batch(() => this.worlds().forEach((n) => {
+      n.removeClass("possible from");
+      if (set.has(n.data("idx"))) { n.data("pc", color); n.addClass("possible"); }
+      if (n.data("idx") === from) n.addClass("from");
+    }));
+  }
+  highlighted() { return this.cy.nodes("node.world.holds").map((n) => n.data("name")); }
+  drawnEdges() {
+    return this.cy.edges().map((e) => ({ u: e.source().data("idx"), v: e.target().data("idx"),
+                                         agents: e.data("agents"), both: e.data("both") }));
+  }
+  destroy() { this.cy.destroy(); }
+}
+
+class CanvasView {
+  constructor(container, graph, onTap) {
+    this.graph = graph;
+    this.truth = null; this.marked = new Set(); this.possible = new Set(); this.pcolor = "#888"; this.from = -1;
+    this.canvas = document.createElement("canvas");
+    this.canvas.className = "big-graph";
+    container.appendChild(this.canvas);
+    this.canvas.addEventListener("click", (ev) => {
+      const r = this.canvas.getBoundingClientRect();
+      const k = this.nearest(ev.clientX - r.left, ev.clientY - r.top);
+      if (k >= 0) onTap(k);
+    });
+    let x0 = Infinity, y0 = Infinity, x1 = -Infinity, y1 = -Infinity;
+    for (const n of graph.nodes) {
+      x0 = Math.min(x0, n.x - n.r); y0 = Math.min(y0, n.y - n.r);
+      x1 = Math.max(x1, n.x + n.r); y1 = Math.max(y1, n.y + n.r);
+    }
+    this.box = [x0, y0, x1, y1];
+  }
+  fit() {
+    const w = this.canvas.parentElement.clientWidth, h = this.canvas.parentElement.clientHeight;
+    this.canvas.width = w; this.canvas.height = h;
+    const [x0, y0, x1, y1] = this.box;
+    this.s = Math.min((w - 24) / Math.max(x1 - x0, 1), (h - 24) / Math.max(y1 - y0, 1), 1.2);
+    this.ox = (w - (x1 - x0) * this.s) / 2 - x0 * this.s;
+    this.oy = (h - (y1 - y0) * this.s) / 2 - y0 * this.s;
+    this.draw();
+  }
+  px(n) { return [n.x * this.s + this.ox, n.y * this.s + this.oy]; }
+  radius(n) { return Math.max(3, n.r * this.s); }
+  nearest(x, y) {
+    let best = -1, bd = Infinity;
+    this.graph.nodes.forEach((n, i) => {
+      const [a, b] = this.px(n);
+      const d = Math.hypot(a - x, b - y);
+      if (d < bd && d <= this.radius(n) + 3) { bd = d; best = i; }
+    });
+    return best;
+  }
+  draw() {
+    const ctx = this.canvas.getContext("2d");
+    const g = this.graph, nodes = g.nodes;
+    ctx.clearRect(0, 0, this.canvas.width, this.canvas.height);
+    const byColor = {};
+    for (const e of g.edges) if (e.u !== e.v) (byColor[e.color] = byColor[e.color] || []).push(e);
+    ctx.globalAlpha = 0.35;
+    ctx.lineWidth = 1;
+    for (const [color, es] of Object.entries(byColor)) {
+      ctx.strokeStyle = color;
+      ctx.beginPath();
+      for (const e of es) {
+        const [a, b] = this.px(nodes[e.u]), [c, d] = this.px(nodes[e.v]);
+        ctx.moveTo(a, b); ctx.lineTo(c, d);
+      }
+      ctx.stroke();
+    }
+    ctx.globalAlpha = 1;
+    nodes.forEach((n, i) => {
+      const [x, y] = this.px(n), r = this.radius(n);
+      if (this.possible.has(i)) {
+        ctx.fillStyle = this.pcolor; ctx.globalAlpha = 0.45;
+        ctx.beginPath(); ctx.arc(x, y, r + 4, 0, 2 * Math.PI); ctx.fill(); ctx.globalAlpha = 1;
+      }
+      ctx.fillStyle = this.truth ? (this.truth[i] ? "#ffd54a" : "#eeeeee") : (this.marked.has(i) ? "#b6e3b6" : "#f8f8f8");
+      ctx.strokeStyle = "#222";
+      ctx.lineWidth = (n.designated ? 2.5 : 0.8) + (i === this.from ? 2 : 0);
+      ctx.beginPath(); ctx.arc(x, y, r, 0, 2 * Math.PI); ctx.fill(); ctx.stroke();
+    });
+  }
+  setTruth(truth) { this.truth = truth; this.marked = new Set(); this.draw(); }
+  setMarked(set) { this.truth = null; this.marked = set; this.draw(); }
+  setPossible(set, color, from) { this.possible = set; this.pcolor = color; this.from = from; this.draw(); }
+  highlighted() {
+    return this.truth ? this.graph.nodes.filter((n, i) => this.truth[i]).map((n) => n.name) : [];
+  }
+  drawnEdges() { return this.graph.edges.map((e) => ({ u: e.u, v: e.v, agents: e.agents, both: e.both })); }
+  destroy() { this.canvas.remove(); }
+}
+
 function renderFrame(k) {
   const doc = state.doc;
   state.frame = k;
@@ -84,8 +207,8 @@ function renderFrame(k) {
   document.getElementById("frame-select").value = String(k);
   document.getElementById("frame-title").textContent = fr.title;
   const panels = document.getElementById("panels");
-  for (const cy of Object.values(state.cys)) cy.destroy();
-  state.cys = {};
+  for (const v of Object.values(state.views)) v.destroy();
+  state.views = {};
   panels.replaceChildren();
   const evalSel = document.getElementById("eval-panel");
   const previous = evalSel.value;
@@ -109,16 +232,13 @@ function renderFrame(k) {
     box.appendChild(g);
     box.appendChild(el("div", { class: "caption" }, p.graph.caption.join("; ")));
     panels.appendChild(box);
-    const cy = cytoscape({ container: g, elements: elements(p.graph), style: STYLE, layout: { name: "preset" },
-                           maxZoom: 3, textureOnViewport: p.graph.nodes.length > 300,
-                           hideEdgesOnViewport: p.graph.nodes.length > 300 });
-    cy.on("tap", "node.world", (ev) => askPossible(p.key, ev.target.data("idx")));
-    state.cys[p.key] = cy;
+    const View = p.graph.nodes.length >= BIG ? CanvasView : CyView;
+    state.views[p.key] = new View(g, p.graph, (idx) => askPossible(p.key, idx));
     if (p.kripke) evalSel.appendChild(el("option", { value: p.key }, p.title));
     for (const a of p.graph.agents) { agents.add(a); colors[a] = p.graph.colors[a]; }
   }
   // fit once the panels have their final size (flex layout)
-  for (const cy of Object.values(state.cys)) fitGraph(cy);
+  for (const v of Object.values(state.views)) v.fit();
   const carried = fr.data && fr.data.carried;
   if ([...evalSel.options].some((o) => o.value === previous)) evalSel.value = previous;
   else if (carried && [...evalSel.options].some((o) => o.value === carried)) evalSel.value = carried;
@@ -153,22 +273,9 @@ function renderFrame(k) {
   return Promise.resolve(null);
 }
 
-function fitGraph(cy) {
-  cy.resize();
-  cy.fit(undefined, 16);
-  if (cy.zoom() > 1.2) { cy.zoom(1.2); cy.center(); }
-}
-
-function clearClasses(cy, names) {
-  cy.nodes("node.world").removeClass(names);
-}
-
 function showMark(key, mark) {
-  const cy = state.cys[key];
   const p = state.doc.frames[state.frame].panels.find((q) => q.key === key);
-  clearClasses(cy, "holds fails marked");
-  const set = new Set(p.marks[mark]);
-  cy.nodes("node.world").forEach((n) => { if (set.has(n.data("idx"))) n.addClass("marked"); });
+  state.views[key].setMarked(new Set(p.marks[mark]));
 }
 
 async function evaluate(text) {
@@ -177,7 +284,7 @@ async function evaluate(text) {
   const res = document.getElementById("formula-result");
   const t0 = performance.now();
   const { status, data } = await api("eval", { frame: state.frame, panel: key, formula: text });
-  const cy = state.cys[key];
+  const view = state.views[key];
   state.lastEval = data;
   if (status !== 200 || !data.ok) {
     let msg = data.error || ("error " + status);
@@ -185,15 +292,12 @@ async function evaluate(text) {
     errBox.textContent = msg;
     errBox.hidden = false;
     res.replaceChildren();
-    if (cy) clearClasses(cy, "holds fails marked");
+    if (view) view.setTruth(null);
     state.timings.eval = performance.now() - t0;
     return data;
   }
   errBox.hidden = true;
-  clearClasses(cy, "holds fails marked");
-  cy.batch(() => {
-    cy.nodes("node.world").forEach((n) => n.addClass(data.truth[n.data("idx")] ? "holds" : "fails"));
-  });
+  view.setTruth(data.truth);
   const holds = el("span", { class: data.holds ? "yes" : "no" }, data.holds ? "holds" : "does not hold");
   const shown = data.worlds.length > 40 ? data.worlds.slice(0, 40).join(", ") + ", …" : data.worlds.join(", ");
   res.replaceChildren(el("div", {}, data.formula + ": "), holds,
@@ -209,28 +313,19 @@ async function askPossible(key, world) {
   const out = document.getElementById("possible-result");
   state.lastPossible = data;
   if (status !== 200 || !data.ok) { out.textContent = data.error; return data; }
-  const cy = state.cys[key];
-  cy.nodes("node.world").removeClass("possible from");
   const color = state.doc.frames[state.frame].panels.find((q) => q.key === key).graph.colors[agent];
-  const set = new Set(data.worlds);
-  cy.nodes("node.world").forEach((n) => {
-    if (set.has(n.data("idx"))) { n.data("pc", color); n.addClass("possible"); }
-    if (n.data("idx") === world) n.addClass("from");
-  });
+  state.views[key].setPossible(new Set(data.worlds), color, world);
   out.textContent = `at ${data.name}, ${agent} considers possible: ${data.names.join(", ") || "nothing (believes ⊥)"}`;
   return data;
 }
 
 // for tests and scripts: what the page draws, read back from the graph
-state.highlighted = (key) => state.cys[key].nodes("node.world.holds").map((n) => n.data("name"));
+state.highlighted = (key) => state.views[key].highlighted();
 state.drawn = (key) => {
-  const cy = state.cys[key];
-  const worlds = cy.nodes("node.world").map((n) => ({ idx: n.data("idx"), name: n.data("name"),
-                                                       props: n.data("props"), designated: n.data("designated") }));
-  const edges = cy.edges().map((e) => ({ u: e.source().data("idx"), v: e.target().data("idx"),
-                                         agents: e.data("agents"), both: e.data("both") }));
   const p = state.doc.frames[state.frame].panels.find((q) => q.key === key);
-  return { worlds, edges, s5: p.graph.s5 };
+  const worlds = p.graph.nodes.map((n) => ({ idx: n.id, name: n.name, props: n.props || null,
+                                             designated: n.designated }));
+  return { worlds, edges: state.views[key].drawnEdges(), s5: p.graph.s5 };
 };
 state.evaluate = evaluate;
 state.possible = askPossible;
