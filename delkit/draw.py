@@ -17,9 +17,15 @@ one-way edges have arrows; reflexive loops are drawn, except for agents whose re
 and observed variables, and draw their Kripke model when it has at most ``max_worlds`` states; belief
 structures list their relations Ω_a over V and V'.
 
-Layout: networkx (circle for up to 6 nodes, Kamada–Kawai for connected graphs up to 40, spring otherwise,
-seeded), scaled so that nodes do not overlap. The drawing code is written here (SVG/TikZ are text formats;
-matplotlib only renders the PNG).
+Layout (``auto``): a Kripke model with at most 48 worlds that differ in at most 8 propositions is drawn in
+rows by its valuations (:func:`_layered`: symmetric models come out mirror-symmetric); otherwise networkx —
+a circle up to 6 nodes, Kamada–Kawai for connected graphs up to 40, spring above (seeded; a numpy
+Fruchterman–Reingold above 300 nodes) — scaled so that nodes do not overlap. Then every edge label is placed
+where it covers no node and no other label, loops turn to the node's freest side and straight edges that
+would cross a node are bent (:func:`_place_labels`). Propositions true in every world are listed once in the
+caption. Label boxes are SVG ``<rect>`` s, not ``paint-order`` halos (cairosvg and rsvg ignore
+``paint-order``). The drawing code is written here (SVG/TikZ are text formats; matplotlib only renders the
+PNG); the explorer (:mod:`delkit.view`) uses the same positions.
 """
 
 from __future__ import annotations
@@ -305,9 +311,17 @@ def picture(obj: Any, *, max_worlds: int = 64, layout: str = "auto", seed: int =
         raise DelkitError(f"layout {layout!r}: use {', '.join(LAYOUTS)}")
     if isinstance(obj, KripkeModel):
         names = [obj.world_name(w) for w in range(obj.n_worlds)]
-        labels = [[names[w], ", ".join(sorted(obj.true_props(w))) or "∅"] for w in range(obj.n_worlds)]
+        # propositions true in every world are said once, in the caption, not in every node (planning states
+        # carry many fluents that no world disagrees on)
+        common = set(obj.props) if obj.n_worlds > 1 and len(obj.props) > 2 else set()
+        for w in range(obj.n_worlds):
+            common &= obj.true_props(w)
+        labels = [[names[w], ", ".join(sorted(obj.true_props(w) - common)) or ("∅" if not common else "·")]
+                  for w in range(obj.n_worlds)]
         vals = [tuple(bool(b) for b in obj.valuation[w]) for w in range(obj.n_worlds)]
         pic = _graph(labels, names, set(obj.designated), obj.relations, obj.agents, layout, seed, vals)
+        if common:
+            pic.caption.insert(0, "true in every world (not repeated in the worlds): " + ", ".join(sorted(common)))
         pic.summary = f"{obj.n_worlds} world(s), agents {', '.join(obj.agents)}"
         return pic
     if isinstance(obj, EventModel):
