@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from delkit import KripkeModel, product_update, sensing
 from delkit.formula import parse
@@ -108,7 +109,7 @@ def test_smcdel_structure(browser, serve):
 def _pairs_drawn(drawn: dict) -> dict[str, set[tuple[str, str]]]:
     """Each agent's pairs, read back from the drawn graph (S5 loops are hidden: added back)."""
     names = {w["idx"]: w["name"] for w in drawn["worlds"]}
-    out: dict[str, set] = {}
+    out: dict[str, set] = {a: set() for a in drawn["agents"]}
     for e in drawn["edges"]:
         for a in e["agents"]:
             out.setdefault(a, set()).add((names[e["u"]], names[e["v"]]))
@@ -119,8 +120,17 @@ def _pairs_drawn(drawn: dict) -> dict[str, set[tuple[str, str]]]:
     return out
 
 
-def test_plan_stepper_matches_check_trace_json(browser, serve, tmp_path):
-    files = [COIN / "domain.epddl", COIN / "problem.epddl", COIN / "problem.plan"]
+LAMP = ROOT / "specs" / "epddl2026" / "lamp"
+
+
+@pytest.mark.parametrize("name", ["coin_in_the_box (E-PDDL 2021)", "lamp (EPDDL 2026)"])
+def test_plan_stepper_matches_check_trace_json(name, browser, serve, tmp_path):
+    if name.startswith("lamp"):
+        plan = tmp_path / "lamp.plan"
+        plan.write_text("look_robot\nsay-on_robot\n")  # the plan delkit plan finds
+        files = [LAMP / "domain.epddl", LAMP / "problem.epddl", plan]
+    else:
+        files = [COIN / "domain.epddl", COIN / "problem.epddl", COIN / "problem.plan"]
     trace_file = tmp_path / "trace.json"
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     subprocess.run([str(Path(sys.executable).parent / "delkit"), "check", *map(str, files), "--trace-json",
@@ -144,8 +154,8 @@ def test_plan_stepper_matches_check_trace_json(browser, serve, tmp_path):
         names = [w["name"] for w in st["worlds"]]
         want = {a: {(names[u], names[v]) for u, v in pairs} for a, pairs in st["relations"].items()}
         assert _pairs_drawn(drawn) == want, f"step {k}"
-        if k == 3:
-            screenshot(browser, "plan-coin-in-the-box-step3.png")
+        if k == 3 or k == len(trace["steps"]) - 1:
+            screenshot(browser, f"plan-{name.split()[0]}-step{k}.png")
     # the goal at the end, evaluated by the server on the final state
     answer = type_formula(browser, trace["goal"])
     assert answer["holds"] == trace["steps"][-1]["goal"] is True

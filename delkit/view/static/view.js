@@ -325,7 +325,7 @@ state.drawn = (key) => {
   const p = state.doc.frames[state.frame].panels.find((q) => q.key === key);
   const worlds = p.graph.nodes.map((n) => ({ idx: n.id, name: n.name, props: n.props || null,
                                              designated: n.designated }));
-  return { worlds, edges: state.views[key].drawnEdges(), s5: p.graph.s5 };
+  return { worlds, edges: state.views[key].drawnEdges(), s5: p.graph.s5, agents: p.graph.agents };
 };
 state.evaluate = evaluate;
 state.possible = askPossible;
