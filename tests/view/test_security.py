@@ -13,7 +13,7 @@ pytest.importorskip("httpx", reason="starlette's test client needs httpx (pip in
 import warnings  # noqa: E402
 
 with warnings.catch_warnings():  # starlette 1.x: "install httpx2" (its test client works with httpx)
-    warnings.simplefilter("ignore", DeprecationWarning)
+    warnings.simplefilter("ignore")
     from starlette.testclient import TestClient  # noqa: E402
 
 from delkit import KripkeModel  # noqa: E402
