@@ -9,7 +9,7 @@ STAMP  := $(VENV)/.installed
 PYTEST_WORKERS ?= 2
 CORE_VENV ?= build/core-venv
 
-.PHONY: demo test test-slow test-core docs bench lint install clean
+.PHONY: demo test test-slow test-core docs bench lint install clean browser
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -17,12 +17,21 @@ $(STAMP): pyproject.toml
 	$(PY) -m pip install --quiet -e '.[all,test,docs]'
 	touch $(STAMP)
 
+# the browser tests of delkit view (tests/view) use Debian's chromium + chromium-driver; installed here where
+# apt-get works (root), otherwise those tests skip and say why
+browser:
+	@if command -v chromium >/dev/null && command -v chromedriver >/dev/null; then :; \
+	elif [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null; then \
+	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium chromium-driver) \
+	  >/dev/null 2>&1 || echo "make: could not install chromium with apt-get; the browser tests will skip"; \
+	else echo "make: chromium/chromedriver not installed and apt-get not usable; the browser tests will skip"; fi
+
 install: $(STAMP)
 
 demo: $(STAMP)
 	$(VENV)/bin/delkit demo
 
-test: $(STAMP)
+test: $(STAMP) browser
 	$(PY) -m pytest -q -n $(PYTEST_WORKERS) -m "not slow"
 
 test-slow: $(STAMP)

@@ -26,7 +26,7 @@ def _build_app():
     """The typer app: the core's own commands, then every ``delkit.commands`` plugin (see :mod:`.plugins`)."""
     import typer
 
-    from delkit.cli import core_cmd, model_cmd, plugins, puzzle_cmd, smcdel_cmd
+    from delkit.cli import core_cmd, model_cmd, plugins, puzzle_cmd, smcdel_cmd, view_cmd
 
     app = typer.Typer(
         name="delkit",
@@ -52,6 +52,7 @@ def _build_app():
     puzzle_cmd.register(app)
     model_cmd.register(app)
     smcdel_cmd.register(app)
+    view_cmd.register(app)
     for _, module in plugins.plugin_modules():
         module.register(app)
     return app

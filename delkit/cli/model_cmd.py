@@ -188,18 +188,23 @@ def register(app: typer.Typer) -> None:
 
     @model.command("draw")
     def draw_cmd(
-        model_file: str = typer.Argument(..., metavar="MODEL",
-                                         help="Kripke/event model (JSON/DOT) or structure (.smcdel.txt)."),
+        model_file: list[str] = typer.Argument(..., metavar="MODEL",
+                                               help="Kripke/event model (JSON/DOT), structure (.smcdel.txt), or a "
+                                                    "planning task (SPEC, or DOMAIN PROBLEM) with --plan."),
         output: Path = typer.Option(..., "--output", "-o", help="out.svg, out.png or out.tex (TikZ)."),
         max_worlds: int = typer.Option(64, "--max-worlds", min=0,
                                        help="Draw a structure's Kripke model only up to this many states."),
-        layout: str = typer.Option("auto", "--layout", help="auto, circle, spring or kamada-kawai."),
+        layout: str = typer.Option("auto", "--layout", help="auto, layered, circle, spring or kamada-kawai."),
         seed: int = typer.Option(0, "--layout-seed", min=0, max=2**63 - 1, help="Seed of the spring layout."),
+        plan: Path | None = typer.Option(None, "--plan", help="A plan file for the task: draw a state along it."),
+        step: int = typer.Option(0, "--step", min=0, help="With a task: draw the state after this step (0: the "
+                                                         "initial state)."),
     ) -> None:
-        """Picture of a model or structure (no Graphviz needed): SVG, PNG or LaTeX/TikZ by the output's suffix."""
+        """Picture of a model or structure (no Graphviz needed): SVG, PNG or LaTeX/TikZ by the output's suffix.
+        For a planning task, the initial state or (--plan, --step K) the state after step K."""
         from delkit.cli.model_tools import run_draw
 
-        run_draw(model_file, output, max_worlds, layout, seed)
+        run_draw(model_file, output, max_worlds, layout, seed, plan=plan, step=step)
 
     @model.command("macro")
     def macro_cmd(

@@ -46,6 +46,35 @@ def load_any(path: str) -> Any:
     return load(path, formats=ANY_FORMATS)
 
 
+def _core_format(path: str) -> bool:
+    """A file the core reads itself (model JSON / DOT, SMCDEL structure)."""
+    p = str(path).lower()
+    return is_smcdel(p) or p.endswith((".json", ".dot", ".gv"))
+
+
+def _task_state(paths: list[str], plan: Path | None, step: int):
+    """The state after ``step`` steps of ``plan`` on the task in ``paths`` (frames of :mod:`delkit.view`)."""
+    from delkit.errors import DelkitError
+    from delkit.view.document import load_document
+
+    doc = load_document([*paths, *([plan] if plan is not None else [])])
+    if doc.kind != "task" and plan is None and step == 0 and len(paths) == 1:
+        return load_any(paths[0]), ""  # a model file with an unusual suffix
+    if doc.kind != "task":
+        raise DelkitError(f"{paths[0]}: --plan/--step draw a planning task's states; this file is a {doc.kind}")
+    if step >= len(doc.frames):
+        raise DelkitError(f"--step {step}: the plan has {len(doc.frames) - 1} step(s)"
+                          + ("" if len(doc.frames) > 1 or plan is not None else "; give the plan with --plan")
+                          + (f" and fails at step {len(doc.frames) - 1}" if doc.frames[-1].data.get("carried")
+                             == "before" else ""))
+    frame = doc.frames[step]
+    carried = frame.data.get("carried", "state")
+    if carried == "before":
+        raise DelkitError(f"--step {step}: the plan fails at this step ({frame.notes[-1]}); draw --step {step - 1}")
+    panel = next(p for p in frame.panels if p.key == carried)
+    return panel.model, (f"{doc.title}: {'initial state' if step == 0 else 'state after step ' + frame.title}")
+
+
 def _state_name(state: dict[str, bool], vocabulary) -> str:
     return "{" + ",".join(v for v in vocabulary if state[v]) + "}"
 
@@ -165,16 +194,25 @@ def run_diff(a_path: str, b_path: str, world_a: str | None, world_b: str | None,
     return 0 if res.bisimilar else 1
 
 
-def run_draw(path: str, output: Path, max_worlds: int, layout: str, seed: int) -> None:
-    """``delkit model draw``: the picture in the format of the output's suffix (.svg, .png, .tex)."""
+def run_draw(path: str | list[str], output: Path, max_worlds: int, layout: str, seed: int, *,
+             plan: Path | None = None, step: int = 0) -> None:
+    """``delkit model draw``: the picture in the format of the output's suffix (.svg, .png, .tex). A planning
+    task (read by the layer that registers it, :func:`delkit.view.load_document`) draws its state after
+    ``step`` steps of ``plan`` (the state ``delkit check --trace`` prints)."""
     from delkit import draw
     from delkit.errors import DelkitError
 
     suffix = output.suffix.lower()
     if suffix not in (".svg", ".png", ".tex"):
         raise DelkitError(f"{output}: cannot tell the picture format; name the output *.svg, *.png or *.tex")
-    obj = load_any(path)
-    pic = draw.picture(obj, max_worlds=max_worlds, layout=layout, seed=seed)
+    paths = [path] if isinstance(path, str) else list(path)
+    if plan is None and step == 0 and len(paths) == 1 and _core_format(paths[0]):
+        obj = load_any(paths[0])
+        pic = draw.picture(obj, max_worlds=max_worlds, layout=layout, seed=seed)
+    else:
+        obj, what = _task_state(paths, plan, step)
+        pic = draw.picture(obj, max_worlds=max_worlds, layout=layout, seed=seed)
+        pic.header = [what] * bool(what) + pic.header
     try:
         output.parent.mkdir(parents=True, exist_ok=True)  # like the other commands' --out
         if suffix == ".svg":

@@ -9,7 +9,7 @@ from typing import Any
 
 from planners.cli.plan_cmd import fast_args
 
-__all__ = ["register", "fast_args", "DEMO_SECTIONS"]
+__all__ = ["register", "fast_args", "DEMO_SECTIONS", "VIEWERS"]
 
 
 def register(app: Any) -> None:
@@ -36,3 +36,19 @@ DEMO_SECTIONS = [
     (30, "Epistemic planning + plan check", _planner),
     (70, "e-PICO: epistemic plan to primitive arm actions", _epico),
 ]
+
+
+def _task_viewer(paths: Any, options: dict) -> Any:
+    from planners.view import task_viewer
+
+    return task_viewer(paths, options)
+
+
+def _epico_viewer(paths: Any, options: dict) -> Any:
+    from planners.view import epico_viewer
+
+    return epico_viewer(paths, options)
+
+
+#: documents for ``delkit view`` (delkit.view.document.viewers): tasks with plans, e-PICO results
+VIEWERS = (_task_viewer, _epico_viewer)

@@ -102,8 +102,9 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
 
 def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path | None = None,
               allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
-              strict: bool = False, timeout: float = 0.0) -> int:
-    """The body of ``delkit check``; returns the exit status (``timeout`` 0: no limit)."""
+              strict: bool = False, timeout: float = 0.0, trace: bool = False, trace_json: Path | None = None) -> int:
+    """The body of ``delkit check``; returns the exit status (``timeout`` 0: no limit). ``trace`` /
+    ``trace_json`` also print / write the states along the plan (:mod:`planners.trace`)."""
     from delkit.resources import deadline
 
     if timeout < 0 or timeout != timeout:
@@ -111,11 +112,12 @@ def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path
 
         raise ParseError(f"--timeout {timeout!r}: use a number of seconds ≥ 0 (0: no limit)", source="delkit check")
     with deadline(timeout, "delkit check"):
-        return _run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict)
+        return _run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict, trace, trace_json)
 
 
 def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | None, allow_inconsistent: bool,
-               as_json: bool, library: list[Path] | None, strict: bool) -> int:
+               as_json: bool, library: list[Path] | None, strict: bool, trace: bool = False,
+               trace_json: Path | None = None) -> int:
     from delkit.errors import ParseError, io_reason
     from planners.lang import load_task
     from planners.validate import check_plan, parse_property, read_plan
@@ -136,6 +138,11 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
     properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
     # one checker; EPDDL (2026) tasks are replayed with EPDDL's semantics (see check_plan's ``epddl``)
     res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent, plan_source=str(files[-1]))
+    if trace or trace_json is not None:  # the states along the plan (issue 21)
+        from planners.trace import emit_trace
+
+        emit_trace(task, steps, text=trace, json_path=trace_json, allow_inconsistent=allow_inconsistent,
+                   plan_source=str(files[-1]), echo=_echo)
     if as_json:
         _echo(json.dumps(res.to_json()))
     elif res.valid:
@@ -194,6 +201,9 @@ def register(app: typer.Typer) -> None:
         jobs: int | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch of SPEC [PROBLEM] "
                                                                   "PLAN_FILE groups"),
         scheduler: str | None = typer.Option(None, "--scheduler", help="run a batch on the Dask cluster at ADDRESS"),
+        trace: bool = typer.Option(False, "--trace", help="print the state after every step"),
+        trace_json: Path | None = typer.Option(None, "--trace-json", help="write the states along the plan as "
+                                                                          "JSON to this file ('-': stdout)"),
     ) -> None:
         """Replay a plan on a spec and check its executability, goal and properties (many SPEC [PROBLEM]
         PLAN_FILE groups: a batch)."""
@@ -201,7 +211,7 @@ def register(app: typer.Typer) -> None:
 
         raise typer.Exit(check_files(files, prop=prop, props_file=props_file, allow_inconsistent=allow_inconsistent,
                                      as_json=as_json, library=library, strict=strict, timeout=timeout, jobs=jobs,
-                                     scheduler=scheduler))
+                                     scheduler=scheduler, trace=trace, trace_json=trace_json))
 
     @app.command("convert")
     def convert_command(
@@ -259,6 +269,7 @@ _CHECK_OPTS = {"--property": ("prop", "list"), "-p": ("prop", "list"), "--proper
                "--timeout": ("timeout", "float"),
                "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),
                "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag"),
+               "--trace": ("trace", "flag"), "--trace-json": ("trace_json", "path"),
               **_BATCH_OPTS}
 
 
