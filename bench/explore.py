@@ -189,7 +189,7 @@ def diagnose(maps: int, workers: int, out_dir: Path) -> int:
         attributions.append(a)
         print(f"\n-- Case {a['case']}, {a['n_robots']} robots, map {a['seed']}: epistemic {a['epistemic']:.1f} s, "
               f"ideal {a['ideal']:.1f} s (excess {a['excess']:.1f} s = discovery {a['discovery']:+.1f} + "
-              f"allocation→completion {a['completion']:+.1f} + return home {a['home']:+.1f})")
+              f"allocation→completion {a['completion']:+.1f} + after the last completion {a['home']:+.1f})")
         for line in timeline(e):
             print("   " + line)
         for c in a["causes"]:

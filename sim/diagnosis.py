@@ -10,7 +10,8 @@ the epistemic one and the ideal one. The excess ``t_epi − t_ideal`` is split i
   exclusions (``false`` when the excluded robot was in fact not busy; with its distance from the state the
   gossiper sought and from its own common-belief particle c_j, the particle it tracks while disconnected) and
   waits at a task that ended in giving up (``wait_timeout``);
-* ``return home``: the remainder.
+* ``after the last completion``: the remainder (the rest of the exploration — a disconnected robot does not
+  know that the tasks are done — and the way home).
 
 The cause named first is the one that accounts for the largest part (a heuristic attribution from the
 timeline, stated as such); the variants of ``bench/explore.py --diagnose`` then re-run the mission with each
