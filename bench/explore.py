@@ -53,12 +53,13 @@ def main() -> int:
     ap.add_argument("--no-sweep", action="store_true")
     ap.add_argument("--no-ablation", action="store_true")
     ap.add_argument("--diagnose", action="store_true", help="issue 26: diagnosis and paper-implied parameters only")
+    ap.add_argument("--methods", default="epistemic,ideal,flock", help="--diagnose: teams of the default sweep")
     args = ap.parse_args()
     print(f"machine: {platform.node()} {os.cpu_count()} cores, python {platform.python_version()}, "
           f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, load {os.getloadavg()[0]:.1f}")
 
     if args.diagnose:
-        return diagnose(args.maps, args.workers, args.out)
+        return diagnose(args.maps, args.workers, args.out, tuple(args.methods.split(",")))
 
     print("\n== one 8-robot Case II mission (epistemic) ==")
     print("(timed region: Mission construction + run, record=False, eq. 14/18 model checks on)")
@@ -138,7 +139,8 @@ def main() -> int:
 #: the reading of §5.3.2 that the rest of the paper implies (issue 26; each measured alone in --diagnose):
 #: look for j where it was last believed and then where j itself goes (its common-belief particle), exclude j
 #: only once both were visited, and wait at a task as long as a gossip round trip takes
-PAPER_IMPLIED = (("gossip_target", "both"), ("exclude_rule", "visited"), ("wait_rule", "travel"))
+#: (wait_rule='travel', the round-trip time-out, is measured alone: it makes robots give up too early)
+PAPER_IMPLIED = (("gossip_target", "both"), ("exclude_rule", "visited"))
 SINGLE_CHANGES = [("gossip_target = common", (("gossip_target", "common"),)),
                   ("gossip_target = both", (("gossip_target", "both"),)),
                   ("exclude_rule = visited", (("exclude_rule", "visited"),)),
@@ -158,6 +160,13 @@ def _sweep(spec: SweepSpec, workers: int, label: str) -> list[dict]:
     return rows
 
 
+#: flock rows of the 2026-11-30 sweep (bench/RESULTS-explore.md): (case, "flock", size) ↦ (mean, std)
+FLOCK_PREVIOUS = {(1, "flock", 2): (60.7, 35.7), (1, "flock", 3): (90.7, 41.9), (1, "flock", 5): (111.3, 47.5),
+                  (1, "flock", 8): (348.9, 473.8), (1, "flock", "all"): (152.9, 149.7),
+                  (2, "flock", 2): (171.2, 12.2), (2, "flock", 3): (220.2, 17.0), (2, "flock", 5): (224.4, 23.2),
+                  (2, "flock", 8): (247.6, 19.7), (2, "flock", "all"): (215.8, 18.0)}
+
+
 def _figures(rows: list[dict]) -> dict[tuple, float]:
     out = {}
     for k, v in summarise(rows).items():
@@ -166,16 +175,21 @@ def _figures(rows: list[dict]) -> dict[tuple, float]:
     return out
 
 
-def diagnose(maps: int, workers: int, out_dir: Path) -> int:
+def diagnose(maps: int, workers: int, out_dir: Path, methods: tuple[str, ...] = ("epistemic", "ideal", "flock")) -> int:
     """Issue 26: per-mission diagnosis of the slow epistemic missions and the paper-implied sweep."""
     from dataclasses import replace as dc_replace
 
     from sim.diagnosis import attribute, timeline
     from sim.experiments import run_one_diagnosed
 
-    base = SweepSpec(cases=(1, 2), robots=(2, 3, 5, 8), maps=maps, diagnose=True)
-    print(f"\n== diagnosis sweep (defaults): {len(base.cases) * maps * 4 * 3} missions, {workers} workers ==")
+    # flock and ideal do not gossip: gossip_target and exclude_rule change the epistemic team only, so the
+    # paper-implied sweep runs the epistemic team alone and flock is taken from a default sweep when asked
+    base = SweepSpec(cases=(1, 2), robots=(2, 3, 5, 8), maps=maps, diagnose=True, methods=methods)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    n = len(base.cases) * maps * 4 * len(methods)
+    print(f"\n== diagnosis sweep (defaults): {n} missions, {workers} workers ==")
     rows = _sweep(base, workers, "defaults")
+    (out_dir / "defaults.json").write_text(json.dumps(rows, default=str))
     def key(r: dict) -> tuple:
         return r["case"], r["n_robots"], r["seed"]
 
@@ -221,8 +235,8 @@ def diagnose(maps: int, workers: int, out_dir: Path) -> int:
                   + "".join(f" {v:>23.1f}" for v in vals))
 
     print(f"\n== the sweep with the paper-implied parameters {dict(PAPER_IMPLIED)} ==")
-    implied = _sweep(dc_replace(base, overrides=PAPER_IMPLIED), workers, "paper-implied")
-    out_dir.mkdir(parents=True, exist_ok=True)
+    implied = _sweep(dc_replace(base, overrides=PAPER_IMPLIED, methods=("epistemic",)), workers, "paper-implied")
+    implied += [r for r in rows if r["method"] != "epistemic"]  # unchanged by these parameters (see above)
     write_csv(rows, out_dir / "runs-defaults.csv")
     write_csv(implied, out_dir / "runs-paper-implied.csv")
     (out_dir / "diagnosis.json").write_text(json.dumps(
@@ -232,17 +246,36 @@ def diagnose(maps: int, workers: int, out_dir: Path) -> int:
     for c in (1, 2):
         box_plot(implied, out_dir / f"case{c}_boxplot_paper_implied.png", case=c)
     fd, fi = _figures(rows), _figures(implied)
+    if "flock" not in methods:
+        for k, v in FLOCK_PREVIOUS.items():  # the 2026-11-30 sweep's flock rows (same code, deterministic)
+            for f in (fd, fi):
+                f[k], f[k + ("std",)] = v
+        print("(flock: the 2026-11-30 sweep's figures, bench/RESULTS-explore.md; the flock code is unchanged)")
     for c in (1, 2):
         print(f"\nFig. {6 if c == 1 else 8} (Case {'I' if c == 1 else 'II'}): mission time mean ± std [s] per team "
               "size — defaults | paper-implied")
         print(f"{'method':>10}" + "".join(f" {n:>24}" for n in (2, 3, 5, 8, "all")))
         for m in ("epistemic", "flock", "ideal"):
+            if (c, m, 2) not in fd:
+                continue
             cells = [f"{fd[(c, m, n)]:.1f}±{fd[(c, m, n, 'std')]:.0f} | {fi[(c, m, n)]:.1f}±{fi[(c, m, n, 'std')]:.0f}"
                      for n in (2, 3, 5, 8, "all")]
             print(f"{m:>10}" + "".join(f" {x:>24}" for x in cells))
+    from sim.experiments import PAPER
+
     print(f"\n{'quantity':<40} {'defaults':>9} {'implied':>9} {'paper':>7}")
-    for (q, o, p), (_, o2, _) in zip(paper_comparison(rows), paper_comparison(implied), strict=True):
-        print(f"{q:<40} {'–' if o is None else f'{o:.1f}':>9} {'–' if o2 is None else f'{o2:.1f}':>9} {p:>7.1f}")
+    for c in (1, 2):
+        paper = PAPER[f"case{c}"]
+        for q, a, b in ((f"case {c}: flock − epistemic mean [s]", "flock", "epistemic"),
+                        (f"case {c}: epistemic − ideal mean [s]", "epistemic", "ideal")):
+            vals = [f[(c, a, "all")] - f[(c, b, "all")] if (c, a, "all") in f and (c, b, "all") in f else None
+                    for f in (fd, fi)]
+            print(f"{q:<40} " + " ".join("     –   " if v is None else f"{v:>9.1f}" for v in vals)
+                  + f" {paper['flock_minus_epistemic' if a == 'flock' else 'epistemic_minus_ideal']:>7.1f}")
+        for m in ("epistemic", "ideal", "flock"):
+            if (c, m, "all") in fd:
+                print(f"{f'case {c}: std of {m} [s]':<40} {fd[(c, m, 'all', 'std')]:>9.1f} "
+                      f"{fi[(c, m, 'all', 'std')]:>9.1f} {paper.get(f'std_{m}', float('nan')):>7.1f}")
     return 0
 
 

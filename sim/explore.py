@@ -667,7 +667,10 @@ class Mission:
         """wait_rule='travel': a robot in range that has task k in its bundle is on its way (observed)."""
         if self.cfg.wait_rule == "fixed":
             return False
-        return any(j != r.id and j in members and k.spec.id in self.robots[j].bundle() for j in k.assigned)
+        txy = np.array(k.spec.xy)
+        return any(j != r.id and j in members and k.spec.id in self.robots[j].bundle()
+                   and float(np.hypot(*(self.robots[j].xy - txy))) > self.cfg.task_radius * 1.5  # not there yet
+                   for j in k.assigned)
 
     # ------------------------------------------------------------------ control
     def _goto(self, r: _Robot, goal_xy: np.ndarray, tol: float = 2.0) -> None:
