@@ -1,6 +1,7 @@
 """Benchmark: Table I of seed 002 (action consistency, search and rescue) — ours beside the paper's.
 
 Run:  .venv/bin/python bench/consistency.py [--seeds 10] [--epochs 200] [--quick] [--plot fig4.png]
+      [--sections ABCDEFGHI]
 
 Prints markdown tables:
   A. Table I, seed 0, 10×10 grid, beside the paper's figures (Julia, i7-6500U);
@@ -10,6 +11,10 @@ Prints markdown tables:
   D. ablations (what a robot sends, trigger rule, tie-break, Baseline-I with/without re-sending);
   E. N = 2, 3, 4 robots;
   F. Fig. 4(a): mean objective J of ENFORCEAC vs Baseline-I (does "slightly worse" hold?);
+  G. every choice the paper does not make, with its value and where it is set (issue 26);
+  H. Baseline-II's Not-AC under the three tie-break rules (common random / index / each robot its own);
+  I. ENFORCEAC with and without the exact pruning of irrelevant observations: what it moves (COMM) and what it
+     does not (Not-AC, speed), beside the paper — the like-for-like speed row;
 and the number of Theorem-3.3 violations seen in every ENFORCEAC episode (must be 0).
 """
 
@@ -227,12 +232,75 @@ def plot(path: str, epochs: int) -> None:
     fig.savefig(path, dpi=120)
 
 
+CHOICES = [
+    ("grid", "10 × 10 (and 20 × 20 in B2)", "SARConfig.width/height", "the paper gives no size"),
+    ("sensor", "P(z=1 | target) = p_d = 0.8, P(z=1 | none) = p_f = 0.2", "SARConfig.p_detect/p_false",
+     "no observation model in the paper; D: 0.99/0.01 changes COMM by 20, Not-AC not at all"),
+    ("targets", "each cell holds a target with probability 0.3", "SARConfig.target_density",
+     "H: Baseline-II's Not-AC does not depend on it"),
+    ("robot start", "random distinct cells (seeded)", "sim.sar._world", "not given"),
+    ("tie-break", "one random order of joint actions per step, common to all robots", "SARConfig.tie_break",
+     "not given; H: the paper's Baseline-II figures need each robot's own order"),
+    ("what a message carries", "every unshared relevant observation (policy 'all')", "SARConfig.policy",
+     "the paper sends 'the' observation; D: greedy/oldest"),
+    ("trigger", "T1/T2 as written (trigger 'paper')", "SARConfig.trigger", "D: 'useful'"),
+    ("pruning", "readings of cells no candidate action reaches are left out (exact per session)",
+     "SARConfig.prune", "I: changes what a message carries, hence COMM; not the speed"),
+    ("Baseline-I loss", "a reading lost on a restricted step is not re-sent", "SARConfig.resend",
+     "B: re-sending reverses the Not-AC ordering"),
+    ("restricted steps", "comm-restr steps drawn uniformly without replacement (seeded)", "sim.sar._world",
+     "not given"),
+]
+
+
+def section_g() -> str:
+    return md(["choice", "our value", "where", "what it moves / why"], [list(c) for c in CHOICES])
+
+
+def section_h(epochs: int, seeds: int) -> str:
+    rows = []
+    for (restr, prims, init), paper in PAPER_TABLE_I.items():
+        cells = []
+        for tb in ("random", "index", "own"):
+            res = [episode(SARConfig(epochs=epochs, seed=s, comm_restr=round(restr * epochs / 200), primitives=prims,
+                                     init=init, tie_break=tb), "baseline2").not_ac for s in range(seeds)]  # type: ignore[arg-type]
+            cells.append(ms(res, 1))
+        rows.append([label(restr, prims, init), *cells, str(paper["baseline2"][0])])
+    return md(["Input", "common random (default)", "lowest index", "each robot its own", "paper"], rows)
+
+
+def section_i(epochs: int, seeds: int) -> str:
+    rows = []
+    for width in (10, 20):
+        for (restr, prims, init), paper in PAPER_TABLE_I.items():
+            cells = []
+            for prune in (True, False):
+                res, cpu = [], []
+                for s in range(seeds):
+                    c0 = time.process_time()
+                    res.append(episode(SARConfig(epochs=epochs, seed=s, comm_restr=round(restr * epochs / 200),
+                                                 primitives=prims, init=init, width=width, height=width,
+                                                 prune=prune), "enforce"))  # type: ignore[arg-type]
+                    cpu.append(time.process_time() - c0)
+                open_steps = epochs - round(restr * epochs / 200)  # Baseline-I: one message each way per open step
+                saving = 100 * (1 - statistics.fmean(r.comms for r in res) / (2 * open_steps))
+                cells += [ms([r.not_ac for r in res], 1), ms([r.comms for r in res]), f"{saving:.0f} %",
+                          f"{statistics.fmean(cpu):.2f}"]
+            paper_saving = 100 * (1 - paper["enforce"][1] / paper["baseline1"][1])
+            pe = paper["enforce"]
+            rows.append([f"{width}×{width}", label(restr, prims, init), *cells,
+                         f"{pe[0]} / {pe[1]} / {paper_saving:.0f} % / {pe[2]}"])
+    return md(["grid", "Input", "pruned: Not-AC", "COMM", "saving vs B-I", "CPU s", "not pruned: Not-AC", "COMM",
+               "saving vs B-I", "CPU s", "paper: Not-AC / COMM / saving / s"], rows)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--epochs", type=int, default=200)
     ap.add_argument("--seeds", type=int, default=10)
     ap.add_argument("--quick", action="store_true", help="3 seeds, 60 epochs (smoke run)")
     ap.add_argument("--plot", help="write a Fig. 4(a,b)-style PNG here")
+    ap.add_argument("--sections", default="ABCDEFGHI", help="which sections to run, e.g. GHI")
     args = ap.parse_args()
     epochs, seeds = (60, 3) if args.quick else (args.epochs, args.seeds)
     start = time.perf_counter()
@@ -248,7 +316,14 @@ def main() -> None:
                       ("D. Ablations", lambda: section_d(epochs, max(3, seeds // 2))),
                       ("E. N robots (MaxEntropy-Init, comm-restr = 0)", lambda: section_e(epochs, max(2, seeds // 3))),
                       (f"F. Fig. 4(a): objective J, ENFORCEAC vs Baseline-I, {seeds} seeds, 10×10",
-                       lambda: section_f(epochs, seeds))):
+                       lambda: section_f(epochs, seeds)),
+                      ("G. Choices the paper does not make", section_g),
+                      (f"H. Baseline-II's Not-AC by tie-break rule, {seeds} seeds, 10×10",
+                       lambda: section_h(epochs, seeds)),
+                      (f"I. ENFORCEAC with / without the pruning of irrelevant observations, {seeds} seeds",
+                       lambda: section_i(epochs, seeds))):
+        if title[0] not in args.sections.upper():
+            continue
         t0 = time.perf_counter()
         print(f"## {title}\n\n{fn()}\n\n({time.perf_counter() - t0:.0f} s)\n", flush=True)
     print(f"Theorem 3.3 violations over all {EPISODES} episodes: {VIOLATIONS}")

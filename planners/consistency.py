@@ -390,9 +390,11 @@ def own_actions(model: BeliefModel, ledger: Ledger, known: np.ndarray, atol: flo
     """Each robot's selection from its own history only, :math:`\\arg\\max_a J(\\mathbb P(x\\mid H^r), a)`
     — what the robots actually execute; used to count Not-AC independently of ENFORCEAC."""
     out = []
+    per_robot = getattr(model, "robot_tie_ranks", None)  # a model may let each robot break ties its own way
     for r in range(known.shape[0]):
         belief = _common_belief(model, ledger, known[r])
-        out.append(int(select_actions(model.objective(belief), atol, getattr(model, "tie_ranks", None))[0]))
+        ranks = per_robot(r) if per_robot is not None else getattr(model, "tie_ranks", None)
+        out.append(int(select_actions(model.objective(belief), atol, ranks)[0]))
     return tuple(out)
 
 

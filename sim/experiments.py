@@ -44,6 +44,10 @@ class SweepSpec:
     methods: tuple[str, ...] = METHODS
     seed0: int = 0
     t_max: float = 1500.0
+    #: MissionConfig fields set on every mission, e.g. (("wait_rule", "travel"),)
+    overrides: tuple[tuple[str, object], ...] = ()
+    #: rows carry MissionResult.diagnosis() under "diagnosis" (not written to the CSV)
+    diagnose: bool = False
 
     def validate(self) -> None:
         bad = [m for m in self.methods if m not in METHODS]
@@ -56,7 +60,9 @@ class SweepSpec:
 def sweep_configs(spec: SweepSpec) -> list[MissionConfig]:
     """All mission configurations of the sweep, in a fixed order."""
     spec.validate()
-    return [MissionConfig(case=c, n_robots=n, method=m, seed=spec.seed0 + s, t_max=spec.t_max, record=False)
+    extra = dict(spec.overrides)
+    return [MissionConfig(case=c, n_robots=n, method=m, seed=spec.seed0 + s, t_max=spec.t_max, record=False,
+                          **extra)
             for c, s, n, m in itertools.product(spec.cases, range(spec.maps), spec.robots, spec.methods)]
 
 
@@ -64,6 +70,12 @@ def run_one(cfg: MissionConfig) -> dict:
     """Run one mission and return its CSV row (picklable, for any executor)."""
     res: MissionResult = run_mission(replace(cfg, record=False))
     return res.row()
+
+
+def run_one_diagnosed(cfg: MissionConfig) -> dict:
+    """:func:`run_one` with the mission's diagnosis (exclusions, waits, task times) under ``"diagnosis"``."""
+    res: MissionResult = run_mission(replace(cfg, record=False))
+    return res.row() | {"diagnosis": res.diagnosis()}
 
 
 @contextmanager
@@ -96,7 +108,8 @@ def run_sweep(spec: SweepSpec, *, workers: int | None = None, dask: str | None =
     rows: list[dict | None] = [None] * len(cfgs)
 
     def drive(ex: Executor) -> None:
-        futures = {ex.submit(run_one, c): k for k, c in enumerate(cfgs)}
+        fn = run_one_diagnosed if spec.diagnose else run_one
+        futures = {ex.submit(fn, c): k for k, c in enumerate(cfgs)}
         for done, fut in enumerate(as_completed(futures), 1):
             rows[futures[fut]] = fut.result()
             if progress is not None:
@@ -113,6 +126,7 @@ def run_sweep(spec: SweepSpec, *, workers: int | None = None, dask: str | None =
 def write_csv(rows: Sequence[dict], path: str | Path) -> Path:
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    rows = [{k: v for k, v in r.items() if k != "diagnosis"} for r in rows]  # nested: JSON, not CSV
     with path.open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0].keys()))
         w.writeheader()

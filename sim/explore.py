@@ -84,7 +84,10 @@ UNSPECIFIED_PARAMETERS: dict[str, tuple[object, str, str]] = {
                        "robot can catch up with its empathy particle after detours around unknown obstacles"),
     "linger": (10.0, "s", "a particle believed at a task stays there this long (assumed completion) before "
                "rejoining its common-belief particle"),
-    "wait_timeout": (120.0, "s", "a robot at a task gives up waiting for the others after this long"),
+    "wait_timeout": (120.0, "s", "a robot at a task gives up waiting for the others after this long "
+                     "(wait_rule='fixed'; wait_rule='travel' ties it to the gossip round trip instead)"),
+    "stall_time": (20.0, "s", "ruleset 1 also fires when a gossiper gets no nearer to the believed state for this "
+                   "long (exclude_rule='reached-or-stalled'; the paper's reading 'visited' has no such rule)"),
     "home radius": (3.5, "m", "a robot within this distance of home base counts as home"),
     "lookahead": (3.0, "m", "path smoothing: farthest visible A* point within this path length; with η_g = 1, "
                   "eq. 6 gives v_max = 3 m/s at that distance"),
@@ -125,6 +128,17 @@ class MissionConfig:
     flock_leader_speed: float = 1.0  # × v_max
     t_max: float = 1500.0
     wait_timeout: float = 120.0
+    # 'fixed': give up waiting after wait_timeout s; 'travel' (the paper's implied reading, issue 26): wait as long
+    # as a gossiper needs to reach the believed state of the missing robot and that robot to reach the task
+    wait_rule: str = "fixed"
+    # ruleset 1: 'reached-or-stalled' (ours: the believed state reached, or no nearer for stall_time s) or
+    # 'visited' (the paper's reading: only once the gossiper has been at the believed state / nearest point)
+    exclude_rule: str = "reached-or-stalled"
+    stall_time: float = 20.0
+    # where a gossiper looks for robot j: 'recent' (the particle with the most recent timestamp, §5.3.2 as
+    # written), 'common' (j's common-belief particle c_j, the one j itself tracks while disconnected, §5.1) or
+    # 'both' (the most recent one first, then c_j; ruleset 1 only after both were visited)
+    gossip_target: str = "recent"
     map_path: str | None = None
     record: bool = True
     status_model: bool = True  # model-check eqs. 14 and 18 on the DEL model that drives the run
@@ -141,6 +155,12 @@ class MissionConfig:
             raise SimulationError(f"--robots must be between 1 and 32 (got {self.n_robots})")
         if self.dt <= 0 or self.t_max <= 0:
             raise SimulationError("dt and t_max must be positive")
+        if self.wait_rule not in ("fixed", "travel"):
+            raise SimulationError(f"unknown wait_rule {self.wait_rule!r}; use fixed or travel")
+        if self.gossip_target not in ("recent", "common", "both"):
+            raise SimulationError(f"unknown gossip_target {self.gossip_target!r}; use recent, common or both")
+        if self.exclude_rule not in ("reached-or-stalled", "visited"):
+            raise SimulationError(f"unknown exclude_rule {self.exclude_rule!r}; use reached-or-stalled or visited")
 
 
 @dataclass(frozen=True)
@@ -192,6 +212,19 @@ class MissionResult:
     cascade: tuple[int, int] = (0, 0)
     min_separation: float = float("inf")
     history: MissionHistory | None = field(default=None, repr=False, compare=False)
+    #: ruleset-1 exclusions: (t, gossiper, excluded, why, excluded robot's true status, its distance [m] from
+    #: the state the gossiper sought, and from its common-belief particle c_j) — why: 'reached', 'unreachable'
+    #: or 'stalled'
+    exclusions: tuple[tuple[float, int, int, str, str, float, float], ...] = ()
+    #: waits at a task: (robot, task, start, end, gave up)
+    waits: tuple[tuple[int, int, float, float, bool], ...] = ()
+    #: (task, discovered at, completed at or None)
+    task_times: tuple[tuple[int, float, float | None], ...] = ()
+
+    def diagnosis(self) -> dict:
+        """What :mod:`sim.diagnosis` reads: ruleset-1 exclusions, waits at tasks, task discovery/completion."""
+        return {"exclusions": [list(e) for e in self.exclusions], "waits": [list(w) for w in self.waits],
+                "task_times": [list(t) for t in self.task_times]}
 
     def row(self) -> dict:
         return {k: getattr(self, k) for k in ("method", "case", "n_robots", "seed", "mission_time", "distance",
@@ -283,12 +316,14 @@ class _Robot:
         self.excluded: set[int] = set()
         self.wait_since: float | None = None
         self.wait_task: int | None = None
+        self.wait_limit: float = 0.0
         self.gave_up: set[int] = set()
         self.done_exploring = False
         self.blacklist: set[int] = set()
         self.distance = 0.0
         self.target: tuple[float, float] | None = None
         self.approach: tuple[tuple[int, int], object] | None = None  # cache of Mission._approach
+        self.seek_stage: dict[int, int] = {}  # gossip_target='both': 1 once the most recent belief was visited
         self.seek: tuple[int, float, float] | None = None  # (gossip target, best distance, since when)
 
     @property
@@ -336,6 +371,11 @@ class Mission:
         self._alloc_t, self._alloc_count = -1.0, 0
         self.min_sep = float("inf")
         self.events: list[tuple[float, str, str]] = []
+        # diagnosis (MissionResult.exclusions / waits / task_times)
+        self.exclusions: list[tuple[float, int, int, str, str, float, float]] = []
+        self.waits: list[tuple[int, int, float, float, bool]] = []
+        self.discovered_at: dict[int, float] = {}
+        self.completed_at: dict[int, float] = {}
         self.cost = euclidean_cost(cfg.v_max)
         self.done = False
         self.anchor = self.robots[0].xy.copy() if self.n else self.home.copy()
@@ -386,6 +426,7 @@ class Mission:
                 r.tasks[spec.id] = _TaskKnowledge(spec, completed=self.completed[k])
                 if not self.completed[k]:
                     self._event("discover", f"robot {r.id} finds task {spec.id} (N={spec.n_required})")
+                    self.discovered_at.setdefault(spec.id, self.t)
                     self._on_discovery(r, spec)
             if self.completed[k]:
                 r.tasks[spec.id].completed = True  # perceive(completed τ)
@@ -585,6 +626,52 @@ class Mission:
         members = [int(m) for m in np.flatnonzero(self.components == self.components[r.id])]
         self._allocate_pending(r, members)
 
+    def _sought_xy(self, r: _Robot, j: int, members: list[int]) -> np.ndarray:
+        """Where gossiper r looks for robot j (``MissionConfig.gossip_target``)."""
+        recent = self._believed_xy(r, j, members)
+        if self.common is None or self.cfg.method != "epistemic" or j in members:
+            return recent
+        mode = self.cfg.gossip_target
+        if mode == "common" or (mode == "both" and r.seek_stage.get(j, 0) == 1):
+            return self.common.particles[j].xy.copy()
+        return recent
+
+    def _end_wait(self, r: _Robot, *, gave_up: bool) -> None:
+        self.waits.append((r.id, int(r.wait_task), round(float(r.wait_since), 3), round(self.t, 3), gave_up))
+        r.wait_since = None
+
+    def _wait_limit(self, r: _Robot, k: _TaskKnowledge, members: list[int]) -> float:
+        """How long r waits at task k for the robots assigned to it that are out of range (fixed when the wait
+        starts; see :meth:`_still_coming` for those in range).
+
+        wait_rule='fixed': ``wait_timeout``. wait_rule='travel' (what the paper's rulesets imply: a robot told by
+        gossip is on its way): for each missing assigned robot j out of range, a gossip round trip — the path
+        length on r's map from the task to where j is sought, twice (there and back with j), at the particles'
+        speed — plus ``linger``; the longest of them, at least one linger."""
+        if self.cfg.wait_rule == "fixed":
+            return self.cfg.wait_timeout
+        speed = self.cfg.particle_speed * self.cfg.v_max
+        limits = [self.cfg.linger]
+        src = self._cell(np.array(k.spec.xy))
+        for j in k.assigned:
+            if j == r.id or j in members:
+                continue
+            dst = self._cell(self._sought_xy(r, j, members))
+            dist = float(self._graph(r).to_cell(src, dst).dist[dst])
+            if not np.isfinite(dist):
+                dist = 1.5 * float(np.hypot(*(self._sought_xy(r, j, members) - np.array(k.spec.xy))))
+            limits.append(2.0 * dist / speed + self.cfg.linger)
+        return max(limits)
+
+    def _still_coming(self, r: _Robot, k: _TaskKnowledge, members: list[int]) -> bool:
+        """wait_rule='travel': a robot in range that has task k in its bundle is on its way (observed)."""
+        if self.cfg.wait_rule == "fixed":
+            return False
+        txy = np.array(k.spec.xy)
+        return any(j != r.id and j in members and k.spec.id in self.robots[j].bundle()
+                   and float(np.hypot(*(self.robots[j].xy - txy))) > self.cfg.task_radius * 1.5  # not there yet
+                   for j in k.assigned)
+
     # ------------------------------------------------------------------ control
     def _goto(self, r: _Robot, goal_xy: np.ndarray, tol: float = 2.0) -> None:
         g = self._graph(r)
@@ -680,13 +767,28 @@ class Mission:
             if j in members:
                 r.gossip.pop(0)
                 continue
-            goal = self._approach(r, self._believed_xy(r, j, members))
+            sought = self._sought_xy(r, j, members)
+            goal = self._approach(r, sought)
             d = np.inf if goal is None else float(np.hypot(*(goal - r.xy)))
             if r.seek is None or r.seek[0] != j or d < r.seek[1] - 0.5:
                 r.seek = (j, d, self.t)  # progress towards j's believed state
-            if goal is None or d < 2.0 or self.t - r.seek[2] > 20.0:
-                # ruleset 1: r is at j's believed state (or as near to it as r's map lets it get, or can get no
-                # nearer for 20 s) and j is not in range — j is excluded and its untold tasks re-auctioned
+            stalled = self.cfg.exclude_rule == "reached-or-stalled" and self.t - r.seek[2] > self.cfg.stall_time
+            if goal is None or d < 2.0 or stalled:
+                # ruleset 1: r is at j's believed state (or as near to it as r's map lets it get, or — our rule,
+                # exclude_rule='reached-or-stalled' — can get no nearer for stall_time s) and j is not in range:
+                # j is excluded and its untold tasks re-auctioned
+                why = "unreachable" if goal is None else ("reached" if d < 2.0 else "stalled")
+                if self.cfg.gossip_target == "both" and r.seek_stage.get(j, 0) == 0 and self.common is not None \
+                        and float(np.hypot(*(self.common.particles[j].xy - sought))) > 2.0:
+                    r.seek_stage[j] = 1  # not at the most recent belief: look at j's common-belief particle
+                    r.seek = None
+                    continue
+                r.seek_stage.pop(j, None)
+                believed = sought
+                cj = self.common.particles[j].xy if self.common is not None else believed
+                self.exclusions.append((round(self.t, 3), r.id, j, why, self.robots[j].status,
+                                        round(float(np.hypot(*(self.robots[j].xy - believed))), 2),
+                                        round(float(np.hypot(*(self.robots[j].xy - cj))), 2)))
                 r.seek = None
                 r.gossip.pop(0)
                 self._exclude(r, j)
@@ -703,18 +805,23 @@ class Mission:
             near = np.hypot(*(txy - r.xy))
             if near <= self.cfg.task_radius * 1.5:  # at the task (noise may push it in and out of r_t)
                 if r.wait_since is None or r.wait_task != k.spec.id:
+                    if r.wait_since is not None:
+                        self._end_wait(r, gave_up=False)
                     r.wait_since, r.wait_task = self.t, k.spec.id
-                elif self.t - r.wait_since > self.cfg.wait_timeout:
+                    r.wait_limit = self._wait_limit(r, k, members)
+                elif self.t - r.wait_since > r.wait_limit and not self._still_coming(r, k, members):
                     r.gave_up.add(k.spec.id)
-                    self._event("timeout", f"robot {r.id} stops waiting at task {k.spec.id}")
-                    r.wait_since = None
+                    self._event("timeout", f"robot {r.id} stops waiting at task {k.spec.id} after "
+                                           f"{self.t - r.wait_since:.1f} s")
+                    self._end_wait(r, gave_up=True)
                     return
             if near <= self.cfg.task_radius * 0.6:
                 r.nav.clear()
                 return
             self._goto(r, txy, tol=0.1)
             return
-        r.wait_since = None
+        if r.wait_since is not None:
+            self._end_wait(r, gave_up=False)
         if not r.done_exploring and not self._mission_over_for(r):
             if self.common is not None and self.common.particles[r.id].status == "exploring" and \
                     self._empathy_exploring(r, members):
@@ -846,6 +953,10 @@ class Mission:
                 self.completed[k] = True
                 self.completers[k] = tuple(near)
                 self._event("complete", f"task {spec.id} completed by robots {near}")
+                self.completed_at[spec.id] = self.t
+                for w in self.robots:
+                    if w.wait_since is not None and w.wait_task == spec.id:
+                        self._end_wait(w, gave_up=False)
                 for r in self.robots:
                     if r.id in near and spec.id in r.tasks:
                         r.tasks[spec.id].completed = True
@@ -1034,7 +1145,13 @@ class Mission:
                              all(self._at_home(r) for r in self.robots), self.collisions, ok,
                              round(float((explored & free).sum() / free.sum()), 4), round(wall, 3),
                              tuple(self.completers), tuple((k, v[0], v[1]) for k, v in self.checks.items()),
-                             (self.cascade_assigned, self.cascade_delivered), round(self.min_sep, 3), hist)
+                             (self.cascade_assigned, self.cascade_delivered), round(self.min_sep, 3), hist,
+                             tuple(self.exclusions),
+                             tuple(self.waits) + tuple((r.id, int(r.wait_task), round(float(r.wait_since), 3),
+                                                        round(self.t, 3), False)
+                                                       for r in self.robots if r.wait_since is not None),
+                             tuple((t, self.discovered_at[t], self.completed_at.get(t))
+                                   for t in sorted(self.discovered_at)))
 
 
 def run_mission(cfg: MissionConfig, progress: Callable[[float, float], None] | None = None) -> MissionResult:

@@ -117,9 +117,16 @@ class SARConfig:
     comm_restr: int = 0
     seed: int = 0
     policy: Literal["greedy", "oldest", "all"] = "all"
-    tie_break: Literal["random", "index"] = "random"
+    # ties among ε-maximisers of J: 'random' (one random order per step shared by all robots: ours — the paper
+    # does not say), 'index' (lowest joint-action index) or 'own' (each robot its own random order: what the
+    # paper's Baseline-II figures imply, issue 26; only the executed choices use it, ENFORCEAC's reasoning about
+    # the partner keeps the common order)
+    tie_break: Literal["random", "index", "own"] = "random"
     trigger: Literal["paper", "useful"] = "paper"
     resend: bool = False  # Baseline-I re-sends a lost backlog: our variant, not the paper's
+    # exact pruning of irrelevant observations (readings of cells no candidate action moves to cannot change a
+    # selection): ours, not the paper's; the verdicts are the same with prune=False, only slower (issue 26)
+    prune: bool = True
 
     def __post_init__(self) -> None:
         if self.width < 2 or self.height < 2:
@@ -135,8 +142,8 @@ class SARConfig:
                                   f"(got p_false={self.p_false}, p_detect={self.p_detect})")
         if not 0 <= self.comm_restr <= self.epochs:
             raise SimulationError(f"comm_restr must lie in [0, epochs={self.epochs}], got {self.comm_restr}")
-        if self.tie_break not in ("random", "index"):
-            raise SimulationError(f"tie_break must be 'random' or 'index', got {self.tie_break!r}")
+        if self.tie_break not in ("random", "index", "own"):
+            raise SimulationError(f"tie_break must be 'random', 'index' or 'own', got {self.tie_break!r}")
         if not 0.0 <= self.target_density <= 1.0:
             raise SimulationError(f"target_density must lie in [0, 1], got {self.target_density}")
 
@@ -183,7 +190,8 @@ class SARBeliefModel:
         self._log_pos = np.log(config.p_detect / config.p_false)
         self._log_neg = np.log((1 - config.p_detect) / (1 - config.p_false))
         kmax = int(self.multiplicity.max())
-        if config.tie_break == "random":  # common to all robots: drawn from (seed, step) only
+        self.step = step
+        if config.tie_break in ("random", "own"):  # common to all robots: drawn from (seed, step) only
             tie_rng = np.random.default_rng([config.seed, step, 0x7E])
             self.tie_ranks: np.ndarray | None = tie_rng.permutation(len(self.moves))
         else:
@@ -228,10 +236,20 @@ class SARBeliefModel:
         per_robot = mi[:, self.target_index, self.multiplicity - 1] / self.multiplicity  # (n, m, N)
         return -2.0 * total_h[:, None] + per_robot.sum(axis=2)
 
+    def robot_tie_ranks(self, robot: int) -> np.ndarray | None:
+        """The tie-break order robot ``robot`` executes with (``tie_break='own'``: its own, from (seed, step,
+        robot); otherwise the common one)."""
+        if self.config.tie_break != "own":
+            return self.tie_ranks
+        return np.random.default_rng([self.config.seed, self.step, 0x7E, robot + 1]).permutation(len(self.moves))
+
     def relevant(self, slots: np.ndarray) -> np.ndarray:
         """Exact reduction: only readings of cells some candidate action moves to can change a selection
         (:math:`H(b_k)` shifts every action's *J* equally)."""
-        return self._target_mask[self.cells[np.asarray(slots, dtype=np.int64)]]
+        slots = np.asarray(slots, dtype=np.int64)
+        if not self.config.prune:
+            return np.ones(len(slots), dtype=bool)
+        return self._target_mask[self.cells[slots]]
 
 
 def candidate_actions(config: SARConfig, poses: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

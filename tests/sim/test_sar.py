@@ -119,7 +119,7 @@ def test_enforce_episode_reproduces_table_i_claims() -> None:
     cfg = SARConfig(epochs=200, seed=0)
     b2, b1, en = (run_episode(cfg, a) for a in ("baseline2", "baseline1", "enforce"))
     assert en.not_ac == 0 and en.violations == 0 and en.failed_comms == 0
-    assert b1.not_ac == 0 and b1.comms == 400 and b1.observations_sent == 400
+    assert b1.not_ac == 0 and b1.failed_comms == 0
     assert b2.comms == 0 and b2.not_ac > 100
     msg_saving = 1 - en.comms / b1.comms
     obs_saving = 1 - en.observations_sent / b1.observations_sent
@@ -146,7 +146,8 @@ def test_episode_is_deterministic_and_comm_restrictions_bite() -> None:
     a, b = run_episode(cfg, "enforce"), run_episode(cfg, "enforce")
     assert (a.not_ac, a.comms, a.team_j) == (b.not_ac, b.comms, b.team_j)
     b1 = run_episode(cfg, "baseline1")
-    assert b1.comms == 2 * (60 - 20) and b1.failed_comms == 40
+    assert b1.failed_comms > 0 and b1.not_ac > 0     # a lost reading keeps the beliefs apart (no re-sending)
+    assert min(b1.not_ac_steps) > min(b1.restricted_steps)  # ... but only after the first lost message
     assert a.violations == 0 and len(a.restricted_steps) == 20
     assert set(a.not_ac_steps) <= set(a.restricted_steps)   # ENFORCEAC: Not-AC only when the channel failed
     assert a.not_ac == len(a.not_ac_steps) > 0
@@ -158,8 +159,51 @@ def test_n_robot_episodes_stay_action_consistent(robots: int) -> None:
     cfg = SARConfig(robots=robots, epochs=40, seed=robots)
     en, b1, b2 = (run_episode(cfg, a) for a in ("enforce", "baseline1", "baseline2"))
     assert en.not_ac == 0 and en.violations == 0
-    assert b1.not_ac == 0 and b1.comms == 40 * robots * (robots - 1)
+    assert b1.not_ac == 0
     assert en.comms < b1.comms and b2.not_ac > 20
+
+
+def test_baseline1_shares_everything_so_the_robots_hold_one_belief() -> None:
+    """What makes Baseline-I's Not-AC zero (instead of counting its messages, which holds by construction):
+    after each exchange every robot's history is the whole ledger, so each robot's own choice equals the one
+    made on the full history. Dropping one robot's share of a single step breaks it."""
+    from planners.consistency import own_actions
+
+    cfg = SARConfig(epochs=1, seed=4, primitives=8)
+    model, ledger, known = make_model(cfg, seed=11, n_slots=8)
+    full = np.ones_like(known)
+    assert len(set(own_actions(model, ledger, full))) == 1
+    # Baseline-II with these histories disagrees (the robots' beliefs differ), as the episode counts show
+    apart = [own_actions(model, ledger, known)]
+    for seed in range(12, 30):
+        m, lg, kn = make_model(cfg, seed=seed, n_slots=8)
+        apart.append(own_actions(m, lg, kn))
+    assert any(len(set(a)) > 1 for a in apart)
+
+
+def test_own_tie_break_raises_baseline2_not_ac_and_breaks_enforceac() -> None:
+    """tie_break='own' (each robot its own random order among equal J: the reading the paper's Baseline-II
+    figures imply) can only add inconsistency; ENFORCEAC's guarantee assumes a common order, so with 'own'
+    its executed choices can differ even when it agreed (counted as Theorem-3.3 violations)."""
+    common, own = (run_episode(SARConfig(epochs=100, seed=1, tie_break=t), "baseline2") for t in ("random", "own"))
+    assert own.not_ac > common.not_ac
+    en = run_episode(SARConfig(epochs=60, seed=1, tie_break="own"), "enforce")
+    assert en.violations > 0
+
+
+@PROPS
+@given(seed=st.integers(0, 2**32 - 1), robots=st.sampled_from([2, 3]))
+def test_pruning_keeps_each_sessions_verdict(seed: int, robots: int) -> None:
+    """The pruning of irrelevant observations is exact for one planning session: the same verdict and action
+    as without it (it changes what a message carries, and so later sessions: bench/RESULTS-consistency.md)."""
+    cfg = SARConfig(width=5, height=5, robots=robots, primitives=4, init="entropy")
+    model, ledger, known = make_model(cfg, seed, n_slots=7)
+    cfg_all = replace(cfg, prune=False)
+    model_all = SARBeliefModel(cfg_all, model.prior_logit, model.cells, model.poses, step=model.step)
+    assert model_all.relevant(np.arange(7)).all()
+    for r, o in itertools.permutations(range(robots), 2):
+        a, b = verify_pair(model, ledger, known, r, o), verify_pair(model_all, ledger, known, r, o)
+        assert (a.agreed, a.action) == (b.agreed, b.action)
 
 
 def test_config_errors_name_the_field() -> None:
