@@ -164,11 +164,15 @@ class BeliefState:
             raise BeliefError(f"{what}: no actual world of the belief state satisfies the chosen event")
         self.state = new
 
-    def _restrict(self, lit: Formula, what: str) -> None:
-        """Keep as actual only the designated worlds where ``lit`` holds (the observed outcome)."""
+    def _restrict(self, lit: Formula, what: str, *, force: bool = False) -> None:
+        """Keep as actual only the designated worlds where ``lit`` holds (the observed outcome). ``force``
+        (``--no-shield`` only): an observation that contradicts every actual world is believed anyway — the
+        actual worlds become those where it holds (what an unguarded executor does)."""
         m = self.kripke()
         truth = m.check(lit)
         des = tuple(int(w) for w in m.designated if truth[w])
+        if not des and force:
+            des = tuple(int(w) for w in range(m.n_worlds) if truth[w])
         if not des:
             raise BeliefError(f"{what}: the observation ({pretty(lit)}) contradicts every actual world of the "
                               "belief state")
@@ -208,7 +212,7 @@ class BeliefState:
             # observed event; multi-pointed after a forget: the observation removes the worlds it excludes)
             lit = conj([f if observed[f.name] else Not(f) for f in sensed])  # type: ignore[attr-defined]
             self._apply_em(em, name)
-            self._restrict(lit, name)
+            self._restrict(lit, name, force=force)
             chosen = "observed " + ", ".join(pretty(("" if observed[f.name] else "¬") + f.name)  # type: ignore
                                              for f in sensed)
             em = None

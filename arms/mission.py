@@ -16,9 +16,10 @@ Per primitive action of a task:
 * **shield** (before): the task's precondition as the domain states it (epistemic parts included, e.g.
   ``K_robot1 hold(robot1, red)`` for robot1's ``put_on_shared``) is evaluated on the belief state; false →
   the action is not executed, the step says which conjuncts failed for whom, and the loop repairs and
-  replans from the belief state. ``shield=False`` (``--no-shield``) turns off the belief-side guards —
-  shield, bisimulation check, camera completeness, goal-in-belief — and exists only to show, in a test,
-  the run that goes wrong without them;
+  replans from the belief state. ``shield=False`` (``--no-shield``) turns off every belief-side guard —
+  shield, world-vs-belief and bisimulation checks (computed and reported as an *audit*, not acted on),
+  camera completeness, goal-in-belief — and exists only to show, in a test, the run that goes wrong
+  without them (only the physical block-position check stays);
 * physical check (after): every block within ``tolerance`` of its symbolic place (held blocks in the hand).
 
 Per task (after its last primitive), the **check**: the world read from physics (block poses and rendered
@@ -34,7 +35,7 @@ Faults (``Fault``; K counts primitive actions over the whole run, the fault fire
 action at or after K): ``drop@K`` (the hand opens just after lift-off), ``misplace@K`` (the block goes to
 the next stack), ``swap-colours`` (two blocks of different colours exchanged before the run),
 ``drop-msg@K`` (an announcement is lost: the listeners' state does not change), ``repaint@K`` (right
-after a sensing task, a block of the sensing robot is repainted), ``occlusion`` (a grey board stands in
+after a sensing task, a block of the sensing robot is repainted), ``occlusion`` (a grey block stands in
 front of the stack of the first block the plan puts on the shared table: the low side camera cannot see
 it). A fault whose action never comes is reported as "never fired".
 """
@@ -176,6 +177,7 @@ class MissionResult:
     backend: str = "compact"
     shield: bool = True
     unfired: list[str] = field(default_factory=list)
+    audit: list = field(default_factory=list)       # --no-shield: (step, divergence) found, not acted on
     guard_cpu_seconds: float = 0.0   # CPU in the shield and the checks (belief updates, fluents, bisimulation)
 
     @property
@@ -220,6 +222,7 @@ class MissionResult:
                 "planning": [{"seconds": t} for t in self.planning_seconds],  # wall time of each (re)plan
                 "tasks": self.tasks(), "steps": [s.to_json() for s in self.steps],
                 "unsafe_steps": [s.index for s in self.unsafe_steps],
+                "audit": [{"step": i, "divergence": m} for i, m in self.audit],
                 "belief_log": self.belief_log, "beliefs": self.beliefs, "lost_blocks": self.lost,
                 "faults": self.faults, "faults_never_fired": self.unfired, "sim_seconds": self.sim_seconds,
                 "wall_s": self.wall_seconds, "cpu_s": self.cpu_seconds, "guard_cpu_s": self.guard_cpu_seconds,
@@ -436,7 +439,7 @@ class Mission:
                 i = self.world.robot_index(loc.robot)
                 xy = self.world.layout.stack_xy(i, loc.stack, len(self.world.stacks[loc.robot]))
                 occluders.append((float(xy[0] + 0.10), float(xy[1]), 0.09))
-                self.fault_log.append(f"occlusion: a 9 cm board in front of {loc.robot}'s stack {loc.stack} hides "
+                self.fault_log.append(f"occlusion: a 9 cm grey block in front of {loc.robot}'s stack {loc.stack} hides "
                                       f"{target} and the blocks below level 2 from the low side camera")
                 self._occlusion_pending.append("occlusion")
             faults.remove(f)
@@ -448,11 +451,13 @@ class Mission:
         steps: list[StepRecord] = []
         replans, k, plan_no, reason = 0, 0, 0, ""
         self.pending: list[str] = []   # faults fired but not caught yet
+        self.audit: list[tuple[int, str]] = []   # --no-shield: divergences found but not acted on
         while True:
             divergence: _Divergence | None = None
             try:
                 g0 = time.process_time()
-                self._check_world(ex, belief, lost, "before the plan")
+                if self.shield:
+                    self._check_world(ex, belief, lost, "before the plan")
                 self.guard_cpu += time.process_time() - g0
                 for ti, t in enumerate(tasks):
                     state, k = self._task(ex, t, pred[ti], belief, state, k, plan_no, lost, anchors, faults, steps,
@@ -463,8 +468,9 @@ class Mission:
                 gb = belief.holds(self.model.task.goal)
                 if gb or not self.shield:
                     reason = (f"goal {self.goal.name} holds in the belief state and the world agrees with its "
-                              "actual world" if gb else f"the plan ended (goal {self.goal.name} not checked "
-                              "in the belief state: --no-shield)")
+                              "actual world" if self.shield else f"the plan ended (--no-shield: nothing checked "
+                              f"against the belief state; goal {self.goal.name} {'holds' if gb else 'does NOT hold'}"
+                              " in it)")
                     break
                 divergence = _Divergence(f"the plan ended but goal {self.goal.name} does not hold in the belief "
                                          f"state ({'; '.join(belief.knowledge()) or 'nobody knows anything'})")
@@ -508,6 +514,8 @@ class Mission:
         worst = max(errs.values(), default=0.0)
         ok_place = worst <= self.tolerance
         success = gw and gb and ok_place and ex.arm_contacts == 0 and not self.pending
+        if not self.shield and not gw:
+            reason += "; the world does NOT agree with the belief state's actual world" if gb else ""
         if not success and reason.startswith("goal") and "holds" in reason:
             reason += (f"; but a block is {worst * 100:.2f} cm from its symbolic place" if not ok_place
                        else f"; but the arms touched ({ex.arm_contacts} contacts)" if ex.arm_contacts else
@@ -523,7 +531,8 @@ class Mission:
             planning_seconds=planning, belief_log=[e.to_json() for e in belief.log], beliefs=know,
             lost=sorted(lost), faults=self.fault_log, sim_seconds=float(ex.data.time),
             wall_seconds=time.perf_counter() - t_wall, cpu_seconds=time.process_time() - t_cpu, grasp=self.grasp,
-            backend=belief.backend, shield=self.shield, unfired=unfired, guard_cpu_seconds=self.guard_cpu)
+            backend=belief.backend, shield=self.shield, unfired=unfired, guard_cpu_seconds=self.guard_cpu,
+            audit=list(self.audit))
 
     def _caught(self, msg: str, k: int) -> None:
         for p in list(self.pending):
@@ -625,8 +634,20 @@ class Mission:
             if repaint is not None:
                 self._repaint(ex, prim.robot, rest, rec, repaint)
             try:
-                self._check_world(ex, belief, lost, f"after {t.name}")
-                rec.checks["world"] = "the world's fluents equal the belief state's actual world"
+                try:
+                    self._check_world(ex, belief, lost, f"after {t.name}")
+                except _Divergence as exc:
+                    if self.shield:
+                        raise
+                    rec.checks["audit"] = f"NOT acted on (--no-shield): {exc}"
+                    self.audit.append((rec.index, str(exc)))
+                else:
+                    rec.checks["world"] = "the world's fluents equal the belief state's actual world"
+                if not self.shield and belief.key() != predicted.key():
+                    msg = (f"after {t.name} the belief state is not bisimilar to the plan's prediction: "
+                           + "; ".join(belief.differences(predicted)))
+                    rec.checks["audit"] = (rec.checks.get("audit", "") + f" NOT acted on (--no-shield): {msg}").strip()
+                    self.audit.append((rec.index, msg))
                 if self.shield:
                     if belief.key() != predicted.key():
                         diffs = belief.differences(predicted)

@@ -265,7 +265,8 @@ def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = 
 
     ``cell=False`` leaves out floor, tables and pedestals (the kinematic model the IK uses); ``robots``
     may name a subset of the world's robots (each keeps its base pose). ``occluders``: (x, y, height) of
-    thin grey boards standing on the table (geom group 0, so the cameras see them; no contacts) — the
+    grey blocks (``block/occluder<k>``, 3 cm deep, 7 cm wide) standing on the table in front of a
+    stack (geom group 0, so the cameras see them; no contacts: they are there for the cameras only) — the
     occlusion fault of ``arms.mission``.
     """
     if grasp not in ("weld", "friction"):
@@ -311,9 +312,10 @@ def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = 
         _add_blocks(spec, world, robots)
         _add_side_cameras(spec, world)
         for k, (x, y, hgt) in enumerate(occluders):
-            spec.worldbody.add_geom(name=f"occluder/{k}", type=mujoco.mjtGeom.mjGEOM_BOX,
-                                    pos=[x, y, layout.table_z + hgt / 2.0], size=[0.004, 0.035, hgt / 2.0],
-                                    rgba=[0.55, 0.55, 0.55, 1.0], contype=0, conaffinity=0)
+            spec.worldbody.add_geom(name=f"block/occluder{k}", type=mujoco.mjtGeom.mjGEOM_BOX,
+                                    pos=[x, y, layout.table_z + hgt / 2.0],
+                                    size=[0.015, 0.035, hgt / 2.0],
+                                    rgba=[0.5, 0.5, 0.5, 1.0], contype=0, conaffinity=0)
     model = spec.compile()
     # home keyframe: arms at HOME_Q with open hands, blocks at their initial places.
     data = mujoco.MjData(model)

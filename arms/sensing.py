@@ -2,7 +2,7 @@
 
 **Side cameras (``look_side``, the sensor of e-PICO's ``sense_table``).** Each robot has a fixed camera in
 front of its table (``<robot>/side_camera_low``, eye at 6 cm above the table top, 40 cm in front of the
-stacks, looking back across them) and a second viewpoint higher up (``<robot>/side_camera_high``, 50 cm).
+stacks, looking back across them) and a second viewpoint higher up (``<robot>/side_camera_high``, 60 cm).
 A look at a *column* (one stack, or the shared table) casts a vertical fan of rays (``mujoco.mj_ray``: 3
 columns × every 1 cm from the table top to 6 block heights) at the column's front face. Each ray stops at
 the first geom it meets (group 0: tables, blocks, floor, obstacles; the arms are in another group):
@@ -104,7 +104,7 @@ def look(model: mujoco.MjModel, data: mujoco.MjData, camera_site: int, column_xy
 
 
 #: viewpoint name ↦ (metres in front of the stacks, metres above the table top) of the side cameras
-SIDE_VIEWS = {"low": (0.40, 0.06), "high": (0.40, 0.50)}
+SIDE_VIEWS = {"low": (0.40, 0.06), "high": (0.40, 0.60)}
 _FAN_Y = (-0.01, 0.0, 0.01)
 
 
