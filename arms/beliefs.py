@@ -65,10 +65,15 @@ class BeliefEvent:
     robot: str
     chosen: str         # e.g. "observed hold(robot1, red), ¬hold(robot1, black)" or "heard by robot2"
     learnt: tuple[str, ...] = ()
+    observed: dict | None = None     # sensing: fluent ↦ value the camera read
+    heard: bool = True               # announcement received
+    forgot: tuple[str, ...] = ()     # forget: the fluents
+    forced: bool = False             # applied with a false precondition (--no-shield only)
 
     def to_json(self) -> dict:
         return {"t_sim_s": round(self.time, 3), "task": self.task, "kind": self.kind, "robot": self.robot,
-                "chosen": self.chosen, "learnt": list(self.learnt)}
+                "chosen": self.chosen, "learnt": list(self.learnt), "observed": self.observed, "heard": self.heard,
+                "forgot": list(self.forgot), "forced": self.forced}
 
 
 class BeliefState:
@@ -194,6 +199,7 @@ class BeliefState:
         act = self.task.action(name)
         before = set(self.knowledge())
         em = self.event_model(name)
+        forced = em is None
         if em is None:
             if not force:
                 raise BeliefError(f"{name}: its precondition {pretty(act.executable)} does not hold in the "
@@ -226,7 +232,8 @@ class BeliefState:
         if em is not None:
             self._apply_em(em, name)
         learnt = tuple(k for k in self.knowledge() if k not in before)
-        ev = BeliefEvent(time, name, act.kind, robot, chosen, learnt)
+        ev = BeliefEvent(time, name, act.kind, robot, chosen, learnt, dict(observed) if observed else None, heard,
+                         forced=forced)
         self.log.append(ev)
         return ev
 
@@ -242,6 +249,6 @@ class BeliefState:
         self._apply_em(em, "forget " + ", ".join(map(pretty, props)))
         gone = tuple(k for k in before if k not in set(self.knowledge()))
         ev = BeliefEvent(time, "forget", "forget", "", why or ("may have changed: " + ", ".join(map(pretty, props))),
-                         tuple(f"no longer: {g}" for g in gone))
+                         tuple(f"no longer: {g}" for g in gone), forgot=tuple(props))
         self.log.append(ev)
         return ev
