@@ -187,6 +187,8 @@ class BeliefState:
     def event_model(self, name: str) -> EventModel | None:
         """The task's event model in the current state as the planner builds it (None: not executable)."""
         act = self.task.action(name)
+        if self.compact and hasattr(self.space, "event_model_named"):
+            return self.space.event_model_named(self.state, name)
         if not self.holds(act.executable):
             return None
         return self.task.event_model(act, self.kripke())

@@ -178,7 +178,9 @@ class MissionResult:
     shield: bool = True
     unfired: list[str] = field(default_factory=list)
     audit: list = field(default_factory=list)       # --no-shield: (step, divergence) found, not acted on
-    guard_cpu_seconds: float = 0.0   # CPU in the shield and the checks (belief updates, fluents, bisimulation)
+    guard_cpu_seconds: float = 0.0   # CPU in the shield and the checks (precondition, fluents, bisimulation)
+    belief_cpu_seconds: float = 0.0  # CPU of the belief updates (event models applied, knowledge for the log)
+    exec_cpu_seconds: float = 0.0    # CPU of executing the tasks (physics, control, sensing, shield, checks, updates)
 
     @property
     def realtime_factor(self) -> float:
@@ -226,6 +228,7 @@ class MissionResult:
                 "belief_log": self.belief_log, "beliefs": self.beliefs, "lost_blocks": self.lost,
                 "faults": self.faults, "faults_never_fired": self.unfired, "sim_seconds": self.sim_seconds,
                 "wall_s": self.wall_seconds, "cpu_s": self.cpu_seconds, "guard_cpu_s": self.guard_cpu_seconds,
+                "belief_cpu_s": self.belief_cpu_seconds, "exec_cpu_s": self.exec_cpu_seconds,
                 "grasp": self.grasp, "files": self.files}
 
 
@@ -296,7 +299,9 @@ class Mission:
         self.see_through = see_through          # sensor mutation (tests only)
         self.origin = dict(model.owner)
         self.fault_log: list[str] = []
-        self.guard_cpu = 0.0
+        self.guard_cpu = 0.0    # CPU of the shield and the checks
+        self.exec_cpu = 0.0     # CPU of executing the plans' tasks (physics, control, sensing, shield, checks, updates)
+        self.belief_cpu = 0.0   # CPU of the belief updates (event models applied, knowledge listed for the log)
 
     # -- helpers ---------------------------------------------------------------------------------------
     def _say(self, msg: str) -> None:
@@ -460,9 +465,12 @@ class Mission:
                     self._check_world(ex, belief, lost, "before the plan")
                 self.guard_cpu += time.process_time() - g0
                 for ti, t in enumerate(tasks):
+                    e0 = time.process_time()
                     state, k = self._task(ex, t, pred[ti], belief, state, k, plan_no, lost, anchors, faults, steps,
                                           tasks[ti + 1:])
+                    self.exec_cpu += time.process_time() - e0
             except _Divergence as exc:
+                self.exec_cpu += time.process_time() - e0
                 divergence = exc
             if divergence is None:
                 gb = belief.holds(self.model.task.goal)
@@ -532,6 +540,7 @@ class Mission:
             lost=sorted(lost), faults=self.fault_log, sim_seconds=float(ex.data.time),
             wall_seconds=time.perf_counter() - t_wall, cpu_seconds=time.process_time() - t_cpu, grasp=self.grasp,
             backend=belief.backend, shield=self.shield, unfired=unfired, guard_cpu_seconds=self.guard_cpu,
+            belief_cpu_seconds=self.belief_cpu, exec_cpu_seconds=self.exec_cpu,
             audit=list(self.audit))
 
     def _caught(self, msg: str, k: int) -> None:
@@ -621,7 +630,7 @@ class Mission:
                 rec.message = rec.message if not holds else f"ok ({prim})"
                 continue
             # -- the task is done: its event model on the belief state, then the checks --
-            g0 = time.process_time()
+            b0 = time.process_time()
             try:
                 ev = belief.apply(t.name, robot=t.robot, time=rec.sim_time,
                                   observed=obs if act.kind == "sensing" else None,
@@ -629,10 +638,12 @@ class Mission:
                 rec.observed["event"] = ev.chosen
                 rec.observed["learnt"] = list(ev.learnt)
             except BeliefError as exc:
-                self.guard_cpu += time.process_time() - g0
+                self.belief_cpu += time.process_time() - b0
                 diverge(f"the belief state cannot follow: {exc}")
+            self.belief_cpu += time.process_time() - b0
             if repaint is not None:
                 self._repaint(ex, prim.robot, rest, rec, repaint)
+            g0 = time.process_time()
             try:
                 try:
                     self._check_world(ex, belief, lost, f"after {t.name}")

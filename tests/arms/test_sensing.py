@@ -65,6 +65,15 @@ def _hidden(origin, face_points, box_pos, box_half) -> bool:
     return True
 
 
+def _sat(pre, vals, props, agents) -> bool:
+    """A propositional precondition at the one-world model of a valuation."""
+    from delkit.kripke import KripkeModel
+
+    w = KripkeModel.build([{p for p, v in vals.items() if v}], {a: [[0]] for a in agents}, designated=[0],
+                          props=list(props), agents=list(agents))
+    return w.holds(pre)
+
+
 def check_layout(n, layout, occ, *, see_through=False):
     world = World.from_json(layout.to_world())
     lay = world.layout
@@ -111,17 +120,10 @@ def check_layout(n, layout, occ, *, see_through=False):
                for c in PALETTE[:n]}
         # (a) the observation selects exactly one event of the planner's sensing model: the true one
         em = belief.event_model(f"sense_table_{r}")
-        one = belief.kripke()
-        from delkit.kripke import KripkeModel
-
-        def sat(pre, vals):
-            w = KripkeModel.build([{p for p, v in vals.items() if v}], {a: [[0]] for a in one.agents}, designated=[0],
-                                  props=list(one.props), agents=list(one.agents))
-            return w.holds(pre)
 
         truth = {f"hold_{r}_{c}": layout.has(r, c) for c in PALETTE[:n]}
-        picked = [e for e in em.designated if sat(em.pre[e], obs)]
-        true_e = [e for e in em.designated if sat(em.pre[e], truth)]
+        picked = [e for e in em.designated if _sat(em.pre[e], obs, task.props, task.agents)]
+        true_e = [e for e in em.designated if _sat(em.pre[e], truth, task.props, task.agents)]
         assert len(picked) == 1 and picked == true_e, (r, obs, truth)
 
 
