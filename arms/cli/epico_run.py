@@ -34,7 +34,8 @@ class TaskPlan:
 
 class EpicoModel:
     """The planner's side of :class:`arms.mission.Mission`: the e-PICO task, the state space the planner
-    searches (its backend: ``compact``, the default, or ``del`` — numpy), the initial belief state, and
+    searches (its backend: ``compact``, the default, or ``del`` — numpy; the search and the belief state use
+    the same one), the initial belief state, and
     planning *from a belief state*: the epistemic search starts from the executor's current DEL state
     (the task with that state as its initial state; macros as in ``epico solve``), the hierarchy breaks the
     ontic tasks down from the classical state the robots observe (block positions measured, colours as
@@ -71,7 +72,7 @@ class EpicoModel:
         t0, c0 = time.perf_counter(), time.process_time()
         task = replace(self.task, initial=belief.kripke(), _cache={})
         ptask = with_macros(task, self.ms) if self.macros else task
-        res = bfs(make_space(ptask), Limits(timeout=self.limits.timeout))
+        res = bfs(make_space(ptask, engine=self.engine), Limits(timeout=self.limits.timeout))  # type: ignore[arg-type]
         if not res.solved:
             raise GoalUnreachable(f"the epistemic planner finds no plan from the belief state: {res.reason}")
         try:
