@@ -180,6 +180,7 @@ class MissionResult:
     audit: list = field(default_factory=list)       # --no-shield: (step, divergence) found, not acted on
     guard_cpu_seconds: float = 0.0   # CPU in the shield and the checks (precondition, fluents, bisimulation)
     belief_cpu_seconds: float = 0.0  # CPU of the belief updates (event models applied, knowledge for the log)
+    planning_cpu_seconds: list = field(default_factory=list)  # CPU of each (re)plan
     exec_cpu_seconds: float = 0.0    # CPU of executing the tasks (physics, control, sensing, shield, checks, updates)
 
     @property
@@ -221,7 +222,8 @@ class MissionResult:
                 "belief_backend": self.backend, "shield": self.shield,
                 "max_block_error_m": self.max_block_error, "arm_contacts": self.arm_contacts,
                 "replans": self.replans, "plans": self.plans,
-                "planning": [{"seconds": t} for t in self.planning_seconds],  # wall time of each (re)plan
+                "planning": [{"seconds": t, "cpu_s": c}  # wall and CPU time of each (re)plan
+                             for t, c in zip(self.planning_seconds, self.planning_cpu_seconds, strict=False)],
                 "tasks": self.tasks(), "steps": [s.to_json() for s in self.steps],
                 "unsafe_steps": [s.index for s in self.unsafe_steps],
                 "audit": [{"step": i, "divergence": m} for i, m in self.audit],
@@ -300,6 +302,7 @@ class Mission:
         self.origin = dict(model.owner)
         self.fault_log: list[str] = []
         self.guard_cpu = 0.0    # CPU of the shield and the checks
+        self.planning_cpu: list[float] = []
         self.exec_cpu = 0.0     # CPU of executing the plans' tasks (physics, control, sensing, shield, checks, updates)
         self.belief_cpu = 0.0   # CPU of the belief updates (event models applied, knowledge listed for the log)
 
@@ -323,6 +326,7 @@ class Mission:
     def _plan(self, belief: BeliefState, world_json: dict) -> tuple[list, float, list, list[dict]]:
         """(tasks, planning seconds, predicted belief state after each task, JSON summary)."""
         tasks, meta = self.model.plan(belief, world_json)
+        self.planning_cpu.append(meta.get("cpu_s", float("nan")))
         for t in tasks:
             if t.actions:
                 p = parse_plan({"world": world_json, "actions": t.actions}, source=f"task {t.name}")
@@ -541,6 +545,7 @@ class Mission:
             wall_seconds=time.perf_counter() - t_wall, cpu_seconds=time.process_time() - t_cpu, grasp=self.grasp,
             backend=belief.backend, shield=self.shield, unfired=unfired, guard_cpu_seconds=self.guard_cpu,
             belief_cpu_seconds=self.belief_cpu, exec_cpu_seconds=self.exec_cpu,
+            planning_cpu_seconds=list(self.planning_cpu),
             audit=list(self.audit))
 
     def _caught(self, msg: str, k: int) -> None:

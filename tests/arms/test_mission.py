@@ -172,3 +172,21 @@ def test_the_shield_stops_a_plan_step_the_robot_has_no_belief_for():
     assert "shield" in first.message and "K_robot1 hold(robot1, red)" in first.message and "robot1" in first.message
     assert res.success and res.replans == 1 and Forgetful.calls == 2, res.reason
     _executed_steps_hold(res, m)
+
+
+SEEDED = [(c, s, f) for c in (1, 2, 3, 4) for s in range(20) for f in ("drop-msg@0", "repaint@0", "occlusion")]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("colors", "seed", "fault"), SEEDED)
+def test_seeded_belief_faults_are_caught_and_repaired(colors, seed, fault):
+    """20 seeded layouts × 1–4 colours × each belief fault: the fault fires, is caught and repaired; with
+    --no-shield the same mission goes wrong (bench/arms_mission.py --no-shield-too prints the table)."""
+    _inst, res, m = epico_run.run_mission("alpha", colors, seed, symmetric=True, faults=(parse_fault(fault),))
+    assert res.success, res.reason
+    assert not res.unfired and not any("NOT caught" in x for x in res.faults), res.faults
+    assert any("caught" in x for x in res.faults), res.faults
+    _executed_steps_hold(res, m)
+    _inst, bad, _m = epico_run.run_mission("alpha", colors, seed, symmetric=True, faults=(parse_fault(fault),),
+                                           shield=False)
+    assert not bad.success and (bad.unsafe_steps or bad.audit or not bad.goal_in_beliefs)
