@@ -166,3 +166,19 @@ def test_the_colour_is_the_rendered_one():
     assert v.blocks == {"a": "red", "b": "black"} and v.complete  # a is covered by b and seen anyway
     scene.model.geom_rgba[scene.model.geom("block/a").id] = (0.1, 0.3, 0.9, 1.0)
     assert sensing.look_side(scene.model, data, site, xy, table_z=0.0, block_size=0.04).blocks["a"] == "blue"
+
+
+def test_a_top_block_sensor_fails_the_property(monkeypatch):
+    """The old palm-camera reading (only the top block of a column) does not implement sense_table."""
+    orig = sensing.look_side
+
+    def top_only(*args, **kw):
+        v = orig(*args, **kw)
+        top = list(v.blocks.items())[-1:]  # rays go bottom → top: the last block seen is the highest
+        return sensing.ColumnView(v.column, v.view, dict(top), v.rays, v.occluded)
+
+    monkeypatch.setattr(sensing, "look_side", top_only)
+    stacks = {"robot1": (("a", "b"), (), ()), "robot2": (("d",), (), ())}
+    layout = Layout(MappingProxyType(stacks), MappingProxyType({"a": "red", "b": "black", "d": "black"}))
+    with pytest.raises(AssertionError):
+        check_layout(2, layout, None)
