@@ -69,11 +69,12 @@ class BeliefEvent:
     heard: bool = True               # announcement received
     forgot: tuple[str, ...] = ()     # forget: the fluents
     forced: bool = False             # applied with a false precondition (--no-shield only)
+    public: str = ""                 # observe: the formula everybody observed (delkit syntax)
 
     def to_json(self) -> dict:
         return {"t_sim_s": round(self.time, 3), "task": self.task, "kind": self.kind, "robot": self.robot,
                 "chosen": self.chosen, "learnt": list(self.learnt), "observed": self.observed, "heard": self.heard,
-                "forgot": list(self.forgot), "forced": self.forced}
+                "forgot": list(self.forgot), "forced": self.forced, "public": self.public}
 
 
 class BeliefState:
@@ -236,6 +237,20 @@ class BeliefState:
         learnt = tuple(k for k in self.knowledge() if k not in before)
         ev = BeliefEvent(time, name, act.kind, robot, chosen, learnt, dict(observed) if observed else None, heard,
                          forced=forced)
+        self.log.append(ev)
+        return ev
+
+    def observe_public(self, phi: Formula, *, time: float = 0.0, what: str = "") -> BeliefEvent:
+        """Everybody observes that ``phi`` holds (public announcement; e.g. "the shared table is empty")."""
+        from delkit.events import sensing
+
+        before = set(self.knowledge())
+        # everybody senses phi (both outcomes designated), then the actual worlds are those where it holds
+        self._apply_em(sensing(phi, self.task.agents, full=list(self.task.agents), name="observe"),
+                       what or pretty(phi))
+        self._restrict(phi, what or pretty(phi))
+        ev = BeliefEvent(time, "observe", "observation", "", what or f"everybody sees {pretty(phi)}",
+                         tuple(k for k in self.knowledge() if k not in before), public=show(phi))
         self.log.append(ev)
         return ev
 

@@ -326,6 +326,7 @@ class Mission:
     def _plan(self, belief: BeliefState, world_json: dict) -> tuple[list, float, list, list[dict]]:
         """(tasks, planning seconds, predicted belief state after each task, JSON summary)."""
         tasks, meta = self.model.plan(belief, world_json)
+        self.plan_colours = dict(world_json.get("colors", {}))
         self.planning_cpu.append(meta.get("cpu_s", float("nan")))
         for t in tasks:
             if t.actions:
@@ -495,6 +496,8 @@ class Mission:
             try:
                 state, anchors = self._recover(ex, state, lost, steps, k, plan_no)
                 plan_no += 1
+                if any(p.startswith("occup_by_") for p in divergence.fluents):
+                    state = self._clear_shared(ex, state, lost, steps, k, plan_no)
                 self._resense(ex, belief, divergence.fluents, steps, k, plan_no)
                 self._check_world(ex, belief, lost, "after the repair")
                 colours = {**prior, **self.seen_colours}
@@ -659,6 +662,9 @@ class Mission:
                     self.audit.append((rec.index, str(exc)))
                 else:
                     rec.checks["world"] = "the world's fluents equal the belief state's actual world"
+                if act.kind == "sensing":
+                    self._check_anchoring(rec.observed.get("seen", {}))
+                    rec.checks["anchoring"] = "every block seen has the colour the plan assumed"
                 if not self.shield and belief.key() != predicted.key():
                     msg = (f"after {t.name} the belief state is not bisimilar to the plan's prediction: "
                            + "; ".join(belief.differences(predicted)))
@@ -702,8 +708,16 @@ class Mission:
         """Fluents the check found wrong are forgotten (public "may have changed") and their owners sense."""
         if not fluents:
             return
-        belief.forget(fluents, time=float(ex.data.time))
-        for owner in dict.fromkeys(_fluent(p)[1] for p in fluents):
+        occup = [p for p in self.model.task.props if p.startswith("occup_by_")]
+        if any(p in occup for p in fluents):  # the shared table was cleared: everybody sees it is empty
+            belief.forget(sorted(set(fluents) | set(occup)), time=float(ex.data.time))
+            from delkit.formula import Not, Prop, conj
+
+            belief.observe_public(conj([Not(Prop(p)) for p in occup]), time=float(ex.data.time),
+                                  what="both robots see that the shared table is empty")
+        else:
+            belief.forget(fluents, time=float(ex.data.time))
+        for owner in dict.fromkeys(_fluent(p)[1] for p in fluents if p.startswith("hold_")):
             name = f"sense_table_{owner}"
             act = self.model.task.action(name)
             rec = StepRecord(k, plan_no, "re-sense", owner, f"{owner}: sense()", True, "re-sense", {},
@@ -714,6 +728,30 @@ class Mission:
             ev = belief.apply(name, robot=owner, time=float(ex.data.time), observed=obs)
             rec.observed["event"], rec.observed["learnt"] = ev.chosen, list(ev.learnt)
             rec.sim_time = float(ex.data.time)
+
+    def _clear_shared(self, ex: Executor, state: SymbolicState, lost: set[str], steps: list[StepRecord], k: int,
+                      plan_no: int) -> SymbolicState:
+        """A block on the shared table whose colour the belief state has wrong: its owner takes it back to
+        its lowest stack (the table is then empty, which both robots see)."""
+        for _lvl, b in reversed(state.on_top("barrier")):
+            r = self.origin.get(b, self.world.robots[0])
+            own = len(self.world.stacks[r])
+            s_ = min(range(own), key=lambda i: state.height("stack", r, i))
+            for act in (Action(r, "take_from_barrier", MappingProxyType({"block": b})),
+                        Action(r, "place", MappingProxyType({"block": b, "stack": s_}))):
+                ex.execute(act, state)
+                state = _apply(self.world, state, act)
+                steps.append(StepRecord(k, plan_no, "recovery", r, str(act), True, "recovery: clear the shared "
+                                        "table (its content is not what the belief state says)", {},
+                                        float(ex.data.time), float("nan")))
+        return self._observe_state(ex, lost)[0]
+
+    def _check_anchoring(self, seen: Mapping[str, str]) -> None:
+        """The colours the cameras saw must be the colours the plan's classical level assumed for them."""
+        bad = [f"{b} looks {c}, the plan assumed {self.plan_colours[b]}" for b, c in seen.items()
+               if b in self.plan_colours and self.plan_colours[b] != c]
+        if bad:
+            raise _Divergence("anchoring: " + "; ".join(bad))
 
     # -- physical state ----------------------------------------------------------------------------------
     def _observe_state(self, ex: Executor, lost: set[str]) -> tuple[SymbolicState, dict[str, np.ndarray]]:

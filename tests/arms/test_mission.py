@@ -34,11 +34,16 @@ def _executed_steps_hold(res, m) -> None:
         if e["kind"] == "forget":
             b.forget(e["forgot"])
             continue
+        if e["kind"] == "observation":
+            from delkit.formula import parse
+
+            b.observe_public(parse(e["public"]))
+            continue
         assert b.holds(m.model.task.action(e["task"]).executable), e
         b.apply(e["task"], robot=e["robot"], observed=e["observed"], heard=e["heard"])
     assert b.key() == m.belief.key() and b.holds(m.model.task.goal)
     executed = [s["task"] for s in obj["steps"] if s["executed"] and s["task"] not in ("recovery", "re-sense")]
-    logged = [e["task"] for e in obj["belief_log"] if e["kind"] != "forget"]
+    logged = [e["task"] for e in obj["belief_log"] if e["kind"] not in ("forget", "observation")]
     assert set(executed) <= set(logged)
 
 
@@ -190,3 +195,19 @@ def test_seeded_belief_faults_are_caught_and_repaired(colors, seed, fault):
     _inst, bad, _m = epico_run.run_mission("alpha", colors, seed, symmetric=True, faults=(parse_fault(fault),),
                                            shield=False)
     assert not bad.success and (bad.unsafe_steps or bad.audit or not bad.goal_in_beliefs)
+
+
+@pytest.mark.slow
+def test_a_wrong_block_on_the_shared_table_is_cleared_and_the_belief_revised(monkeypatch):
+    """swap-colours with the anchoring check off: the wrong block reaches the shared table, the check after
+    put_on_shared names occup_by(robot1, …); the owner takes it back, everybody sees the empty table, and
+    the replan from the belief state succeeds."""
+    from arms import mission
+
+    monkeypatch.setattr(mission.Mission, "_check_anchoring", lambda self, seen: None)
+    _inst, res, m = epico_run.run_mission("alpha", 2, None, symmetric=True, faults=(parse_fault("swap-colours"),))
+    assert res.success and res.replans == 1, res.reason
+    bad = [s for s in res.steps if not s.ok]
+    assert len(bad) == 1 and "occup_by(robot1, red) is false in the world" in bad[0].message
+    assert [e["kind"] for e in res.belief_log].count("observation") == 1
+    _executed_steps_hold(res, m)
