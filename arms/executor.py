@@ -48,7 +48,7 @@ import numpy as np
 from arms.ik import VELOCITY_LIMITS, DualArmIK, pose, pose_error
 from arms.plan import Action, Plan, apply_action
 from arms.scene import FINGER_OPEN, Scene, build_scene
-from arms.sensing import Sighting, look
+from arms.sensing import ColumnView, Sighting, look, look_side
 from arms.skills import pick, place
 from arms.world import ArmsError, PlanError, SymbolicState, World, initial_state
 
@@ -150,12 +150,13 @@ class Executor:
     """Physics, control and verification for one world (see module docstring)."""
 
     def __init__(self, world: World, *, grasp: str = "friction", tolerance: float = 0.01,
-                 control_dt: float = 0.01, record_fps: float = 0.0, ik: str | None = None) -> None:
+                 control_dt: float = 0.01, record_fps: float = 0.0, ik: str | None = None,
+                 occluders: tuple[tuple[float, float, float], ...] = ()) -> None:
         ik = DEFAULT_IK if ik is None else ik
         if ik not in IK_MODES:
             raise ArmsError(f"ik must be one of {', '.join(IK_MODES)}, not {ik!r}")
         self.world = world
-        self.scene: Scene = build_scene(world, grasp=grasp)
+        self.scene: Scene = build_scene(world, grasp=grasp, occluders=occluders)
         self.model = self.scene.model
         self.data = mujoco.MjData(self.model)
         mujoco.mj_resetDataKeyframe(self.model, self.data, self.model.key("home").id)
@@ -418,6 +419,16 @@ class Executor:
             out.append(look(self.model, self.data, self.scene.camera_site(robot), xy, table_z=lay.table_z,
                             block_size=lay.block_size, column=name))
         return out
+
+    def sense_side(self, robot: str, view: str = "low", *, see_through: bool = False) -> list[ColumnView]:
+        """The robot's side camera (``view`` low or high) looks at each of its stacks and at the shared
+        table (:func:`arms.sensing.look_side`); the arms hold still for 0.1 s (the exposure)."""
+        lay = self.world.layout
+        self.wait(0.1)
+        site = self.scene.side_camera_site(robot, view)
+        return [look_side(self.model, self.data, site, xy, table_z=lay.table_z, block_size=lay.block_size,
+                          column=name, view=view, see_through=see_through)
+                for name, xy in self.columns(robot, barrier=True)]
 
     def columns(self, robot: str, stacks: list[int] | None = None, *, barrier: bool = False,
                 ) -> list[tuple[str, np.ndarray]]:

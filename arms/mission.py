@@ -1,34 +1,43 @@
-"""The closed loop: plan → execute in physics → observe → monitor → (on divergence) re-sense, rebuild, replan.
+"""The closed loop on the planner's own DEL belief state: plan → shield → act in physics → observe → update the
+belief state with the task's event model → check → (on a divergence) repair and replan from the belief state.
 
-A *mission* is a world (the robots' tables), an e-PICO goal (α … δ, seed 004 Sec. 5) and a planner given
-as a callable ``replan(world_json, known) -> plan/1 dict``: ``world_json`` is the ``world`` object of the
-plan format (``arms/README.md``) describing what the robots have *observed* (stacks bottom → top, block
-colours as far as observed, the prior colour otherwise), ``known`` maps each robot to the colours it
-believes ({robot: {block: colour}}). The planner may raise :class:`GoalUnreachable`. The arms layer
-does not import any planner: ``delkit epico run`` passes the e-PICO pipeline in, the tests pass
-:func:`simple_replanner` (a small hand-written planner for these goals, see there).
+A *mission* is a world (the robots' tables), an e-PICO goal (α … δ, seed 004 Sec. 5) and an epistemic
+*model* — the planner's side (``arms.cli.epico_run.EpicoModel``; ``arms`` does not import a planner): the
+task, the state space the planner searched (compact or numpy backend), the initial belief state and
+``plan(belief, world_json)``, which plans **from the belief state** (the epistemic search starts from it;
+the classical level from the observed block positions and the colours the cameras saw).
 
-After every primitive action the monitor compares
+The robots' beliefs *are* that DEL state (:class:`arms.beliefs.BeliefState`): it starts as the task's
+initial state and changes only by the event model of an executed task — the sensing event the side
+camera's observation selects, the announcement as received (or lost), the ontic task's model.
 
-* the simulated world with the symbolic state the plan expects (every block within ``tolerance``; a held
-  block in the hand — a block that slipped or dropped fails here),
-* what a ``sense`` saw (top block and level of each column, and its colour) with what the plan expects,
-* every robot's beliefs (the DEL state of :mod:`arms.beliefs`, updated only by sensing and announcements)
-  with the colours the plan assumes.
+Per primitive action of a task:
 
-On a divergence it puts down a held block, re-senses every column of both tables and the shared table,
-rebuilds the classical state from the measured block poses (a block that fell off the tables is *lost*)
-and the colours from what was seen, asks the planner again and continues. It stops when the goal holds,
-after ``max_replans`` replans, or when the planner says the goal is unreachable; it reports success
-only if the goal holds both in the world (beliefs true of the simulated blocks, shared table free when
-asked) and in the robots' beliefs, every block is within ``tolerance`` of its symbolic place and the
-arms never touched.
+* **shield** (before): the task's precondition as the domain states it (epistemic parts included, e.g.
+  ``K_robot1 hold(robot1, red)`` for robot1's ``put_on_shared``) is evaluated on the belief state; false →
+  the action is not executed, the step says which conjuncts failed for whom, and the loop repairs and
+  replans from the belief state. ``shield=False`` (``--no-shield``) turns off every belief-side guard —
+  shield, world-vs-belief and bisimulation checks (computed and reported as an *audit*, not acted on),
+  camera completeness, goal-in-belief — and exists only to show, in a test, the run that goes wrong
+  without them (only the physical block-position check stays);
+* physical check (after): every block within ``tolerance`` of its symbolic place (held blocks in the hand).
 
-Faults (``Fault``), injected deterministically: ``drop@K`` — at the first pick at or after primitive
-action K (counted over the whole run), the hand lowers the block back to 1.5 cm above where it was and
-opens; ``misplace@K`` — the first place / put_on_barrier at or after K puts the block on the robot's
-next stack instead; ``swap-colours`` — two blocks of different colours have their colours exchanged in
-the simulated world before the run (the planner still assumes the generator's colours).
+Per task (after its last primitive), the **check**: the world read from physics (block poses and rendered
+colours → ``hold``/``occup_by``) must equal the valuation of the belief state's actual world, and the
+belief state must be bisimilar (same canonical key) to the state the plan predicted after that task. A
+difference is a named divergence (which fluent, whose belief). Repair: put down a held block, re-seat
+blocks off their slot, read the block positions; the fluents found wrong are *forgotten* (public event
+"may have changed"; see :mod:`arms.beliefs`) and their owners sense again; then the planner plans from
+the belief state. Success: the goal holds in the belief state, the world's fluents equal the belief's
+actual world, every block within ``tolerance``, no arm–arm contact.
+
+Faults (``Fault``; K counts primitive actions over the whole run, the fault fires at the first suitable
+action at or after K): ``drop@K`` (the hand opens just after lift-off), ``misplace@K`` (the block goes to
+the next stack), ``swap-colours`` (two blocks of different colours exchanged before the run),
+``drop-msg@K`` (an announcement is lost: the listeners' state does not change), ``repaint@K`` (right
+after a sensing task, a block of the sensing robot is repainted), ``occlusion`` (a grey block stands in
+front of the stack of the first block the plan puts on the shared table: the low side camera cannot see
+it). A fault whose action never comes is reported as "never fired".
 """
 
 from __future__ import annotations
@@ -38,24 +47,23 @@ import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from types import MappingProxyType
+from typing import Any
 
 import numpy as np
 
-from arms.beliefs import Beliefs
+from arms.beliefs import BeliefError, BeliefState, pretty
 from arms.executor import Executor, MotionError
 from arms.plan import Action, parse_plan
 from arms.plan import apply_action as _apply
-from arms.sensing import Sighting, nearest_colour
+from arms.sensing import nearest_colour
 from arms.world import ArmsError, Location, PlanError, SymbolicState, World, initial_state, rgba_of
 
-__all__ = ["Goal", "GOALS", "Fault", "parse_fault", "GoalUnreachable", "Mission", "MissionResult",
-           "simple_replanner", "goal_of", "random_world", "world_from_layout"]
-
-Replan = Callable[[dict, dict], dict]
+__all__ = ["Goal", "GOALS", "Fault", "parse_fault", "GoalUnreachable", "Mission", "MissionResult", "goal_of",
+           "random_world", "world_from_layout", "StepRecord"]
 
 
 class GoalUnreachable(ArmsError):
-    """The planner found no plan for the goal from the observed state."""
+    """The planner found no plan for the goal from the belief state."""
 
 
 @dataclass(frozen=True)
@@ -82,32 +90,40 @@ def goal_of(name: str) -> Goal:
     return GOALS[key]
 
 
+_AT_FAULTS = ("drop", "misplace", "drop-msg", "repaint")
+_FIRES_ON = {"drop": ("pick", "take_from_barrier"), "misplace": ("place", "put_on_barrier"),
+             "drop-msg": ("announce",), "repaint": ("sense",)}
+
+
 @dataclass(frozen=True)
 class Fault:
-    """``drop`` / ``misplace`` at primitive action ``at`` (or the first suitable one after), or ``swap-colours``."""
+    """``drop`` / ``misplace`` / ``drop-msg`` / ``repaint`` at primitive action ``at`` (or the first suitable
+    one after), ``swap-colours`` or ``occlusion``."""
 
     kind: str
     at: int = 0
 
     def __str__(self) -> str:
-        return self.kind if self.kind == "swap-colours" else f"{self.kind}@{self.at}"
+        return f"{self.kind}@{self.at}" if self.kind in _AT_FAULTS else self.kind
 
 
 def parse_fault(text: str) -> Fault:
-    """``drop@K``, ``misplace@K`` or ``swap-colours``."""
+    """``drop@K``, ``misplace@K``, ``drop-msg@K``, ``repaint@K``, ``swap-colours`` or ``occlusion``."""
     t = text.strip().lower()
     if t in ("swap-colours", "swap-colors"):
         return Fault("swap-colours")
+    if t == "occlusion":
+        return Fault("occlusion")
     kind, _, at = t.partition("@")
-    if kind in ("drop", "misplace") and at.isdigit():
+    if kind in _AT_FAULTS and at.isdigit():
         return Fault(kind, int(at))
-    raise ArmsError(f"unknown fault {text!r}; use drop@K, misplace@K (K = index of a primitive action) "
-                    "or swap-colours")
+    raise ArmsError(f"unknown fault {text!r}; use drop@K, misplace@K, drop-msg@K, repaint@K (K = index of a "
+                    "primitive action), swap-colours or occlusion")
 
 
 @dataclass
 class StepRecord:
-    """One executed primitive action and what the monitor found."""
+    """One primitive action (executed or stopped by the shield) and what was found."""
 
     index: int           # primitive action number over the whole run
     plan: int            # which plan (0 = the first, 1 = the first replan, ...)
@@ -120,11 +136,16 @@ class StepRecord:
     sim_time: float
     max_block_error: float
     fault: str = ""
+    precondition: str = ""          # the task's precondition (readable), evaluated on the belief state
+    precondition_holds: bool | None = None
+    executed: bool = True
+    checks: dict = field(default_factory=dict)
 
     def to_json(self) -> dict:
         return {"index": self.index, "plan": self.plan, "task": self.task, "robot": self.robot, "text": self.text,
-                "ok": self.ok, "message": self.message, "observed": self.observed,
-                "t_sim_s": round(self.sim_time, 3),
+                "executed": self.executed, "precondition": self.precondition,
+                "precondition_holds": self.precondition_holds, "ok": self.ok, "message": self.message,
+                "observed": self.observed, "checks": self.checks, "t_sim_s": round(self.sim_time, 3),
                 "max_block_error_m": None if math.isnan(self.max_block_error) else self.max_block_error,
                 "fault": self.fault}
 
@@ -153,26 +174,32 @@ class MissionResult:
     cpu_seconds: float
     grasp: str
     files: dict = field(default_factory=dict)
+    backend: str = "compact"
+    shield: bool = True
+    unfired: list[str] = field(default_factory=list)
+    audit: list = field(default_factory=list)       # --no-shield: (step, divergence) found, not acted on
+    guard_cpu_seconds: float = 0.0   # CPU in the shield and the checks (precondition, fluents, bisimulation)
+    belief_cpu_seconds: float = 0.0  # CPU of the belief updates (event models applied, knowledge for the log)
+    planning_cpu_seconds: list = field(default_factory=list)  # CPU of each (re)plan
+    exec_cpu_seconds: float = 0.0    # CPU of executing the tasks (physics, control, sensing, shield, checks, updates)
 
     @property
     def realtime_factor(self) -> float:
         return self.sim_seconds / self.wall_seconds if self.wall_seconds > 0 else float("inf")
 
+    @property
+    def unsafe_steps(self) -> list[StepRecord]:
+        """Steps executed although their precondition was false in the belief state."""
+        return [s for s in self.steps if s.executed and s.precondition_holds is False]
+
     def tasks(self) -> list[dict]:
-        """Per plan and task (the ``task`` field of the plan's actions, else one action each): the planned
-        actions, what the arms did, what was observed, and whether the monitor found the world and the
-        beliefs as the plan expects after it (``ok``)."""
+        """Per plan and task: the planned actions, what the arms did, what was observed, and whether the
+        shield and the checks found the world and the belief state as the plan expects (``ok``)."""
         out: list[dict] = []
         for no, plan in enumerate(self.plans):
-            order: list[str] = []
-            planned: dict[str, list[str]] = {}
-            for a in plan:
-                if a["task"] not in planned:
-                    order.append(a["task"])
-                planned.setdefault(a["task"], []).append(a["text"])
-            for key in [*order, "recovery", "re-sense"]:
-                done = [s for s in self.steps if s.plan == no and s.task == key]
-                if not done and key not in planned:
+            for t in [*plan, {"task": "recovery", "actions": []}, {"task": "re-sense", "actions": []}]:
+                done = [s for s in self.steps if s.plan == no and s.task == t["task"]]
+                if not done and t["task"] in ("recovery", "re-sense"):
                     continue
                 observed: dict = {}
                 for s in done:
@@ -180,9 +207,11 @@ class MissionResult:
                         if k != "columns":
                             observed.setdefault(k, {}).update(v) if isinstance(v, dict) else observed.update({k: v})
                 ok = bool(done) and all(s.ok for s in done)
-                out.append({"plan": no, "task": key, "planned": planned.get(key, []),
-                            "done": [s.text + (f" [fault: {s.fault}]" if s.fault else "") for s in done],
+                out.append({"plan": no, "task": t["task"], "planned": [a for a in t.get("actions", [])],
+                            "done": [s.text + (f" [fault: {s.fault}]" if s.fault else "")
+                                     + ("" if s.executed else " [not executed: shield]") for s in done],
                             "observed": observed, "ok": ok,
+                            "precondition": done[0].precondition if done else "",
                             "status": "match" if ok else "diverged" if done else "not executed (replanned)",
                             "message": next((s.message for s in done if not s.ok), "")})
         return out
@@ -190,26 +219,50 @@ class MissionResult:
     def to_json(self) -> dict:
         return {"success": self.success, "goal": self.goal, "reason": self.reason,
                 "goal_in_world": self.goal_in_world, "goal_in_beliefs": self.goal_in_beliefs,
+                "belief_backend": self.backend, "shield": self.shield,
                 "max_block_error_m": self.max_block_error, "arm_contacts": self.arm_contacts,
                 "replans": self.replans, "plans": self.plans,
-                "planning": [{"seconds": t} for t in self.planning_seconds],  # wall time of each (re)plan
+                "planning": [{"seconds": t, "cpu_s": c}  # wall and CPU time of each (re)plan
+                             for t, c in zip(self.planning_seconds, self.planning_cpu_seconds, strict=False)],
                 "tasks": self.tasks(), "steps": [s.to_json() for s in self.steps],
+                "unsafe_steps": [s.index for s in self.unsafe_steps],
+                "audit": [{"step": i, "divergence": m} for i, m in self.audit],
                 "belief_log": self.belief_log, "beliefs": self.beliefs, "lost_blocks": self.lost,
-                "faults": self.faults, "sim_seconds": self.sim_seconds, "wall_s": self.wall_seconds,
-                "cpu_s": self.cpu_seconds,  # real-time factor: sim_seconds / wall_s or / cpu_s
+                "faults": self.faults, "faults_never_fired": self.unfired, "sim_seconds": self.sim_seconds,
+                "wall_s": self.wall_seconds, "cpu_s": self.cpu_seconds, "guard_cpu_s": self.guard_cpu_seconds,
+                "belief_cpu_s": self.belief_cpu_seconds, "exec_cpu_s": self.exec_cpu_seconds,
                 "grasp": self.grasp, "files": self.files}
 
 
-def _plan_summary(actions: list[Action]) -> list[dict]:
-    return [{"task": str(a.args.get("task", f"{i}")), "text": str(a)} for i, a in enumerate(actions)]
-
-
 class _Divergence(Exception):
-    """Raised inside the loop: the world or the beliefs are not what the plan expects."""
+    """Raised inside the loop: the world or the belief state is not what the plan expects."""
+
+    def __init__(self, msg: str, fluents: tuple[str, ...] = ()) -> None:
+        super().__init__(msg)
+        self.fluents = fluents
 
 
 def _colour_names(world: World) -> dict[str, str]:
     return {b: nearest_colour(np.array(world.colors[b])) for b in world.blocks}
+
+
+def _fluent(p: str) -> tuple[str, str, str]:
+    """``hold_robot1_red`` → ("hold", "robot1", "red")."""
+    kind = "occup_by" if p.startswith("occup_by_") else "hold"
+    owner, colour = p[len(kind) + 1:].split("_", 1)
+    return kind, owner, colour
+
+
+def _conjuncts(f: Any) -> list:
+    from delkit.formula import And
+
+    return [x for part in f.args for x in _conjuncts(part)] if isinstance(f, And) else [f]
+
+
+def _k(agent: str, p: str, value: bool) -> Any:
+    from delkit.formula import K, Not, Prop
+
+    return K(agent, Prop(p) if value else Not(Prop(p)))
 
 
 def _swap_colours(world: World, first: str | None) -> tuple[World, str]:
@@ -229,39 +282,34 @@ def _swap_colours(world: World, first: str | None) -> tuple[World, str]:
 
 
 class Mission:
-    """One closed-loop mission (see module docstring)."""
+    """One closed-loop mission on the planner's DEL belief state (see module docstring)."""
 
-    def __init__(self, world: World, goal: Goal | str, replan: Replan, *, plan: dict | None = None,
-                 faults: tuple[Fault, ...] = (), grasp: str = "friction", tolerance: float = 0.01,
-                 max_replans: int = 4, record_fps: float = 0.0,
-                 progress: Callable[[str], None] | None = None) -> None:
+    def __init__(self, world: World, goal: Goal | str, model: Any, *, faults: tuple[Fault, ...] = (),
+                 grasp: str = "friction", tolerance: float = 0.01, max_replans: int = 4, record_fps: float = 0.0,
+                 progress: Callable[[str], None] | None = None, shield: bool = True,
+                 see_through: bool = False) -> None:
         self.world = world                      # what the planner is told (the generator's colours)
         self.goal = goal_of(goal) if isinstance(goal, str) else goal
-        self.replan = replan
-        self.first_plan = plan
+        self.model = model
         self.faults = tuple(faults)
         self.grasp = grasp
         self.tolerance = tolerance
         self.max_replans = max_replans
         self.record_fps = record_fps
         self.progress = progress
-        self.origin = {b: r for r in world.robots for st in world.stacks[r] for b in st}
+        self.shield = shield
+        self.see_through = see_through          # sensor mutation (tests only)
+        self.origin = dict(model.owner)
         self.fault_log: list[str] = []
+        self.guard_cpu = 0.0    # CPU of the shield and the checks
+        self.planning_cpu: list[float] = []
+        self.exec_cpu = 0.0     # CPU of executing the plans' tasks (physics, control, sensing, shield, checks, updates)
+        self.belief_cpu = 0.0   # CPU of the belief updates (event models applied, knowledge listed for the log)
 
     # -- helpers ---------------------------------------------------------------------------------------
     def _say(self, msg: str) -> None:
         if self.progress is not None:
             self.progress(msg)
-
-    def _plan(self, world_json: dict, known: dict) -> tuple[list[Action], float]:
-        t0 = time.perf_counter()
-        obj = self.replan(world_json, known)
-        dt = time.perf_counter() - t0
-        p = parse_plan(obj, source="replanned plan")
-        got = {r: [list(s) for s in p.world.stacks[r]] for r in p.world.robots}
-        if got != world_json["stacks"] or list(p.world.barrier) != world_json["barrier"]:
-            raise ArmsError("the planner returned a plan for another world than the observed one")
-        return list(p.actions), dt
 
     def _world_json(self, state: SymbolicState, colours: Mapping[str, str], lost: set[str]) -> dict:
         w = self.world
@@ -275,6 +323,437 @@ class Mission:
                 "layout": {"base_y": lay.base_y, "stack_x": lay.stack_x, "stack_pitch": lay.stack_pitch,
                            "table_z": lay.table_z, "block_size": lay.block_size}}
 
+    def _plan(self, belief: BeliefState, world_json: dict) -> tuple[list, float, list, list[dict]]:
+        """(tasks, planning seconds, predicted belief state after each task, JSON summary)."""
+        tasks, meta = self.model.plan(belief, world_json)
+        self.plan_colours = dict(world_json.get("colors", {}))
+        self.planning_cpu.append(meta.get("cpu_s", float("nan")))
+        for t in tasks:
+            if t.actions:
+                p = parse_plan({"world": world_json, "actions": t.actions}, source=f"task {t.name}")
+                t.parsed = list(p.actions)
+            else:
+                t.parsed = []
+        pred, cur = [], belief.copy()
+        for t in tasks:
+            cur = cur.copy()
+            act = self.model.task.action(t.name)
+            obs = None
+            if act.kind == "sensing":  # the planner's choice: the event true at the actual world
+                val = cur.valuation()
+                obs = {f.name: bool(val.get(f.name)) for f, _c in act.sensed}
+            cur.apply(t.name, robot=t.robot, observed=obs, force=True)
+            pred.append(cur)
+        summary = [{"task": t.name, "kind": t.kind, "robot": t.robot, "actions": [str(a) for a in t.parsed]}
+                   for t in tasks]
+        return tasks, meta["wall_s"], pred, summary
+
+    def _block_colour(self, ex: Executor, b: str) -> str:
+        return nearest_colour(ex.model.geom_rgba[ex.model.geom(f"block/{b}").id])
+
+    def _world_fluents(self, ex: Executor, lost: set[str]) -> dict[str, bool]:
+        """The fluents as physics has them: block poses (on the shared table or not, lost) and the blocks'
+        rendered colours; ``hold(o, c)``: a block of o's of colour c is on a table (the domain keeps it true
+        while the block is on the shared table); ``occup_by(o, c)``: o's block of colour c lies on the
+        shared table (not in a hand)."""
+        lay = self.world.layout
+        bx = lay.barrier_xy()
+        held = set(ex.held.values())
+        colour = {b: self._block_colour(ex, b) for b in self.world.blocks if b not in lost}
+        on_shared = {b for b in colour if b not in held
+                     and np.linalg.norm(ex.block_position(b)[:2] - bx) < 0.5 * lay.block_size + 0.01
+                     and ex.block_position(b)[2] > lay.table_z}
+        out = {}
+        for p in self.model.task.props:
+            kind, owner, c = _fluent(p)
+            pool = on_shared if kind == "occup_by" else colour.keys()
+            out[p] = any(self.origin.get(b) == owner and colour[b] == c for b in pool)
+        return out
+
+    def _check_world(self, ex: Executor, belief: BeliefState, lost: set[str], where: str) -> None:
+        """Physics fluents = the belief state's actual world, else a named divergence."""
+        world = self._world_fluents(ex, lost)
+        val = belief.valuation()
+        bad = [p for p in world if val.get(p) is not None and world[p] != val[p]]
+        if bad:
+            words = []
+            for p in bad:
+                who = [a for a in belief.task.agents
+                       if belief.holds(_k(a, p, val[p]))]
+                words.append(f"{pretty(p)} is {str(world[p]).lower()} in the world, {str(val[p]).lower()} in the "
+                             f"belief state's actual world" + (f" ({', '.join(who)} believe(s) it, wrongly)"
+                                                               if who else ""))
+            raise _Divergence(f"{where}: " + "; ".join(words), tuple(bad))
+
+    def _observe(self, ex: Executor, robot: str, act: Any, rec: StepRecord) -> dict[str, bool]:
+        """The side camera's observation for ``sense_table robot``: low view, and (belief guards on) the high
+        view for the columns the low one could not see completely."""
+        views = ex.sense_side(robot, "low", see_through=self.see_through)
+        rec.observed["columns"] = [v.to_json() for v in views]
+        hidden = [v for v in views if not v.complete]
+        if hidden and "occlusion" in self._occlusion_pending:
+            self._occlusion_pending.remove("occlusion")
+            self.fault_log.append(f"occlusion fired at action {rec.index} ({rec.text}): the low side camera's view of "
+                                  + ", ".join(v.column for v in hidden) + " is blocked")
+            rec.fault = "occlusion: " + ", ".join(v.column for v in hidden) + " partly hidden"
+            if not self.shield:
+                self.pending.append("occlusion")
+        if hidden and self.shield:
+            names = ", ".join(f"{v.column} ({v.occluded} of {v.rays} rays occluded)" for v in hidden)
+            rec.checks["occlusion"] = f"caught: the low side camera cannot see all of {names}; looking from above"
+            high = {v.column: v for v in ex.sense_side(robot, "high", see_through=self.see_through)}
+            views = [high[v.column] if not v.complete else v for v in views]
+            rec.observed["columns"] += [high[v.column].to_json() for v in hidden]
+            still = [v.column for v in views if not v.complete]
+            if still:
+                raise _Divergence(f"{robot} cannot see every block of {', '.join(still)} from either viewpoint")
+            rec.checks["occlusion"] += "; repaired: the high viewpoint sees every block"
+            self.fault_log.append(f"occlusion: caught at action {rec.index} (the sensing task's observation was "
+                                  "incomplete: no event of sense_table selected); repaired from the high viewpoint")
+        seen = {b: c for v in views for b, c in v.blocks.items()}
+        rec.observed["seen"] = dict(seen)
+        self.seen_colours.update(seen)
+        obs = {}
+        for f, _c in act.sensed:
+            _kind, owner, c = _fluent(f.name)
+            obs[f.name] = any(self.origin.get(b) == owner and col == c for b, col in seen.items())
+        return obs
+
+    # -- the loop --------------------------------------------------------------------------------------
+    def run(self) -> MissionResult:
+        t_wall, t_cpu = time.perf_counter(), time.process_time()
+        prior = _colour_names(self.world)
+        self.seen_colours: dict[str, str] = {}
+        faults = list(self.faults)
+        belief = self.model.initial_belief()
+        plans: list[list[dict]] = []
+        planning: list[float] = []
+        tasks, dt, pred, summary = self._plan(belief, self.world.to_json() | {"colors": dict(prior)})
+        planning.append(dt)
+        plans.append(summary)
+        true_world, occluders = self.world, []
+        self._occlusion_pending: list[str] = []
+        for f in [f for f in faults if f.kind == "swap-colours"]:
+            first = next((a.args.get("block") for t in tasks for a in t.parsed if a.name in ("pick", "announce")
+                          and a.args.get("block")), None)
+            true_world, msg = _swap_colours(self.world, first)
+            self.fault_log.append(msg)
+            faults.remove(f)
+        for f in [f for f in faults if f.kind == "occlusion"]:
+            target = next((a.args.get("block") for t in tasks for a in t.parsed if a.name == "put_on_barrier"), None)
+            loc = initial_state(self.world).places.get(target) if target else None
+            if loc is None or loc.kind != "stack":
+                self.fault_log.append("occlusion: never fired (the plan puts no block of a stack on the shared "
+                                      "table)")
+            else:
+                i = self.world.robot_index(loc.robot)
+                xy = self.world.layout.stack_xy(i, loc.stack, len(self.world.stacks[loc.robot]))
+                occluders.append((float(xy[0] + 0.10), float(xy[1]), 0.09))
+                self.fault_log.append(f"occlusion: a 9 cm grey block in front of {loc.robot}'s stack {loc.stack} hides "
+                                      f"{target} and the blocks below level 2 from the low side camera")
+                self._occlusion_pending.append("occlusion")
+            faults.remove(f)
+        ex = Executor(true_world, grasp=self.grasp, tolerance=self.tolerance, record_fps=self.record_fps,
+                      occluders=tuple(occluders))
+        state = initial_state(self.world)
+        lost: set[str] = set()
+        anchors: dict[str, tuple[Location, np.ndarray]] = {}
+        steps: list[StepRecord] = []
+        replans, k, plan_no, reason = 0, 0, 0, ""
+        self.pending: list[str] = []   # faults fired but not caught yet
+        self.audit: list[tuple[int, str]] = []   # --no-shield: divergences found but not acted on
+        while True:
+            divergence: _Divergence | None = None
+            try:
+                g0 = time.process_time()
+                if self.shield:
+                    self._check_world(ex, belief, lost, "before the plan")
+                self.guard_cpu += time.process_time() - g0
+                for ti, t in enumerate(tasks):
+                    e0 = time.process_time()
+                    state, k = self._task(ex, t, pred[ti], belief, state, k, plan_no, lost, anchors, faults, steps,
+                                          tasks[ti + 1:])
+                    self.exec_cpu += time.process_time() - e0
+            except _Divergence as exc:
+                self.exec_cpu += time.process_time() - e0
+                divergence = exc
+            if divergence is None:
+                gb = belief.holds(self.model.task.goal)
+                if gb or not self.shield:
+                    reason = (f"goal {self.goal.name} holds in the belief state and the world agrees with its "
+                              "actual world" if self.shield else f"the plan ended (--no-shield: nothing checked "
+                              f"against the belief state; goal {self.goal.name} {'holds' if gb else 'does NOT hold'}"
+                              " in it)")
+                    break
+                divergence = _Divergence(f"the plan ended but goal {self.goal.name} does not hold in the belief "
+                                         f"state ({'; '.join(belief.knowledge()) or 'nobody knows anything'})")
+            self._caught(str(divergence), k)
+            if replans >= self.max_replans:
+                reason = f"gave up after {replans} replans; last divergence: {divergence}"
+                break
+            replans += 1
+            self._say(f"divergence: {divergence}; repairing and replanning from the belief state ({replans})")
+            try:
+                state, anchors = self._recover(ex, state, lost, steps, k, plan_no)
+                plan_no += 1
+                if any(p.startswith("occup_by_") for p in divergence.fluents):
+                    state = self._clear_shared(ex, state, lost, steps, k, plan_no)
+                self._resense(ex, belief, divergence.fluents, steps, k, plan_no)
+                self._check_world(ex, belief, lost, "after the repair")
+                colours = {**prior, **self.seen_colours}
+                tasks, dt, pred, summary = self._plan(belief, self._world_json(state, colours, lost))
+            except (MotionError, PlanError) as exc:
+                reason = f"recovery failed: {exc}"
+                break
+            except (GoalUnreachable, _Divergence, BeliefError) as exc:
+                reason = f"goal {self.goal.name} unreachable from the belief state: {exc}"
+                break
+            planning.append(dt)
+            plans.append(summary)
+        unfired = []
+        for f in faults:
+            what = " or ".join(_FIRES_ON.get(f.kind, ("?",)))
+            msg = f"{f}: never fired (no {what} at or after primitive action {f.at}; the run had {k})"
+            self.fault_log.append(msg)
+            unfired.append(str(f))
+        for p in self._occlusion_pending:
+            self.fault_log.append(f"{p}: never fired (no look at the hidden stack)")
+            unfired.append(p)
+        for p in self.pending:
+            self.fault_log.append(f"{p}: NOT caught")
+        world = self._world_fluents(ex, lost)
+        val = belief.valuation()
+        gb = belief.holds(self.model.task.goal)
+        gw = gb and all(val.get(p) == v for p, v in world.items())
+        errs = self._errors(ex, state, lost, {})
+        worst = max(errs.values(), default=0.0)
+        ok_place = worst <= self.tolerance
+        success = gw and gb and ok_place and ex.arm_contacts == 0 and not self.pending
+        if not self.shield and not gw:
+            reason += "; the world does NOT agree with the belief state's actual world" if gb else ""
+        if not success and reason.startswith("goal") and "holds" in reason:
+            reason += (f"; but a block is {worst * 100:.2f} cm from its symbolic place" if not ok_place
+                       else f"; but the arms touched ({ex.arm_contacts} contacts)" if ex.arm_contacts else
+                       f"; but a fault was not caught: {self.pending}" if self.pending else "")
+        if unfired:
+            reason += f"; fault(s) never fired: {', '.join(unfired)}"
+        self.executor = ex
+        self.belief = belief
+        know = {a: [x for x in belief.knowledge([a])] for a in belief.task.agents}
+        return MissionResult(
+            success=success, goal=self.goal.name, reason=reason, goal_in_world=gw, goal_in_beliefs=gb,
+            max_block_error=worst, arm_contacts=ex.arm_contacts, replans=replans, steps=steps, plans=plans,
+            planning_seconds=planning, belief_log=[e.to_json() for e in belief.log], beliefs=know,
+            lost=sorted(lost), faults=self.fault_log, sim_seconds=float(ex.data.time),
+            wall_seconds=time.perf_counter() - t_wall, cpu_seconds=time.process_time() - t_cpu, grasp=self.grasp,
+            backend=belief.backend, shield=self.shield, unfired=unfired, guard_cpu_seconds=self.guard_cpu,
+            belief_cpu_seconds=self.belief_cpu, exec_cpu_seconds=self.exec_cpu,
+            planning_cpu_seconds=list(self.planning_cpu),
+            audit=list(self.audit))
+
+    def _caught(self, msg: str, k: int) -> None:
+        for p in list(self.pending):
+            self.fault_log.append(f"{p}: caught at primitive action {k}: {msg}")
+            self.pending.remove(p)
+
+    # -- one task --------------------------------------------------------------------------------------
+    def _fault_for(self, act: Action, k: int, faults: list[Fault]) -> Fault | None:
+        for f in faults:
+            if f.kind in _FIRES_ON and k >= f.at and act.name in _FIRES_ON[f.kind]:
+                faults.remove(f)
+                return f
+        return None
+
+    def _task(self, ex: Executor, t: Any, predicted: BeliefState, belief: BeliefState, state: SymbolicState,
+              k: int, plan_no: int, lost: set[str], anchors: dict, faults: list[Fault], steps: list[StepRecord],
+              rest: list) -> tuple[SymbolicState, int]:
+        act = self.model.task.action(t.name)
+        pre_text = pretty(act.executable)
+        repaint = drop_msg = None
+        for pos, prim in enumerate(t.parsed):
+            rec = StepRecord(k, plan_no, t.name, prim.robot, str(prim), True, "ok", {}, float(ex.data.time),
+                             float("nan"), precondition=pre_text)
+            steps.append(rec)
+            self._say(f"{k}: {prim} [{t.name}]")
+            g0 = time.process_time()
+            holds = belief.holds(act.executable)
+            self.guard_cpu += time.process_time() - g0
+            rec.precondition_holds = holds
+            k += 1
+            if not holds:
+                failed = [pretty(c) for c in _conjuncts(act.executable) if not belief.holds(c)]
+                msg = (f"precondition of {t.name} false in the belief state for {t.robot}: {', '.join(failed)}")
+                if self.shield:
+                    rec.ok, rec.executed, rec.message = False, False, f"shield: not executed; {msg}"
+                    raise _Divergence(f"action {rec.index} ({prim}): shield: {msg}")
+                rec.message = f"executed WITHOUT shield although the {msg}"
+
+            def diverge(msg: str, fluents: tuple[str, ...] = (), rec: StepRecord = rec, prim: Action = prim) -> None:
+                rec.ok, rec.message, rec.sim_time = False, msg, float(ex.data.time)
+                raise _Divergence(f"action {rec.index} ({prim}) [{t.name}]: {msg}", fluents)
+
+            try:
+                nxt = _apply(self.world, state, prim)
+            except PlanError as exc:
+                diverge(f"not applicable in the state the robots are in: {exc}")
+            fault = self._fault_for(prim, rec.index, faults)
+            run_act = prim
+            if fault is not None and fault.kind == "misplace":
+                own = len(self.world.stacks[prim.robot])
+                stack = (int(prim.args.get("stack", -1)) + 1) % own if prim.name == "place" else min(
+                    range(own), key=lambda s: state.height("stack", prim.robot, s))
+                run_act = Action(prim.robot, "place", MappingProxyType({"block": prim.args["block"], "stack": stack}))
+                rec.fault = f"misplace: onto {prim.robot}'s stack {stack}"
+            elif fault is not None and fault.kind == "drop-msg":
+                drop_msg = rec.fault = f"drop-msg: the announcement of {t.name} is lost"
+            elif fault is not None and fault.kind == "repaint":
+                repaint = fault
+            try:
+                if prim.name == "sense":
+                    obs = self._observe(ex, prim.robot, act, rec)
+                elif prim.name == "announce":
+                    rec.observed["announced"] = {str(prim.args.get("block")): t.name}
+                else:
+                    ex.execute(run_act, state)
+                if fault is not None and fault.kind == "drop":
+                    src = self.world.position(state.places[prim.args["block"]])
+                    ex.drop(prim.robot, src[2] + 0.015)
+                    rec.fault = "drop: the hand opened just after lift-off"
+            except MotionError as exc:
+                diverge(f"motion failed: {exc}")
+            if fault is not None and fault.kind != "repaint":
+                self.fault_log.append(f"{fault} fired at action {rec.index} ({prim}): {rec.fault}")
+                self.pending.append(str(fault))
+            rec.sim_time = float(ex.data.time)
+            errs = self._errors(ex, nxt, lost, anchors)
+            worst = max(errs, key=errs.get) if errs else None
+            rec.max_block_error = errs[worst] if worst else 0.0
+            if worst is not None and errs[worst] > self.tolerance:
+                loc = nxt.places[worst]
+                what = "is no longer in the hand" if loc.kind == "held" else f"is not at {loc.describe()}"
+                diverge(f"block {worst!r} {what} ({errs[worst] * 100:.2f} cm off; tolerance "
+                        f"{self.tolerance * 100:.1f} cm)")
+            state = nxt
+            if pos + 1 < len(t.parsed):
+                rec.message = rec.message if not holds else f"ok ({prim})"
+                continue
+            # -- the task is done: its event model on the belief state, then the checks --
+            b0 = time.process_time()
+            try:
+                ev = belief.apply(t.name, robot=t.robot, time=rec.sim_time,
+                                  observed=obs if act.kind == "sensing" else None,
+                                  heard=drop_msg is None, force=not self.shield)
+                rec.observed["event"] = ev.chosen
+                rec.observed["learnt"] = list(ev.learnt)
+            except BeliefError as exc:
+                self.belief_cpu += time.process_time() - b0
+                diverge(f"the belief state cannot follow: {exc}")
+            self.belief_cpu += time.process_time() - b0
+            if repaint is not None:
+                self._repaint(ex, prim.robot, rest, rec, repaint)
+            g0 = time.process_time()
+            try:
+                try:
+                    self._check_world(ex, belief, lost, f"after {t.name}")
+                except _Divergence as exc:
+                    if self.shield:
+                        raise
+                    rec.checks["audit"] = f"NOT acted on (--no-shield): {exc}"
+                    self.audit.append((rec.index, str(exc)))
+                else:
+                    rec.checks["world"] = "the world's fluents equal the belief state's actual world"
+                if act.kind == "sensing":
+                    self._check_anchoring(rec.observed.get("seen", {}))
+                    rec.checks["anchoring"] = "every block seen has the colour the plan assumed"
+                if not self.shield and belief.key() != predicted.key():
+                    msg = (f"after {t.name} the belief state is not bisimilar to the plan's prediction: "
+                           + "; ".join(belief.differences(predicted)))
+                    rec.checks["audit"] = (rec.checks.get("audit", "") + f" NOT acted on (--no-shield): {msg}").strip()
+                    self.audit.append((rec.index, msg))
+                if self.shield:
+                    if belief.key() != predicted.key():
+                        diffs = belief.differences(predicted)
+                        raise _Divergence(f"after {t.name} the belief state is not bisimilar to the plan's "
+                                          f"prediction: {'; '.join(diffs) or 'same formulas, other structure'}")
+                    rec.checks["bisimilar"] = "the belief state is bisimilar to the plan's prediction"
+            except _Divergence as exc:
+                self.guard_cpu += time.process_time() - g0
+                diverge(str(exc), exc.fluents)
+            self.guard_cpu += time.process_time() - g0
+            if holds:
+                rec.message = f"ok ({prim})"
+        if not t.parsed:  # a task without primitive actions: only its event model
+            belief.apply(t.name, robot=t.robot, force=not self.shield)
+        return state, k
+
+    def _repaint(self, ex: Executor, robot: str, rest: list, rec: StepRecord, fault: Fault) -> None:
+        """The repaint fault: a block of ``robot`` gets another colour (the block the plan puts on the shared
+        table next, if it is robot's; else robot's first block)."""
+        mine = [b for b in self.world.blocks if self.origin.get(b) == robot]
+        target = next((a.args["block"] for t in rest for a in t.parsed if a.name == "put_on_barrier"
+                       and a.args.get("block") in mine), mine[0] if mine else None)
+        if target is None:
+            return
+        old = self._block_colour(ex, target)
+        pal = list(self.model.colours) + [c for c in ("red", "black", "green", "blue", "yellow", "white")
+                                          if c not in self.model.colours]
+        new = next(c for c in pal if c != old)
+        ex.model.geom_rgba[ex.model.geom(f"block/{target}").id] = rgba_of(new)
+        rec.fault = f"repaint: {target} repainted from {old} to {new} after {robot} sensed it"
+        self.fault_log.append(f"{fault} fired at action {rec.index} ({rec.text}): {rec.fault}")
+        self.pending.append(str(fault))
+
+    def _resense(self, ex: Executor, belief: BeliefState, fluents: tuple[str, ...], steps: list[StepRecord], k: int,
+                 plan_no: int) -> None:
+        """Fluents the check found wrong are forgotten (public "may have changed") and their owners sense."""
+        if not fluents:
+            return
+        occup = [p for p in self.model.task.props if p.startswith("occup_by_")]
+        if any(p in occup for p in fluents):  # the shared table was cleared: everybody sees it is empty
+            belief.forget(sorted(set(fluents) | set(occup)), time=float(ex.data.time))
+            from delkit.formula import Not, Prop, conj
+
+            belief.observe_public(conj([Not(Prop(p)) for p in occup]), time=float(ex.data.time),
+                                  what="both robots see that the shared table is empty")
+        else:
+            belief.forget(fluents, time=float(ex.data.time))
+        for owner in dict.fromkeys(_fluent(p)[1] for p in fluents if p.startswith("hold_")):
+            name = f"sense_table_{owner}"
+            act = self.model.task.action(name)
+            rec = StepRecord(k, plan_no, "re-sense", owner, f"{owner}: sense()", True, "re-sense", {},
+                             float(ex.data.time), float("nan"), precondition=pretty(act.executable),
+                             precondition_holds=belief.holds(act.executable))
+            steps.append(rec)
+            obs = self._observe(ex, owner, act, rec)
+            ev = belief.apply(name, robot=owner, time=float(ex.data.time), observed=obs)
+            rec.observed["event"], rec.observed["learnt"] = ev.chosen, list(ev.learnt)
+            rec.sim_time = float(ex.data.time)
+
+    def _clear_shared(self, ex: Executor, state: SymbolicState, lost: set[str], steps: list[StepRecord], k: int,
+                      plan_no: int) -> SymbolicState:
+        """A block on the shared table whose colour the belief state has wrong: its owner takes it back to
+        its lowest stack (the table is then empty, which both robots see)."""
+        for _lvl, b in reversed(state.on_top("barrier")):
+            r = self.origin.get(b, self.world.robots[0])
+            own = len(self.world.stacks[r])
+            s_ = min(range(own), key=lambda i: state.height("stack", r, i))
+            for act in (Action(r, "take_from_barrier", MappingProxyType({"block": b})),
+                        Action(r, "place", MappingProxyType({"block": b, "stack": s_}))):
+                ex.execute(act, state)
+                state = _apply(self.world, state, act)
+                steps.append(StepRecord(k, plan_no, "recovery", r, str(act), True, "recovery: clear the shared "
+                                        "table (its content is not what the belief state says)", {},
+                                        float(ex.data.time), float("nan")))
+        return self._observe_state(ex, lost)[0]
+
+    def _check_anchoring(self, seen: Mapping[str, str]) -> None:
+        """The colours the cameras saw must be the colours the plan's classical level assumed for them."""
+        bad = [f"{b} looks {c}, the plan assumed {self.plan_colours[b]}" for b, c in seen.items()
+               if b in self.plan_colours and self.plan_colours[b] != c]
+        if bad:
+            raise _Divergence("anchoring: " + "; ".join(bad))
+
+    # -- physical state ----------------------------------------------------------------------------------
     def _observe_state(self, ex: Executor, lost: set[str]) -> tuple[SymbolicState, dict[str, np.ndarray]]:
         """Classical state from the measured block poses: column by nearest slot, level by height order.
         Blocks off every slot or below the table tops are added to ``lost``. Returns the state and the
@@ -326,225 +805,10 @@ class Mission:
                 out[b] = float(np.linalg.norm(actual - self.world.position(loc)))
         return out
 
-    def _goal_status(self, ex: Executor, beliefs: Beliefs, truth: Mapping[str, str], lost: set[str],
-                     ) -> tuple[bool, bool, str]:
-        g, w = self.goal, self.world
-        in_beliefs = in_world = False
-        detail = []
-        for r in w.robots:
-            other = [x for x in w.robots if x != r][0]
-            mine = {b: beliefs.believed(r, b) for b in w.blocks if self.origin.get(b) == other}
-            bel = {c for c in mine.values() if c is not None}
-            true = {c for b, c in mine.items() if c is not None and truth[b] == c}
-            in_beliefs |= len(bel) >= g.distinct
-            in_world |= len(true) >= g.distinct
-            detail.append(f"{r} believes {len(bel)} colour(s) of {other}'s blocks ({len(true)} true)")
-        if g.free_barrier:
-            lay = w.layout
-            bx = lay.barrier_xy()
-            on_shared = [b for b in w.blocks if b not in lost
-                         and np.linalg.norm(ex.block_position(b)[:2] - bx) < 0.09
-                         and ex.block_position(b)[2] > lay.table_z - 0.01]
-            if on_shared:
-                in_world = False
-                detail.append(f"shared table holds {', '.join(on_shared)}")
-        return in_world, in_beliefs, "; ".join(detail)
-
-    # -- the loop --------------------------------------------------------------------------------------
-    def run(self) -> MissionResult:
-        t_wall, t_cpu = time.perf_counter(), time.process_time()
-        prior = _colour_names(self.world)
-        faults = list(self.faults)
-        plans: list[list[dict]] = []
-        planning: list[float] = []
-        if self.first_plan is not None:
-            p0 = parse_plan(self.first_plan, source="plan")
-            if p0.world != self.world:
-                raise ArmsError("the plan's world is not the mission's world")
-            actions = list(p0.actions)
-        else:
-            actions, dt = self._plan(self.world.to_json() | {"colors": dict(prior)}, {})
-            planning.append(dt)
-        plans.append(_plan_summary(actions))
-        true_world = self.world
-        for f in [f for f in faults if f.kind == "swap-colours"]:
-            first = next((a.args.get("block") for a in actions if a.name in ("pick", "announce")
-                          and a.args.get("block")), None)
-            true_world, msg = _swap_colours(self.world, first)
-            self.fault_log.append(msg)
-            faults.remove(f)
-        truth = _colour_names(true_world)
-        ex = Executor(true_world, grasp=self.grasp, tolerance=self.tolerance, record_fps=self.record_fps)
-        beliefs = Beliefs(self.world.robots, self.world.blocks, tuple(sorted(set(prior.values()))))
-        state = initial_state(self.world)
-        lost: set[str] = set()
-        anchors: dict[str, tuple[Location, np.ndarray]] = {}
-        steps: list[StepRecord] = []
-        replans, k, plan_no, reason = 0, 0, 0, ""
-        while True:
-            divergence = ""
-            for pos, act in enumerate(actions):
-                try:
-                    state = self._step(ex, act, pos, state, k, plan_no, prior, beliefs, lost, anchors, faults, steps)
-                except _Divergence as exc:
-                    divergence = str(exc)
-                k += 1
-                if divergence:
-                    break
-            if not divergence:
-                gw, gb, detail = self._goal_status(ex, beliefs, truth, lost)
-                if gw and gb:
-                    reason = f"goal {self.goal.name} holds in the world and in the beliefs ({detail})"
-                    break
-                divergence = f"the plan ended but goal {self.goal.name} does not hold ({detail})"
-            if replans >= self.max_replans:
-                reason = f"gave up after {replans} replans; last divergence: {divergence}"
-                break
-            replans += 1
-            self._say(f"divergence: {divergence}; re-sensing and replanning ({replans})")
-            try:
-                state, anchors = self._recover(ex, state, beliefs, prior, lost, steps, k, plan_no)
-            except (MotionError, PlanError) as exc:
-                reason = f"recovery failed: {exc}"
-                break
-            plan_no += 1
-            try:
-                actions, dt = self._plan(self._world_json(state, prior, lost), beliefs.known())
-            except GoalUnreachable as exc:
-                reason = f"goal {self.goal.name} unreachable from the observed state: {exc}"
-                break
-            planning.append(dt)
-            plans.append(_plan_summary(actions))
-        for f in faults:
-            self.fault_log.append(f"{f}: not fired (no {'pick' if f.kind == 'drop' else 'place'} at or after "
-                                  f"action {f.at})")
-        gw, gb, detail = self._goal_status(ex, beliefs, truth, lost)
-        errs = self._errors(ex, state, lost, {})
-        worst = max(errs.values(), default=0.0)
-        ok_place = worst <= self.tolerance
-        success = gw and gb and ok_place and ex.arm_contacts == 0
-        if success is False and reason.startswith("goal") and "holds" in reason:
-            reason += (f"; but a block is {worst * 100:.2f} cm from its symbolic place" if not ok_place
-                       else f"; but the arms touched ({ex.arm_contacts} contacts)")
-        self.executor = ex
-        return MissionResult(
-            success=success, goal=self.goal.name, reason=reason, goal_in_world=gw, goal_in_beliefs=gb,
-            max_block_error=worst, arm_contacts=ex.arm_contacts, replans=replans, steps=steps, plans=plans,
-            planning_seconds=planning, belief_log=[e.to_json() for e in beliefs.log], beliefs=beliefs.known(),
-            lost=sorted(lost), faults=self.fault_log, sim_seconds=float(ex.data.time),
-            wall_seconds=time.perf_counter() - t_wall, cpu_seconds=time.process_time() - t_cpu, grasp=self.grasp)
-
-    # -- one primitive action --------------------------------------------------------------------------
-    def _fault_for(self, act: Action, k: int, faults: list[Fault]) -> Fault | None:
-        for f in faults:
-            if k >= f.at and ((f.kind == "drop" and act.name in ("pick", "take_from_barrier"))
-                              or (f.kind == "misplace" and act.name in ("place", "put_on_barrier"))):
-                faults.remove(f)
-                return f
-        return None
-
-    def _step(self, ex: Executor, act: Action, pos: int, state: SymbolicState, k: int, plan_no: int,
-              prior: dict[str, str], beliefs: Beliefs, lost: set[str], anchors: dict, faults: list[Fault],
-              steps: list[StepRecord]) -> SymbolicState:
-        task = str(act.args.get("task", pos))
-        rec = StepRecord(k, plan_no, task, act.robot, str(act), True, "ok", {}, 0.0, float("nan"))
-        steps.append(rec)
-        self._say(f"{k}: {act}")
-
-        def diverge(msg: str) -> None:
-            rec.ok, rec.message, rec.sim_time = False, msg, float(ex.data.time)
-            raise _Divergence(f"action {k} ({act}): {msg}")
-
-        try:
-            nxt = _apply(self.world, state, act)
-        except PlanError as exc:
-            diverge(f"not applicable in the state the robots are in: {exc}")
-        fault = self._fault_for(act, k, faults)
-        run_act = act
-        if fault is not None and fault.kind == "misplace":
-            own = len(self.world.stacks[act.robot])
-            stack = (int(act.args.get("stack", -1)) + 1) % own if act.name == "place" else min(
-                range(own), key=lambda s: state.height("stack", act.robot, s))
-            run_act = Action(act.robot, "place", MappingProxyType({"block": act.args["block"], "stack": stack}))
-            rec.fault = f"misplace: onto {act.robot}'s stack {stack}"
-        try:
-            ex.execute(run_act, state)
-            if fault is not None and fault.kind == "drop":
-                src = self.world.position(state.places[act.args["block"]])
-                ex.drop(act.robot, src[2] + 0.015)
-                rec.fault = "drop: the hand opened just after lift-off"
-        except MotionError as exc:
-            diverge(f"motion failed: {exc}")
-        if fault is not None:
-            self.fault_log.append(f"{fault} at action {k} ({act}): {rec.fault}")
-        t = float(ex.data.time)
-        rec.sim_time = t
-        if act.name == "sense":
-            rec.observed = {"seen": {s.block: s.colour for s in ex.sightings if s.block},
-                            "columns": [s.to_json() for s in ex.sightings]}
-            for s in ex.sightings:
-                if s.block is not None:
-                    beliefs.sense(act.robot, s.block, s.colour, t)
-        elif act.name == "announce":
-            b = act.args.get("block")
-            to = act.args.get("to", [r for r in self.world.robots if r != act.robot])
-            to = tuple([to] if isinstance(to, str) else to)
-            said = beliefs.believed(act.robot, b) if b else None
-            if said is None and b in state.places and state.places[b].kind == "barrier":
-                # e-PICO: a robot that has put a block on the shared table can tell its colour: it looks at
-                # it first (line of sight; the block must be the top one there)
-                ex.execute(Action(act.robot, "sense", MappingProxyType({"block": b})), state)
-                for s in ex.sightings:
-                    if s.block is not None:
-                        beliefs.sense(act.robot, s.block, s.colour, float(ex.data.time))
-                rec.observed["seen"] = {s.block: s.colour for s in ex.sightings if s.block}
-                self._check_sightings(ex.sightings, nxt, prior, diverge)
-                said = beliefs.believed(act.robot, b)
-            if said is None:
-                diverge(f"{act.robot} is to announce the colour of {b!r} but does not know it")
-            planned = act.args.get("color", act.args.get("colour"))
-            t = rec.sim_time = float(ex.data.time)
-            beliefs.announce(act.robot, to, b, said, t)
-            rec.observed.update({"announced": {b: said}, "to": list(to)})
-            if planned is not None and planned != said:
-                diverge(f"{act.robot} announced {b} is {said}; the plan expected {planned}")
-        # -- the monitor --
-        errs = self._errors(ex, nxt, lost, anchors)
-        worst = max(errs, key=errs.get) if errs else None
-        rec.max_block_error = errs[worst] if worst else 0.0
-        if worst is not None and errs[worst] > self.tolerance:
-            loc = nxt.places[worst]
-            what = "is no longer in the hand" if loc.kind == "held" else f"is not at {loc.describe()}"
-            diverge(f"block {worst!r} {what} ({errs[worst] * 100:.2f} cm off; tolerance "
-                    f"{self.tolerance * 100:.1f} cm)")
-        if act.name == "sense":
-            self._check_sightings(ex.sightings, nxt, prior, diverge)
-        for r, bel in beliefs.known().items():
-            for b, c in bel.items():
-                if prior.get(b) != c:
-                    diverge(f"{r} believes {b} is {c}, the plan assumes {prior.get(b)}")
-        rec.message = f"ok ({act})"
-        return nxt
-
-    def _check_sightings(self, sightings: list[Sighting], state: SymbolicState, prior: dict[str, str],
-                         diverge: Callable[[str], None]) -> None:
-        for s in sightings:
-            r, _, stack = s.column.partition(" stack ")
-            expect = state.on_top("barrier") if s.column == "shared table" else state.on_top("stack", r, int(stack))
-            if not expect and s.block is None:
-                continue
-            if not expect or s.block is None or expect[-1] != (s.level, s.block):
-                want = f"{expect[-1][1]} at level {expect[-1][0]}" if expect else "nothing"
-                got = f"{s.block} at level {s.level}" if s.block else "nothing"
-                diverge(f"{s.column}: saw {got}, the plan expects {want}")
-            if prior.get(s.block) != s.colour:
-                diverge(f"{s.column}: {s.block} looks {s.colour}, the plan believes it is {prior.get(s.block)}")
-
-    # -- recovery --------------------------------------------------------------------------------------
-    def _recover(self, ex: Executor, state: SymbolicState, beliefs: Beliefs, prior: dict[str, str],
-                 lost: set[str], steps: list[StepRecord], k: int, plan_no: int,
-                 ) -> tuple[SymbolicState, dict]:
-        """Put down held blocks, re-sense every column, rebuild the state and the colour assumptions."""
+    def _recover(self, ex: Executor, state: SymbolicState, lost: set[str], steps: list[StepRecord], k: int,
+                 plan_no: int) -> tuple[SymbolicState, dict]:
+        """Put down held blocks, re-seat blocks resting off their slot, read the block positions (the
+        classical state; beliefs are not touched here)."""
         state, _ = self._observe_state(ex, lost)
         for r in self.world.robots:
             b = state.held_by(r)
@@ -556,18 +820,6 @@ class Mission:
                 steps.append(StepRecord(k, plan_no, "recovery", r, str(act), True, "recovery: put down the held "
                                         "block", {}, float(ex.data.time), float("nan")))
                 state, _ = self._observe_state(ex, lost)
-        travel = ex._travel_z(state)
-        for i, r in enumerate(self.world.robots):
-            sightings = ex.sense_columns(r, ex.columns(r, barrier=(i == 0)), travel)
-            t = float(ex.data.time)
-            for s in sightings:
-                if s.block is not None:
-                    beliefs.sense(r, s.block, s.colour, t)
-            steps.append(StepRecord(k, plan_no, "re-sense", r, f"{r}: sense(all)", True, "re-sense",
-                                    {"seen": {s.block: s.colour for s in sightings if s.block}},
-                                    t, float("nan")))
-        for bel in beliefs.known().values():  # what was observed (now or earlier) replaces the prior
-            prior.update(bel)
         state, anch = self._observe_state(ex, lost)
         for b in sorted(anch):  # re-seat a block resting off its slot, if it is on top of its stack
             loc = state.places[b]
@@ -584,92 +836,6 @@ class Mission:
         if anch:
             state, anch = self._observe_state(ex, lost)
         return state, {b: (state.places[b], p) for b, p in anch.items()}
-
-
-# -- a small planner for e-PICO's goals, for tests and as the fallback without planners/ ----------------
-def simple_replanner(goal: Goal | str, origin: Mapping[str, str]) -> Replan:
-    """A hand-written planner for the α–δ goals (not e-PICO's search; used to test the loop).
-
-    For learner L ∈ (robot1, robot2) and teacher T the other robot: while L believes fewer than
-    ``distinct`` colours of T's original blocks, T uncovers the shallowest block of a colour L does not
-    know yet (moving the blocks above it onto T's lowest other stack), senses that stack, picks the block,
-    puts it on the shared table and announces its colour to L; if the shared table is occupied first, L
-    takes that block to its lowest stack. With ``free_barrier`` L clears the shared table at the end.
-    Raises :class:`GoalUnreachable` if T's table does not hold enough colours.
-    """
-    g = goal_of(goal) if isinstance(goal, str) else goal
-
-    def replan(world_json: dict, known: dict) -> dict:
-        world = World.from_json(world_json)
-        colours = {b: nearest_colour(np.array(world.colors[b])) for b in world.blocks}
-        errors = []
-        for learner in world.robots:
-            teacher = [r for r in world.robots if r != learner][0]
-            try:
-                acts = _plan_for(world, colours, g, learner, teacher, origin, known.get(learner, {}))
-            except GoalUnreachable as exc:
-                errors.append(str(exc))
-                continue
-            return {"format": "delkit.arms.plan/1", "world": world_json, "actions": acts}
-        raise GoalUnreachable("; ".join(errors))
-
-    return replan
-
-
-def _plan_for(world: World, colours: dict, g: Goal, learner: str, teacher: str, origin: Mapping[str, str],
-              known: Mapping[str, str]) -> list[dict]:
-    state = initial_state(world)
-    acts: list[dict] = []
-
-    def do(a: dict) -> None:
-        nonlocal state
-        act = parse_plan({"world": world.to_json(), "actions": [a]}).actions[0]
-        state = _apply(world, state, act)
-        acts.append(a)
-
-    def lowest(robot: str, avoid: int = -1) -> int:
-        own = [s for s in range(len(world.stacks[robot])) if s != avoid]
-        return min(own, key=lambda s: state.height("stack", robot, s))
-
-    def clear_barrier() -> None:
-        for _lvl, b in reversed(state.on_top("barrier")):
-            s = lowest(learner)
-            do({"robot": learner, "action": "take_from_barrier", "args": [b]})
-            do({"robot": learner, "action": "place", "args": [b, _top(state, learner, s), state.height(
-                "stack", learner, s), s]})
-
-    have = {c for b, c in known.items() if origin.get(b) == teacher}
-    need = g.distinct - len(have)
-    while need > 0:
-        cands = []
-        for b, loc in state.places.items():
-            if origin.get(b) == teacher and loc.kind == "stack" and loc.robot == teacher and colours[b] not in have:
-                depth = state.height("stack", teacher, loc.stack) - 1 - loc.level
-                cands.append((depth, loc.stack, b))
-        if not cands:
-            raise GoalUnreachable(f"{teacher}'s table has no block of a colour {learner} does not know yet")
-        _, s, b = min(cands)
-        if state.on_top("barrier"):
-            clear_barrier()
-        for _lvl, over in reversed([x for x in state.on_top("stack", teacher, s) if x[0] > state.places[b].level]):
-            t = lowest(teacher, avoid=s)
-            do({"robot": teacher, "action": "pick", "args": [over, state.below(over), state.places[over].level, s]})
-            do({"robot": teacher, "action": "place", "args": [over, _top(state, teacher, t),
-                                                                state.height("stack", teacher, t), t]})
-        do({"robot": teacher, "action": "sense", "stack": s})
-        do({"robot": teacher, "action": "pick", "args": [b, state.below(b), state.places[b].level, s]})
-        do({"robot": teacher, "action": "put_on_barrier", "args": [b]})
-        do({"robot": teacher, "action": "announce", "args": [b], "to": [learner], "color": colours[b]})
-        have.add(colours[b])
-        need -= 1
-    if g.free_barrier and state.on_top("barrier"):
-        clear_barrier()
-    return acts
-
-
-def _top(state: SymbolicState, robot: str, stack: int) -> str:
-    top = state.on_top("stack", robot, stack)
-    return top[-1][1] if top else "table"
 
 
 def world_from_layout(stacks: Mapping[str, list[list[str]]], colours: Mapping[str, str]) -> World:

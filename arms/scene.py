@@ -142,6 +142,9 @@ class Scene:
     def camera_site(self, robot: str) -> int:
         return int(self.model.site(f"{robot}/camera").id)
 
+    def side_camera_site(self, robot: str, view: str = "low") -> int:
+        return int(self.model.site(f"{robot}/side_camera_{view}").id)
+
     def weld_id(self, robot: str, block: str) -> int:
         return int(self.model.equality(f"{robot}/grasp/{block}").id)
 
@@ -250,12 +253,30 @@ def _add_blocks(spec: mujoco.MjSpec, world: World, robots: tuple[str, ...]) -> N
             eq.solref = [0.004, 1.0]
 
 
+def _add_side_cameras(spec: mujoco.MjSpec, world: World) -> None:
+    """The fixed side cameras of :func:`arms.sensing.look_side`: per robot and viewpoint a site in front of
+    the robot's table, on the line of its middle stack."""
+    from arms.sensing import SIDE_VIEWS
+
+    lay = world.layout
+    for i, robot in enumerate(world.robots):
+        n = len(world.stacks[robot])
+        cy = float(np.mean([lay.stack_xy(i, s, n)[1] for s in range(n)]))
+        for view, (dx, dz) in SIDE_VIEWS.items():
+            spec.worldbody.add_site(name=f"{robot}/side_camera_{view}", pos=[lay.stack_x + dx, cy, lay.table_z + dz],
+                                    size=[0.006, 0.006, 0.006], rgba=[0.1, 0.1, 0.1, 1.0], group=2)
+
+
 def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = None,
-                grasp: str = "friction", cell: bool = True, timestep: float = 0.002) -> Scene:
+                grasp: str = "friction", cell: bool = True, timestep: float = 0.002,
+                occluders: tuple[tuple[float, float, float], ...] = ()) -> Scene:
     """Build and compile the scene for a world description (``world=None``: the two arms alone).
 
     ``cell=False`` leaves out floor, tables and pedestals (the kinematic model the IK uses); ``robots``
-    may name a subset of the world's robots (each keeps its base pose).
+    may name a subset of the world's robots (each keeps its base pose). ``occluders``: (x, y, height) of
+    grey blocks (``block/occluder<k>``, 3 cm deep, 7 cm wide) standing on the table in front of a
+    stack (geom group 0, so the cameras see them; no contacts: they are there for the cameras only) — the
+    occlusion fault of ``arms.mission``.
     """
     if grasp not in ("weld", "friction"):
         raise ArmsError(f"grasp must be 'weld' or 'friction', not {grasp!r}")
@@ -302,6 +323,12 @@ def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = 
             spec.worldbody.add_camera(name=name, pos=list(eye), xyaxes=_look_at(eye, look))
     if world is not None and cell:
         _add_blocks(spec, world, robots)
+        _add_side_cameras(spec, world)
+        for k, (x, y, hgt) in enumerate(occluders):
+            spec.worldbody.add_geom(name=f"block/occluder{k}", type=mujoco.mjtGeom.mjGEOM_BOX,
+                                    pos=[x, y, layout.table_z + hgt / 2.0],
+                                    size=[0.015, 0.035, hgt / 2.0],
+                                    rgba=[0.5, 0.5, 0.5, 1.0], contype=0, conaffinity=0)
     model = spec.compile()
     # home keyframe: arms at HOME_Q with open hands, blocks at their initial places.
     data = mujoco.MjData(model)

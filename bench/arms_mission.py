@@ -1,19 +1,24 @@
-"""Closed-loop e-PICO missions in physics: success rate without and with injected faults, replans used.
+"""Closed-loop e-PICO missions on the planner's own DEL belief state: faults caught, --no-shield, speed.
 
     .venv/bin/python bench/arms_mission.py [--goal alpha] [--colors 1 2 3 4] [--layouts 20]
-        [--faults none drop@0 misplace@0 swap-colours] [--workers 1] [--json FILE] [--results FILE]
-        [--default-layout [--repeat K]] [--ik analytic|mink]
+        [--faults none drop-msg@0 repaint@0 occlusion] [--no-shield-too] [--reading symmetric|owner]
+        [--workers 1] [--json FILE] [--results FILE] [--summarise FILE]
+    .venv/bin/python bench/arms_mission.py --perf [--repeat 3]
 
-For every colour count and layout seed 0 … N−1 (``planners.epico.generate(goal, colors, seed)``: a random
-layout), one mission per fault setting: the e-PICO plan (epistemic + classical) executed on the two
-simulated Pandas with friction grasps, line-of-sight sensing, DEL belief updates, the per-action monitor
-and replanning (``arms.mission``). Success = the goal holds in the simulated world and in the robots'
-beliefs, every block within 1 cm of its symbolic place, no arm–arm contact. Per row: successes, replans
-used (mean / max), planning seconds per plan (mean / max, wall), simulated seconds, CPU seconds of the
-whole mission (scene build, planning, physics, control, sensing) and the real-time factor on the CPU
-clock (simulated s / CPU s) and on the wall clock (the machine is shared: the wall clock includes time
-given to other processes). Inside the timed region: everything from instance generation to the final
-goal check.
+Missions: for every colour count and layout seed 0 … N−1 (``planners.epico.generate(goal, colors, seed,
+symmetric=True)``: a random both-robot layout), one mission per fault: the e-PICO plan executed on the two
+simulated Pandas (friction grasps, side cameras) with the shield before every primitive action and the
+checks after every task, on the planner's DEL state (compact backend), replanning from the belief state.
+Per row: missions, faults fired / caught, successes (goal in the belief state, world = the belief state's
+actual world, blocks within 1 cm, no arm contact), missions in which a step ran with a false precondition
+("unsafe"), missions with a divergence nobody acted on ("audit", only --no-shield), replans, simulated s,
+CPU s of the whole mission and of the task execution (physics, control, sensing, shield, checks, belief
+updates; not the planning or the scene build), the real-time factor sim s / execution CPU s, and the CPU
+share of the shield + checks and of the belief updates in the execution CPU. With ``--no-shield-too`` every
+faulty mission runs again with ``--no-shield``.
+
+``--perf``: the default α/4 mission (the seed's layout generalised), repeated: the same figures, per run.
+All times are CPU (``time.process_time``) of this process; the machine is shared (load average printed).
 """
 
 from __future__ import annotations
@@ -32,7 +37,8 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 
-def one(goal: str, colors: int, seed: int | None, fault: str, ik: str = "analytic") -> dict:
+def one(goal: str, colors: int, seed: int | None, fault: str, shield: bool = True, symmetric: bool = True,
+        ik: str = "analytic") -> dict:
     import arms.executor
     from arms.cli.epico_run import run_mission
     from arms.mission import parse_fault
@@ -40,18 +46,22 @@ def one(goal: str, colors: int, seed: int | None, fault: str, ik: str = "analyti
     arms.executor.DEFAULT_IK = ik  # the executor's per-tick IK (--ik)
 
     faults = () if fault == "none" else (parse_fault(fault),)
-    t0, c0 = time.perf_counter(), time.process_time()
+    base = {"goal": goal, "colors": colors, "seed": seed, "fault": fault, "shield": shield}
+    c0 = time.process_time()
     try:
-        _inst, res, _m = run_mission(goal, colors, seed, faults=faults)
+        _inst, res, _m = run_mission(goal, colors, seed, faults=faults, shield=shield, symmetric=symmetric)
     except Exception as exc:  # a crash is a failed mission, reported with its message
-        return {"goal": goal, "colors": colors, "seed": seed, "fault": fault, "success": False,
-                "reason": f"{type(exc).__name__}: {exc}", "replans": 0, "planning_s": [], "sim_s": 0.0,
-                "cpu_s": time.process_time() - c0, "wall_s": time.perf_counter() - t0, "max_err_m": None,
-                "fault_log": [], "contacts": 0}
-    return {"goal": goal, "colors": colors, "seed": seed, "fault": fault, "success": res.success,
-            "reason": res.reason, "replans": res.replans, "planning_s": res.planning_seconds,
-            "sim_s": res.sim_seconds, "cpu_s": time.process_time() - c0, "wall_s": time.perf_counter() - t0,
-            "max_err_m": res.max_block_error, "fault_log": res.faults, "contacts": res.arm_contacts}
+        return {**base, "success": False, "reason": f"{type(exc).__name__}: {exc}", "replans": 0, "sim_s": 0.0,
+                "cpu_s": time.process_time() - c0, "exec_s": 0.0, "guard_s": 0.0, "belief_s": 0.0, "fired": False,
+                "caught": False, "unsafe": 0, "audit": 0, "fault_log": [], "unfired": []}
+    log = res.faults
+    fired = any(" fired" in x and "never" not in x for x in log)
+    caught = any("caught" in x for x in log) and not any("NOT caught" in x for x in log)
+    return {**base, "success": res.success, "reason": res.reason, "replans": res.replans, "sim_s": res.sim_seconds,
+            "cpu_s": time.process_time() - c0, "exec_s": res.exec_cpu_seconds, "guard_s": res.guard_cpu_seconds,
+            "belief_s": res.belief_cpu_seconds, "fired": fired, "caught": caught, "unsafe": len(res.unsafe_steps),
+            "audit": len(res.audit), "goal_in_beliefs": res.goal_in_beliefs, "goal_in_world": res.goal_in_world,
+            "fault_log": log, "unfired": res.unfired, "planning_s": res.planning_seconds}
 
 
 def _star(args):
@@ -59,27 +69,51 @@ def _star(args):
 
 
 def table(rows: list[dict]) -> str:
-    head = ("| colours | fault | missions | fault fired | success | replans mean / max | planning s per plan "
-            "mean / max | sim s mean | CPU s mean | RTF (sim/CPU) | RTF (sim/wall) |")
-    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|"]
-    keys = sorted({(r["colors"], r["fault"]) for r in rows}, key=lambda k: (k[0], k[1] != "none", k[1]))
-    for c, f in keys:
-        rs = [r for r in rows if r["colors"] == c and r["fault"] == f]
+    head = ("| colours | fault | shield | missions | fired | caught | success | unsafe step | audit | replans mean "
+            "| sim s mean | CPU s mean (mission) | CPU s mean (execution) | RTF sim/exec CPU | shield+checks % | "
+            "belief updates % |")
+    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    keys = sorted({(r["colors"], r["fault"], r["shield"]) for r in rows},
+                  key=lambda k: (k[0], k[1] != "none", k[1], not k[2]))
+    for c, f, sh in keys:
+        rs = [r for r in rows if r["colors"] == c and r["fault"] == f and r["shield"] == sh]
+        n = len(rs)
         ok = sum(r["success"] for r in rs)
-        fired = sum(bool(r["fault_log"]) and not any("nothing swapped" in x or "not fired" in x
-                                                     for x in r["fault_log"]) for r in rs)
-        rep = [r["replans"] for r in rs]
-        plan = [p for r in rs for p in r["planning_s"]]
         sim = sum(r["sim_s"] for r in rs)
-        cpu = sum(r["cpu_s"] for r in rs)
-        wall = sum(r["wall_s"] for r in rs)
-        out.append(f"| {c} | {f} | {len(rs)} | {fired if f != 'none' else '-'} | {ok}/{len(rs)} "
-                   f"({100 * ok / len(rs):.0f} %) | "
-                   f"{sum(rep) / len(rep):.2f} / {max(rep)} | "
-                   f"{(sum(plan) / len(plan)) if plan else float('nan'):.3f} / {max(plan, default=float('nan')):.3f} | "
-                   f"{sim / len(rs):.1f} | {cpu / len(rs):.1f} | {sim / cpu if cpu else 0:.1f} | "
-                   f"{sim / wall if wall else 0:.1f} |")
+        ex = sum(r["exec_s"] for r in rs)
+        out.append(
+            f"| {c} | {f} | {'on' if sh else 'OFF'} | {n} | {sum(r['fired'] for r in rs) if f != 'none' else '-'} | "
+            f"{sum(r['fired'] and r['caught'] for r in rs) if f != 'none' else '-'} | {ok}/{n} | "
+            f"{sum(r['unsafe'] > 0 for r in rs)} | {sum(r['audit'] > 0 for r in rs)} | "
+            f"{sum(r['replans'] for r in rs) / n:.2f} | {sim / n:.1f} | {sum(r['cpu_s'] for r in rs) / n:.2f} | "
+            f"{ex / n:.2f} | {sim / ex if ex else 0:.1f} | "
+            f"{100 * sum(r['guard_s'] for r in rs) / ex if ex else 0:.2f} | "
+            f"{100 * sum(r['belief_s'] for r in rs) / ex if ex else 0:.2f} |")
     return "\n".join(out)
+
+
+def perf(repeat: int, ik: str = "analytic") -> str:
+    import arms.executor
+    from arms.cli.epico_run import run_mission
+
+    arms.executor.DEFAULT_IK = ik
+
+    run_mission("alpha", 1, None, symmetric=True)  # imports, caches
+    lines = ["| run | sim s | CPU s (mission) | CPU s (execution) | RTF sim/mission CPU | RTF sim/exec CPU | "
+             "shield+checks CPU s (% of execution) | belief updates CPU s (%) | planning CPU s |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for i in range(repeat):
+        c0 = time.process_time()
+        _inst, res, _m = run_mission("alpha", 4, None, symmetric=True)
+        cpu = time.process_time() - c0
+        ex = res.exec_cpu_seconds
+        assert res.success, res.reason
+        lines.append(f"| {i} | {res.sim_seconds:.2f} | {cpu:.3f} | {ex:.3f} | {res.sim_seconds / cpu:.1f} | "
+                     f"{res.sim_seconds / ex:.1f} | "
+                     f"{res.guard_cpu_seconds:.4f} ({100 * res.guard_cpu_seconds / ex:.2f} %)"
+                     f" | {res.belief_cpu_seconds:.4f} ({100 * res.belief_cpu_seconds / ex:.2f} %) | "
+                     f"{sum(res.planning_cpu_seconds):.3f} |")
+    return "\n".join(lines)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -88,10 +122,11 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--colors", type=int, nargs="+", default=[1, 2, 3, 4])
     ap.add_argument("--layouts", type=int, default=20)
     ap.add_argument("--first-seed", type=int, default=0)
-    ap.add_argument("--faults", nargs="+", default=["none", "drop@0", "misplace@0", "swap-colours"])
-    ap.add_argument("--default-layout", action="store_true",
-                    help="the seed's default layout (`delkit epico run` without --seed) instead of random ones")
-    ap.add_argument("--repeat", type=int, default=1, help="with --default-layout: run it this many times")
+    ap.add_argument("--faults", nargs="+", default=["none", "drop-msg@0", "repaint@0", "occlusion"])
+    ap.add_argument("--no-shield-too", action="store_true", help="run every faulty mission again with --no-shield")
+    ap.add_argument("--reading", choices=["symmetric", "owner"], default="symmetric")
+    ap.add_argument("--perf", action="store_true", help="the α/4 default mission, --repeat times")
+    ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--ik", choices=("analytic", "mink"), default="analytic",
                     help="the executor's per-tick IK (default analytic; mink: the QP on every tick)")
     ap.add_argument("--workers", type=int, default=1)
@@ -102,15 +137,24 @@ def main(argv: list[str] | None = None) -> int:
     if args.summarise is not None:
         rows = [json.loads(line) for line in args.summarise.read_text().splitlines() if line.strip()]
         fails = [f"- colours {r['colors']}, seed {r['seed']}, {r['fault']}: {r['reason']}"
-                 for r in rows if not r["success"]]
+                 for r in rows if not r["success"] and r["shield"]]
         print(table(rows), "", "Failures:" if fails else "Failures: none", *fails, sep="\n")
         return 0
 
+    if args.perf:
+        load0 = os.getloadavg()[0]
+        text = perf(args.repeat, args.ik)
+        print(text)
+        print(f"load average {load0:.1f} → {os.getloadavg()[0]:.1f}; {platform.machine()}, {os.cpu_count()} cores")
+        return 0
     from delkit.progress import progress
 
     # seed by seed (every colour count and fault for seed 0, then seed 1, ...): a partial run covers all cells
-    seeds = [None] * args.repeat if args.default_layout else range(args.first_seed, args.first_seed + args.layouts)
-    jobs = [(args.goal, c, s, f, args.ik) for s in seeds for c in args.colors for f in args.faults]
+    sym = args.reading == "symmetric"
+    jobs = [(args.goal, c, s, f, sh, sym) for s in range(args.first_seed, args.first_seed + args.layouts)
+            for c in args.colors for f in args.faults
+            for sh in ((True, False) if args.no_shield_too and f != "none" else (True,))]
+    jobs = [(*j, args.ik) for j in jobs]
     rows: list[dict] = []
     load0 = os.getloadavg()[0]
     t0 = time.perf_counter()
@@ -137,14 +181,12 @@ def main(argv: list[str] | None = None) -> int:
     if sink:
         sink.close()
     fails = [f"- colours {r['colors']}, seed {r['seed']}, {r['fault']}: {r['reason']}"
-             for r in rows if not r["success"]]
+             for r in rows if not r["success"] and r["shield"]]
     machine = (f"{platform.machine()}, {os.cpu_count()} cores shared with other jobs, Python "
                f"{platform.python_version()}, load average {load0:.1f} → {os.getloadavg()[0]:.1f}")
     text = "\n".join([
-        f"Goal {args.goal}; layouts: "
-        + (f"the default layout, {args.repeat} run(s)" if args.default_layout else
-           f"seeds {args.first_seed}…{args.first_seed + args.layouts - 1}")
-        + f" per colour count; faults: {', '.join(args.faults)}; friction grasps; per-tick IK: {args.ik}",
+        f"Goal {args.goal}; layouts: seeds {args.first_seed}…{args.first_seed + args.layouts - 1} per colour count; "
+        f"faults: {', '.join(args.faults)}; reading: {args.reading}; friction grasps",
         table(rows), "", "Failures:" if fails else "Failures: none", *fails, "",
         f"machine: {machine}; {len(rows)} missions in {time.perf_counter() - t0:.0f} s wall",
         f"date: {datetime.datetime.now(datetime.UTC).strftime('%Y-%m-%d %H:%M UTC')}",

@@ -345,6 +345,11 @@ class CompactSpace:
                     return None
         return self.engine.refine_update(s, full, fids)
 
+    def event_model_named(self, s: CompactState, name: str) -> EventModel | None:
+        """The event model of the (non-macro) action ``name`` in ``s`` as :meth:`step` applies it; None if
+        its executability fails in ``s`` (the executor of ``arms.mission`` applies it to its belief state)."""
+        return self.event_model(s, self._acts[self._index[name]])
+
     def _macro_model(self, s: CompactState, entry: tuple) -> EventModel | None:
         """The composed event model E₁;…;Eₙ of a macro in ``s`` (None if a step is not applicable).
 

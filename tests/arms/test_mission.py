@@ -1,147 +1,213 @@
-"""The closed loop (arms.mission): friction grasps, line-of-sight sensing, DEL beliefs, monitor, replanning."""
+"""The closed loop on the planner's own DEL belief state (arms.mission + arms.beliefs): shield, per-task checks,
+belief updates by the tasks' event models, faults only beliefs can catch, and --no-shield going wrong."""
 
 from __future__ import annotations
+
+import json
 
 import numpy as np
 import pytest
 
-from arms.beliefs import Beliefs
-from arms.executor import Executor
-from arms.mission import (
-    GOALS,
-    GoalUnreachable,
-    Mission,
-    parse_fault,
-    random_world,
-    simple_replanner,
-    world_from_layout,
-)
-from arms.plan import parse_plan, symbolic_trace
-from arms.world import ArmsError
+pytest.importorskip("planners.hierarchy")
 
-# α with 2 colours: robot2 must tell robot1 the colour of one of its blocks. green (robot2, stack 0)
-# lies under red; the hand-written α-like plan (what e-PICO's pipeline emits for α: sense, pick, put on
-# the shared table, announce) uses the top block.
-STACKS = {"robot1": [["b1"], ["b2", "b3"], []], "robot2": [["g1", "r1"], [], ["g2"]]}
-COLOURS = {"b1": "red", "b2": "green", "b3": "red", "g1": "green", "r1": "red", "g2": "green"}
-ALPHA_PLAN = [
-    {"robot": "robot2", "action": "sense", "stack": 0},
-    {"robot": "robot2", "action": "pick", "args": ["r1", "g1", 1, 0]},
-    {"robot": "robot2", "action": "put_on_barrier", "args": ["r1"]},
-    {"robot": "robot2", "action": "announce", "args": ["r1"], "to": ["robot1"], "color": "red"},
-]
+from arms.beliefs import BeliefError, BeliefState  # noqa: E402
+from arms.cli import epico_run  # noqa: E402
+from arms.mission import parse_fault  # noqa: E402
+from arms.world import ArmsError  # noqa: E402
 
 
-def _origin(world):
-    return {b: r for r in world.robots for st in world.stacks[r] for b in st}
+def _executed_steps_hold(res, m) -> None:
+    """Every executed step's precondition held in the belief state: the run's JSON says so per step, and an
+    independent replay of the belief log (a fresh belief state from the task's initial state, every logged
+    event re-applied; each task's precondition evaluated before it) agrees, and ends in the goal."""
+    obj = res.to_json()
+    json.dumps(obj)
+    for s in obj["steps"]:
+        if s["task"] in ("recovery",):
+            continue
+        assert s["precondition"], s
+        if s["executed"]:
+            assert s["precondition_holds"] is True, s
+    assert obj["unsafe_steps"] == []
+    b = m.model.initial_belief()
+    for e in obj["belief_log"]:
+        if e["kind"] == "forget":
+            b.forget(e["forgot"])
+            continue
+        if e["kind"] == "observation":
+            from delkit.formula import parse
+
+            b.observe_public(parse(e["public"]))
+            continue
+        assert b.holds(m.model.task.action(e["task"]).executable), e
+        b.apply(e["task"], robot=e["robot"], observed=e["observed"], heard=e["heard"])
+    assert b.key() == m.belief.key() and b.holds(m.model.task.goal)
+    executed = [s["task"] for s in obj["steps"] if s["executed"] and s["task"] not in ("recovery", "re-sense")]
+    logged = [e["task"] for e in obj["belief_log"] if e["kind"] not in ("forget", "observation")]
+    assert set(executed) <= set(logged)
 
 
 @pytest.fixture(scope="module")
-def alpha_run():
-    world = world_from_layout(STACKS, COLOURS)
-    plan = {"world": world.to_json(), "actions": ALPHA_PLAN}
-    m = Mission(world, "alpha", simple_replanner("alpha", _origin(world)), plan=plan)
-    return world, m, m.run()
+def alpha2():
+    return epico_run.run_mission("alpha", 2, None, symmetric=True)
 
 
-def test_alpha_two_colours_end_to_end_with_friction_grasps(alpha_run):
-    world, m, res = alpha_run
-    assert res.grasp == "friction"
+def test_alpha_two_colours_acts_on_the_belief_state(alpha2):
+    inst, res, m = alpha2
     assert res.success, res.reason
-    assert res.replans == 0 and res.goal_in_world and res.goal_in_beliefs
-    assert res.arm_contacts == 0 and res.max_block_error < 0.01
-    # independent re-check of the final poses against the plan's symbolic end state
-    final = symbolic_trace(parse_plan({"world": world.to_json(), "actions": ALPHA_PLAN}))[-1]
-    for b, loc in final.places.items():
-        assert np.linalg.norm(m.executor.block_position(b) - world.position(loc)) < 0.01, b
-    assert m.executor.block_position("r1")[1] == pytest.approx(0.0, abs=0.01)  # on the shared table
-    # robot1 learnt red from the announcement only: the belief log has the sensing and the announcement
-    kinds = [(e["kind"], e["robot"], e["block"], e["colour"]) for e in res.belief_log]
-    assert kinds == [("sense", "robot2", "r1", "red"), ("announce", "robot2", "r1", "red")]
-    assert res.beliefs["robot1"] == {"r1": "red"} and res.beliefs["robot2"] == {"r1": "red"}
-    assert res.belief_log[1]["t_sim_s"] > res.belief_log[0]["t_sim_s"] > 0
-    assert res.sim_seconds > 3.0  # the arms moved; nothing was teleported
+    assert res.goal_in_world and res.goal_in_beliefs and res.replans == 0 and res.shield
+    assert res.backend == "compact" and len(inst.owners) == 2
+    _executed_steps_hold(res, m)
+    # the belief state IS the planner's: its task, its space; the goal holds in it
+    assert m.belief.task is m.model.task and m.belief.space is m.model.space
+    assert m.belief.holds(m.model.task.goal)
+    # the log prints formulas of that state; the learner knows the announced colour, which is true
+    learnt = [x for e in res.belief_log for x in e["learnt"]]
+    assert "K_robot1 hold(robot1, red)" in learnt and "K_robot2 hold(robot1, red)" in learnt
+    assert "K_robot2 hold(robot1, red)" in res.beliefs["robot2"]
+    assert inst.layout.has("robot1", "red")
+    # sensing saw the covered red block (under black): the camera sees every block of the stacks
+    sense = next(s for s in res.steps if s.task == "sense_table_robot1")
+    assert sense.observed["seen"].get("red") == "red" and sense.observed["seen"].get("black") == "black"
+    # after every task: the world check and the bisimulation check ran
+    last = [s for s in res.steps if s.checks]
+    assert all("world" in s.checks and "bisimilar" in s.checks for s in last) and len(last) == len(res.plans[0])
+    assert res.arm_contacts == 0 and res.max_block_error < 0.01 and res.sim_seconds > 3.0
 
 
-def test_sensing_cannot_see_a_covered_block():
-    world = world_from_layout(STACKS, COLOURS)
-    ex = Executor(world)
-    seen = ex.sense_columns("robot2", ex.columns("robot2"), 0.25)
-    assert [(s.block, s.level, s.colour) for s in seen] == [("r1", 1, "red"), (None, -1, None), ("g2", 0, "green")]
-    assert "g1" not in {s.block for s in seen}  # g1 is under r1
-    # the colour comes from the rendered geom, not from the world description: repaint r1 and look again
-    ex.model.geom_rgba[ex.model.geom("block/r1").id] = (0.1, 0.3, 0.9, 1.0)
-    again = ex.sense_columns("robot2", ex.columns("robot2", [0]), 0.25)
-    assert again[0].block == "r1" and again[0].colour == "blue"
+def test_the_shield_stops_an_action_whose_precondition_is_false(alpha2):
+    inst, _res, m = alpha2
+    b = m.model.initial_belief()
+    # robot1 has not sensed: K_robot1 hold(robot1, red) is false, so put_on_shared may not run
+    pre = m.model.task.action("put_on_shared_robot1_red").executable
+    assert not b.holds(pre)
+    with pytest.raises(BeliefError, match="precondition"):
+        b.apply("put_on_shared_robot1_red", robot="robot1")
+    # an observation that contradicts the actual world is refused (no silent repair)
+    with pytest.raises(BeliefError, match="contradicts"):
+        b.apply("sense_table_robot1", robot="robot1", observed={"hold_robot1_red": False, "hold_robot1_black": True})
 
 
-def test_sensed_colour_contradicting_the_belief_triggers_a_replan():
-    world = world_from_layout(STACKS, COLOURS)
-    plan = {"world": world.to_json(), "actions": ALPHA_PLAN}  # swap-colours swaps r1 (picked first) and b2
-    calls = []
+def test_both_backends_give_bisimilar_belief_states(alpha2):
+    from delkit.bisim import canonical_form, contract
+    from planners.spaces import make_space
 
-    def replan(world_json, known):
-        calls.append((world_json, known))
-        raise GoalUnreachable("stop here (test)")
-
-    m = Mission(world, "alpha", replan, plan=plan, faults=(parse_fault("swap-colours"),))
-    res = m.run()
-    assert not res.success and res.replans == 1 and "unreachable" in res.reason
-    assert "r1 looks green, the plan believes it is red" in res.steps[0].message
-    # the replan is asked from what was observed: r1 green (swapped), and robot2 knows it
-    world_json, known = calls[0]
-    assert world_json["colors"]["r1"] == "green" and known["robot2"]["r1"] == "green"
-    assert world_json["stacks"] == STACKS
-    assert [s.text for s in res.steps if s.task not in ("re-sense", "recovery")] == ["robot2: sense()"]
-
-
-def test_beliefs_are_del_updates():
-    b = Beliefs(("robot1", "robot2"), ("x",), ("red", "green"))
-    assert b.believed("robot1", "x") is None
-    b.sense("robot2", "x", "green", 1.0)
-    assert (b.believed("robot2", "x"), b.believed("robot1", "x")) == ("green", None)
-    assert b.models["x"].holds("K{robot1} (K{robot2} col_x_green | K{robot2} col_x_red)")  # saw that it looked
-    with pytest.raises(ValueError, match="does not believe"):
-        b.announce("robot1", ("robot2",), "x", "green", 2.0)
-    b.announce("robot2", ("robot1",), "x", "green", 2.0)
-    assert b.believed("robot1", "x") == "green"
+    _inst, _res, m = alpha2
+    task = m.model.task
+    states = []
+    for eng in ("compact", "del"):
+        b = BeliefState(task, make_space(task, engine=eng))
+        b.apply("sense_table_robot1", robot="robot1", observed={"hold_robot1_red": True, "hold_robot1_black": True})
+        b.apply("put_on_shared_robot1_red", robot="robot1")
+        b.apply("announce_block_on_barrier_robot1_red", robot="robot1", heard=False)
+        states.append(b)
+    assert states[0].backend == "compact" and states[1].backend == "numpy"
+    k = [canonical_form(contract(s.kripke()), generated=False) for s in states]
+    assert k[0] == k[1]
+    assert states[0].knowledge() == states[1].knowledge()
+    assert "K_robot2 hold(robot1, red)" not in states[0].knowledge()  # the message was lost
 
 
-def test_simple_replanner_plans_every_goal_symbolically():
-    world = random_world(2, 3)
-    for g in GOALS:
-        obj = simple_replanner(g, _origin(world))(world.to_json(), {})
-        symbolic_trace(parse_plan(obj))  # applicable
-    with pytest.raises(GoalUnreachable):
-        one = random_world(1, 0)
-        simple_replanner("gamma", _origin(one))(one.to_json(), {})
+@pytest.mark.parametrize("fault", ["drop-msg@0", "repaint@0", "occlusion"])
+def test_belief_faults_are_caught_and_repaired(fault):
+    _inst, res, m = epico_run.run_mission("alpha", 2, None, symmetric=True, faults=(parse_fault(fault),))
+    assert res.success, res.reason
+    _executed_steps_hold(res, m)
+    fired = [x for x in res.faults if "fired" in x and "never" not in x]
+    caught = [x for x in res.faults if "caught" in x]
+    assert fired and caught and not res.unfired and not any("NOT caught" in x for x in res.faults), res.faults
+
+
+@pytest.mark.parametrize("fault", ["drop-msg@0", "repaint@0", "occlusion"])
+def test_without_the_shield_the_same_run_goes_wrong(fault):
+    _inst, res, _m = epico_run.run_mission("alpha", 2, None, symmetric=True, faults=(parse_fault(fault),),
+                                           shield=False)
+    assert not res.success
+    # the wrong step: an action executed on a belief the robot does not hold, or a divergence nobody acted on,
+    # or the run ends with the goal false in the belief state
+    assert res.unsafe_steps or res.audit or not res.goal_in_beliefs, res.to_json()
+    assert not res.shield
+
+
+def test_a_fault_whose_step_never_comes_is_reported_never_fired():
+    _inst, res, _m = epico_run.run_mission("alpha", 1, None, symmetric=True,
+                                           faults=(parse_fault("drop@99999999999999999999"),))
+    assert res.unfired == ["drop@99999999999999999999"]
+    assert any("never fired" in x for x in res.faults) and "never fired" in res.reason
 
 
 def test_fault_syntax():
-    assert str(parse_fault("drop@3")) == "drop@3" and parse_fault("swap-colors").kind == "swap-colours"
+    assert str(parse_fault("drop-msg@3")) == "drop-msg@3" and parse_fault("swap-colors").kind == "swap-colours"
+    assert str(parse_fault("occlusion")) == "occlusion" and parse_fault("repaint@0").kind == "repaint"
     with pytest.raises(ArmsError, match="unknown fault"):
         parse_fault("explode@1")
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("fault", ["drop@0", "misplace@0"])
-def test_fault_is_detected_and_the_mission_recovers(fault):
-    world = random_world(2, 0)
-    m = Mission(world, "alpha", simple_replanner("alpha", _origin(world)), faults=(parse_fault(fault),))
-    res = m.run()
+@pytest.mark.parametrize("fault", ["drop@0", "misplace@0", "swap-colours"])
+def test_physical_faults_are_detected_and_repaired(fault):
+    _inst, res, m = epico_run.run_mission("alpha", 2, None, symmetric=True, faults=(parse_fault(fault),))
     assert res.success, res.reason
-    assert res.replans == 1 and res.faults and res.arm_contacts == 0
+    assert res.replans >= 1 and res.arm_contacts == 0 and res.max_block_error < 0.01
+    _executed_steps_hold(res, m)
+    assert np.isfinite(res.sim_seconds)
+
+
+def test_the_shield_stops_a_plan_step_the_robot_has_no_belief_for():
+    """A planner that forgets the sensing task: the shield stops robot1's put_on_shared (robot1 does not
+    know it has a red block), names the failed conjunct, and the loop replans from the belief state."""
+    from arms.mission import Mission
+    from arms.world import World
+    from planners.epico import generate
+
+    inst = generate("alpha", 2, symmetric=True)
+
+    class Forgetful(epico_run.EpicoModel):
+        calls = 0
+
+        def plan(self, belief, world_json):
+            tasks, meta = super().plan(belief, world_json)
+            Forgetful.calls += 1
+            return ([t for t in tasks if not t.name.startswith("sense_table")] if Forgetful.calls == 1 else tasks), meta
+
+    m = Mission(World.from_json(inst.layout.to_world()), inst.goal, Forgetful(inst))
+    res = m.run()
+    first = res.steps[0]
+    assert first.task == "put_on_shared_robot1_red" and not first.executed and first.precondition_holds is False
+    assert "shield" in first.message and "K_robot1 hold(robot1, red)" in first.message and "robot1" in first.message
+    assert res.success and res.replans == 1 and Forgetful.calls == 2, res.reason
+    _executed_steps_hold(res, m)
+
+
+SEEDED = [(c, s, f) for c in (1, 2, 3, 4) for s in range(20) for f in ("drop-msg@0", "repaint@0", "occlusion")]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("colors", "seed", "fault"), SEEDED)
+def test_seeded_belief_faults_are_caught_and_repaired(colors, seed, fault):
+    """20 seeded layouts × 1–4 colours × each belief fault: the fault fires, is caught and repaired; with
+    --no-shield the same mission goes wrong (bench/arms_mission.py --no-shield-too prints the table)."""
+    _inst, res, m = epico_run.run_mission("alpha", colors, seed, symmetric=True, faults=(parse_fault(fault),))
+    assert res.success, res.reason
+    assert not res.unfired and not any("NOT caught" in x for x in res.faults), res.faults
+    assert any("caught" in x for x in res.faults), res.faults
+    _executed_steps_hold(res, m)
+    _inst, bad, _m = epico_run.run_mission("alpha", colors, seed, symmetric=True, faults=(parse_fault(fault),),
+                                           shield=False)
+    assert not bad.success and (bad.unsafe_steps or bad.audit or not bad.goal_in_beliefs)
+
+
+@pytest.mark.slow
+def test_a_wrong_block_on_the_shared_table_is_cleared_and_the_belief_revised(monkeypatch):
+    """swap-colours with the anchoring check off: the wrong block reaches the shared table, the check after
+    put_on_shared names occup_by(robot1, …); the owner takes it back, everybody sees the empty table, and
+    the replan from the belief state succeeds."""
+    from arms import mission
+
+    monkeypatch.setattr(mission.Mission, "_check_anchoring", lambda self, seen: None)
+    _inst, res, m = epico_run.run_mission("alpha", 2, None, symmetric=True, faults=(parse_fault("swap-colours"),))
+    assert res.success and res.replans == 1, res.reason
     bad = [s for s in res.steps if not s.ok]
-    assert len(bad) == 1 and ("no longer in the hand" in bad[0].message or "is not at" in bad[0].message)
-
-
-def test_a_fault_without_a_suitable_action_is_reported_as_not_fired():
-    world = world_from_layout(STACKS, COLOURS)
-    plan = {"world": world.to_json(), "actions": ALPHA_PLAN[:1]}  # only a sense: nothing to drop
-
-    def replan(world_json, known):
-        raise GoalUnreachable("stop here (test)")
-
-    res = Mission(world, "alpha", replan, plan=plan, faults=(parse_fault("drop@0"),), max_replans=0).run()
-    assert not res.success and "gave up" in res.reason and "does not hold" in res.reason
-    assert res.faults == ["drop@0: not fired (no pick at or after action 0)"]
+    assert len(bad) == 1 and "occup_by(robot1, red) is false in the world" in bad[0].message
+    assert [e["kind"] for e in res.belief_log].count("observation") == 1
+    _executed_steps_hold(res, m)
