@@ -6,6 +6,7 @@ Grammar of the text syntax (see :func:`parse`; :func:`show` prints it back so th
     φ ::= p | T | F | ~φ | φ & φ | φ | φ | φ -> φ | φ <-> φ | (φ)
         | K_a φ | B_a φ | Kw_a φ          knowledge / belief (box) of agent a, knowing whether
         | E{a,b} φ | C{a,b} φ | D{a,b} φ  everybody / common / distributed knowledge of a group
+        | Dkw{a,b} φ | Ckw{a,b} φ         distributed / common knowing whether (D_G φ ∨ D_G ¬φ, C_G φ ∨ C_G ¬φ)
         | [!φ] φ                          public announcement  [!φ]ψ
         | [E,e] φ                         update with event e of the event model named E
 
@@ -28,6 +29,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from delkit.events import EventModel
 
 __all__ = [
+    "Dkw", "Ckw",
     "Formula", "Top", "Bot", "Prop", "Not", "And", "Or", "Implies", "Iff", "K", "Kw", "E", "C", "D",
     "Announce", "Update", "TOP", "BOT", "parse", "show", "conj", "disj", "props_of", "agents_of",
     "subformulas", "substitute", "is_propositional", "modal_depth",
@@ -230,6 +232,17 @@ for _cls in (Top, Bot, Prop, Not, And, Or, Implies, Iff, K, Kw, E, C, D, Announc
 
 
 # ----------------------------------------------------------------------------- helpers
+
+
+def Dkw(group: Iterable[str], arg: Formula) -> Formula:  # noqa: N802 - named like the operator (SMCDEL's Dkw)
+    """Distributed knowing whether, ``D_G φ ∨ D_G ¬φ`` (SMCDEL's ``Dkw``): the group's pooled information
+    settles φ. A derived form, so every backend evaluates it; text syntax ``Dkw{a,b} φ``."""
+    return Or((D(group, arg), D(group, Not(arg))))
+
+
+def Ckw(group: Iterable[str], arg: Formula) -> Formula:  # noqa: N802 - named like the operator (SMCDEL's Ckw)
+    """Common knowing whether, ``C_G φ ∨ C_G ¬φ`` (SMCDEL's ``Ckw``); text syntax ``Ckw{a,b} φ``."""
+    return Or((C(group, arg), C(group, Not(arg))))
 
 
 def conj(parts: Iterable[Formula]) -> Formula:
@@ -437,6 +450,7 @@ _GRAMMAR = r"""
       | KBRACE agentname "}" unary  -> kbrace
       | KWBRACE agentname "}" unary -> kwbrace
       | GROUPOP agents "}" unary  -> grp
+      | GROUPWOP agents "}" unary -> grpw
       | "[" "!" iff "]" unary     -> announce
       | "[" NAME "," (NAME | QUOTED) "]" unary -> update
       | atom
@@ -455,6 +469,7 @@ KWOP.4: /Kw_[A-Za-z0-9]+/
 KBRACE.3: /(K|B)\{/
 KWBRACE.4: /Kw\{/
 GROUPOP.3: /[ECD]\{/
+GROUPWOP.4: /(Dkw|Ckw)\{/
 NAME: /[A-Za-z_][A-Za-z0-9_.']*/
 QUOTED: /"([^"\\]|\\.)*"/
 %ignore /[ \t\r\n]+/
@@ -472,6 +487,7 @@ def _parser() -> Any:
 _TOKEN_NAMES = {
     "NOT": "~", "KOP": "K_a", "KWOP": "Kw_a", "KBRACE": "K{agent}", "KWBRACE": "Kw{agent}",
     "GROUPOP": "C{a,b}/E{..}/D{..}", "NAME": "a name", "LPAR": "(", "RPAR": ")", "LSQB": "[",
+    "GROUPWOP": "Dkw{a,b}/Ckw{..}",
     "RSQB": "]", "AMPERSAND": "&", "VBAR": "|", "COMMA": ",", "RBRACE": "}", "BANG": "!",
     "$END": "end of formula", "T": "T", "F": "F", "TRUE": "true", "FALSE": "false",
 }
@@ -563,6 +579,13 @@ class _Build:
                 raise ParseError(f"{op}{{}} needs at least one agent", source=self.source,
                                  line=ch[0].line, column=ch[0].column)
             return {"E": E, "C": C, "D": D}[op](group, self.build(ch[2]))
+        if d == "grpw":
+            op = str(ch[0])[:3]
+            group = [self._agent(a) for a in ch[1].children]
+            if not group:
+                raise ParseError(f"{op}{{}} needs at least one agent", source=self.source,
+                                 line=ch[0].line, column=ch[0].column)
+            return {"Dkw": Dkw, "Ckw": Ckw}[op](group, self.build(ch[2]))
         if d == "announce":
             return Announce(self.build(ch[0]), self.build(ch[1]))
         if d == "update":
