@@ -109,7 +109,7 @@ _CLI = {  # the command line whose own reported "seconds" is read (puzzle_cmd.py
 
 def _spawn(name: str, n: int, cli: bool, timeout: float) -> tuple[float, bool] | None:
     """One fresh process: this script's ``--one`` (the API call) or the ``delkit`` command line; its own
-    reported CPU seconds and whether the answer was right; None when it ran out of ``timeout`` wall seconds."""
+    reported CPU seconds and whether the answer was right; None when it ran out of ``timeout`` CPU seconds."""
     import json
     import subprocess
 
@@ -119,10 +119,21 @@ def _spawn(name: str, n: int, cli: bool, timeout: float) -> tuple[float, bool] |
         cmd = [str(Path(sys.executable).with_name("delkit")), *_CLI[name](n)]
     else:
         cmd = [sys.executable, str(Path(__file__).resolve()), "--one", name, str(n)]
+    import resource
+
+    def limit_cpu() -> None:  # the limit is CPU time (as the figures): a loaded machine stretches wall time
+        resource.setrlimit(resource.RLIMIT_CPU, (int(timeout), int(timeout) + 1))
+
     try:
-        out = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=timeout, check=True).stdout
+        proc = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=20 * timeout,
+                              preexec_fn=limit_cpu)
     except subprocess.TimeoutExpired:
         return None
+    if proc.returncode != 0:  # killed by SIGXCPU/SIGKILL at the CPU limit
+        if proc.returncode < 0 or "CPU" in proc.stderr:
+            return None
+        raise RuntimeError(f"{' '.join(cmd)} failed: {proc.stderr.strip()[-400:]}")
+    out = proc.stdout
     data = json.loads(out.strip().splitlines()[-1])
     if cli:
         ok = {"muddy": lambda d: d["nobody_knows_rounds"] == n - 1 and d["muddy_know_round"] == n,
@@ -169,7 +180,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="one row per process (SMCDEL's protocol): min and median over --repeat processes")
     ap.add_argument("--cli", action="store_true", help="with --fresh-process: run the `delkit puzzle` command "
                     "line and read its own reported seconds")
-    ap.add_argument("--timeout", type=float, default=60.0, help="wall seconds per fresh process (then: '> T s')")
+    ap.add_argument("--timeout", type=float, default=60.0, help="CPU seconds per fresh process (RLIMIT_CPU; "
+                    "then the row says '> T s')")
     ap.add_argument("--one", nargs=2, metavar=("PUZZLE", "N"), help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
 
