@@ -1,7 +1,8 @@
-"""Benchmark: delkit's symbolic (BDD) backend beside SMCDEL's published-on-this-machine figures.
+"""Benchmark: delkit's symbolic (BDD) backend beside SMCDEL's figures measured on this machine (issue 23).
 
-Every delkit figure is in-process CPU time (``time.process_time``, the minimum of ``--repeat`` runs; wall
-time of the same run beside it), imports excluded, with the same timed region as SMCDEL's figures:
+Every delkit figure is in-process CPU time (``time.process_time``), imports and
+:func:`delkit.symbolic.prepare` excluded, BDD manager creation included — the same timed region as
+SMCDEL's (structure + formula + evaluation):
 
 * muddy children, all N muddy, whole puzzle (build the structure, father's announcement, N−1 rounds of
   "nobody knows", the last round), :func:`delkit.symbolic.muddy_symbolic`;
@@ -10,16 +11,23 @@ time of the same run beside it), imports excluded, with the same timed region as
 * dining cryptographers: SMCDEL's benchmark formula on SMCDEL's encoding (complete graph of shared
   bits), validity, :func:`delkit.puzzles.dining.smcdel_dining_check`;
 * Sum and Product: SMCDEL's ``sapSolutions`` formula on SMCDEL's encoding,
-  :func:`delkit.puzzles.sum_product.smcdel_sum_product`, and delkit's own dialogue (Kw of the bits).
+  :func:`delkit.puzzles.sum_product.smcdel_sum_product` (in-process mode: also delkit's own dialogue).
 
-The SMCDEL column is the figure from issue 12 (SMCDEL with CacBDD, measured by the lead on this machine,
-in-process CPU); ``ratio`` = delkit / SMCDEL (below 1: delkit is faster). ``load`` is the machine's
-1-minute load average when the row finished (the box is shared; CPU times grow with the load too). The
-growth lines fit t ∝ N^k by least squares on log-log: over the muddy rows both columns have (N = 40…100,
-SMCDEL's exponent beside), and over all muddy rows measured.
+Protocols: ``--fresh-process`` (the headline; SMCDEL's): one row per process, ``--repeat`` processes per
+row, rows interleaved, min and median; each process limited to ``--timeout`` CPU seconds. With ``--cli`` the
+process is the ``delkit puzzle … --symbolic --json`` command line and the figure is the ``seconds`` it
+reports itself. Without ``--fresh-process``: every row ``--repeat`` times in this process after the rows
+before it (warm), minimum.
 
-    .venv/bin/python bench/symbolic.py                     # all rows, 3 repeats
-    .venv/bin/python bench/symbolic.py --muddy 10,20,40,60,80,100,150,200 --repeat 5
+The SMCDEL column holds issue 23's figures (SMCDEL v1.3.0, CacBDD, built on this machine and run side by
+side with delkit by the lead; in-process CPU); ``ratio`` = delkit / SMCDEL (below 1: delkit is faster).
+``load`` is the machine's 1-minute load average when the row finished. The growth lines fit t ∝ N^k by
+least squares on log-log over N = 100…200 (SMCDEL's exponent beside) and over all muddy rows measured.
+
+    .venv/bin/python bench/symbolic.py --fresh-process --repeat 7 --muddy 10,20,40,60,80,100,150,200
+    .venv/bin/python bench/symbolic.py --fresh-process --cli --repeat 7
+    .venv/bin/python bench/symbolic.py --fresh-process --repeat 1 --muddy 300,400 --drinking "" --dining ""
+    .venv/bin/python bench/symbolic.py --repeat 5                  # in-process repeats
 """
 
 from __future__ import annotations
