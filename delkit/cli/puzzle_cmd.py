@@ -228,6 +228,13 @@ def register(app: typer.Typer) -> None:
         data = solve_what_sum(bound, anne_says, symbolic=symbolic).as_dict() | {"timed": _TIMED}
         _emit(data, as_json, "What Sum")
 
+    @sub.command("door-mat")
+    def door_mat(as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
+        """Door mat: tryTake gets Bob the key, but only after Anne's announcement does he know it will."""
+        from delkit.puzzles.door_mat import solve_door_mat
+
+        _emit(solve_door_mat().as_dict() | {"timed": _TIMED}, as_json, "door mat")
+
     @sub.command("all")
     def all_puzzles(as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Run every puzzle and compare with the literature answers."""

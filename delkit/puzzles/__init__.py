@@ -7,6 +7,7 @@
 * :mod:`~delkit.puzzles.drinking` — three logicians in a bar;
 * :mod:`~delkit.puzzles.dining` — dining cryptographers;
 * :mod:`~delkit.puzzles.gossip` — the gossip problem (2n − 4 calls), with knowledge transformers;
+* :mod:`~delkit.puzzles.door_mat` — the door mat (factual change, knowledge transformers);
 * :mod:`~delkit.puzzles.what_sum` — What Sum (SMCDEL's encoding; see docs/puzzles.md for what is checked).
 
 :data:`CATALOGUE` lists them for ``delkit puzzle --list`` (command, literature answer, backends, source).
@@ -55,6 +56,9 @@ CATALOGUE: list[dict] = [
     {"command": "what-sum", "answer": "(50, 20, 30) survives 'Anne knows: 50' (not singled out at bounds "
      "<= 255)", "backends": ["explicit", "symbolic"], "source": "van Ditmarsch & Kooi 2015, ch. 4; "
      "SMCDEL's WhatSum", "docs": _DOC + "#what-sum"},
+    {"command": "door-mat", "answer": "tryTake gets Bob the key; he knows it will only after Anne announces "
+     "where it is", "backends": ["symbolic", "explicit (via the event model)"], "source": "Gattinger 2018; "
+     "SMCDEL's DoorMat", "docs": _DOC + "#door-mat"},
 ]
 
 
