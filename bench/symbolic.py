@@ -1,7 +1,8 @@
-"""Benchmark: delkit's symbolic (BDD) backend beside SMCDEL's published-on-this-machine figures.
+"""Benchmark: delkit's symbolic (BDD) backend beside SMCDEL's figures measured on this machine (issue 23).
 
-Every delkit figure is in-process CPU time (``time.process_time``, the minimum of ``--repeat`` runs; wall
-time of the same run beside it), imports excluded, with the same timed region as SMCDEL's figures:
+Every delkit figure is in-process CPU time (``time.process_time``), imports and
+:func:`delkit.symbolic.prepare` excluded, BDD manager creation included — the same timed region as
+SMCDEL's (structure + formula + evaluation):
 
 * muddy children, all N muddy, whole puzzle (build the structure, father's announcement, N−1 rounds of
   "nobody knows", the last round), :func:`delkit.symbolic.muddy_symbolic`;
@@ -10,16 +11,23 @@ time of the same run beside it), imports excluded, with the same timed region as
 * dining cryptographers: SMCDEL's benchmark formula on SMCDEL's encoding (complete graph of shared
   bits), validity, :func:`delkit.puzzles.dining.smcdel_dining_check`;
 * Sum and Product: SMCDEL's ``sapSolutions`` formula on SMCDEL's encoding,
-  :func:`delkit.puzzles.sum_product.smcdel_sum_product`, and delkit's own dialogue (Kw of the bits).
+  :func:`delkit.puzzles.sum_product.smcdel_sum_product` (in-process mode: also delkit's own dialogue).
 
-The SMCDEL column is the figure from issue 12 (SMCDEL with CacBDD, measured by the lead on this machine,
-in-process CPU); ``ratio`` = delkit / SMCDEL (below 1: delkit is faster). ``load`` is the machine's
-1-minute load average when the row finished (the box is shared; CPU times grow with the load too). The
-growth lines fit t ∝ N^k by least squares on log-log: over the muddy rows both columns have (N = 40…100,
-SMCDEL's exponent beside), and over all muddy rows measured.
+Protocols: ``--fresh-process`` (the headline; SMCDEL's): one row per process, ``--repeat`` processes per
+row, rows interleaved, min and median; each process limited to ``--timeout`` CPU seconds. With ``--cli`` the
+process is the ``delkit puzzle … --symbolic --json`` command line and the figure is the ``seconds`` it
+reports itself. Without ``--fresh-process``: every row ``--repeat`` times in this process after the rows
+before it (warm), minimum.
 
-    .venv/bin/python bench/symbolic.py                     # all rows, 3 repeats
-    .venv/bin/python bench/symbolic.py --muddy 10,20,40,60,80,100,150,200 --repeat 5
+The SMCDEL column holds issue 23's figures (SMCDEL v1.3.0, CacBDD, built on this machine and run side by
+side with delkit by the lead; in-process CPU); ``ratio`` = delkit / SMCDEL (below 1: delkit is faster).
+``load`` is the machine's 1-minute load average when the row finished. The growth lines fit t ∝ N^k by
+least squares on log-log over N = 100…200 (SMCDEL's exponent beside) and over all muddy rows measured.
+
+    .venv/bin/python bench/symbolic.py --fresh-process --repeat 7 --muddy 10,20,40,60,80,100,150,200
+    .venv/bin/python bench/symbolic.py --fresh-process --cli --repeat 7
+    .venv/bin/python bench/symbolic.py --fresh-process --repeat 1 --muddy 300,400 --drinking "" --dining ""
+    .venv/bin/python bench/symbolic.py --repeat 5                  # in-process repeats
 """
 
 from __future__ import annotations
@@ -42,11 +50,13 @@ from delkit.puzzles.drinking import check_thirsty  # noqa: E402
 from delkit.puzzles.sum_product import smcdel_sum_product, solve_sum_product  # noqa: E402
 from delkit.symbolic import muddy_symbolic  # noqa: E402
 
-SMCDEL = {  # issue 12: SMCDEL (CacBDD), in-process CPU seconds on this machine
-    ("muddy", 40): 0.031, ("muddy", 60): 0.073, ("muddy", 80): 0.16, ("muddy", 100): 0.48,
-    ("drinking", 100): 0.066, ("drinking", 200): 0.26, ("drinking", 400): 1.52,
-    ("dining", 10): 0.012, ("dining", 40): 0.040, ("dining", 80): 0.26,
-    ("sum-product (SMCDEL formula)", 100): 0.9,
+SMCDEL = {  # issue 23: SMCDEL v1.3.0 (CacBDD) built on this machine, run side by side with delkit by the lead,
+    # alternating fresh processes, CPU time in-process (getCPUTime around structure + formula + evaluation)
+    ("muddy", 10): 0.0012, ("muddy", 20): 0.0044, ("muddy", 40): 0.029, ("muddy", 60): 0.113,
+    ("muddy", 80): 0.295, ("muddy", 100): 0.627, ("muddy", 150): 2.56, ("muddy", 200): 6.21,
+    ("drinking", 100): 0.034, ("drinking", 200): 0.169, ("drinking", 400): 0.980,
+    ("dining", 10): 0.0012, ("dining", 40): 0.0236, ("dining", 80): 0.199,
+    ("sum-product (SMCDEL formula)", 100): 0.688,
 }
 
 
@@ -70,25 +80,101 @@ def _fit(points: list[tuple[int, float]]) -> float:
 
 
 def rows(muddy: list[int], drinking: list[int], dining: list[int], repeat: int):
-    def muddy_run(n: int):
+    """In-process rows: every row ``repeat`` times in this process, after the rows before it."""
+    jobs = [("muddy", n) for n in muddy] + [("drinking", n) for n in drinking] + [("dining", n) for n in dining]
+    jobs += [("sum-product (SMCDEL formula)", 100), ("sum-product (delkit dialogue)", 100)]
+    for name, n in jobs:
+        cpu, wall, ok = _best(lambda name=name, n=n: _job(name, n), repeat)
+        yield name, n, cpu, wall, bool(ok), SMCDEL.get((name, n))
+
+
+def _job(name: str, n: int):
+    """The timed call of one row: returns (CPU seconds, right answer)."""
+    if name == "muddy":
         r = muddy_symbolic(n, n)
         return r.seconds, r.nobody_knows_rounds == n - 1 and r.muddy_know_round == n
-
-    def sap_own():
-        r = solve_sum_product(100, symbolic=True)
-        return r.seconds, r.solutions == ((4, 13),)
-
-    def sap_smcdel():
-        pairs, sec = smcdel_sum_product(100)
+    if name == "drinking":
+        ok, sec = check_thirsty(n)
+        return sec, ok
+    if name == "dining":
+        ok, sec = smcdel_dining_check(n)
+        return sec, ok
+    if name == "sum-product (SMCDEL formula)":
+        pairs, sec = smcdel_sum_product(n)
         return sec, pairs == [(4, 13)]
+    r = solve_sum_product(n, symbolic=True)
+    return r.seconds, r.solutions == ((4, 13),)
 
-    jobs = [("muddy", n, lambda n=n: muddy_run(n)) for n in muddy]
-    jobs += [("drinking", n, lambda n=n: check_thirsty(n)[::-1]) for n in drinking]
-    jobs += [("dining", n, lambda n=n: smcdel_dining_check(n)[::-1]) for n in dining]
-    jobs += [("sum-product (SMCDEL formula)", 100, sap_smcdel), ("sum-product (delkit dialogue)", 100, sap_own)]
-    for name, n, run in jobs:
-        cpu, wall, ok = _best(run, repeat)
-        yield name, n, cpu, wall, bool(ok), SMCDEL.get((name, n))
+
+_CLI = {  # the command line whose own reported "seconds" is read (puzzle_cmd.py)
+    "muddy": lambda n: ["puzzle", "muddy", "-n", str(n), "-m", str(n), "--symbolic", "--json"],
+    "drinking": lambda n: ["puzzle", "drinking", "--n", str(n), "--symbolic", "--formula", "--json"],
+    "dining": lambda n: ["puzzle", "dining", "--n", str(n), "--symbolic", "--smcdel", "--json"],
+    "sum-product (SMCDEL formula)": lambda n: ["puzzle", "sum-product", "--limit", str(n), "--symbolic",
+                                               "--smcdel", "--json"],
+}
+
+
+def _spawn(name: str, n: int, cli: bool, timeout: float) -> tuple[float, bool] | None:
+    """One fresh process: this script's ``--one`` (the API call) or the ``delkit`` command line; its own
+    reported CPU seconds and whether the answer was right; None when it ran out of ``timeout`` CPU seconds."""
+    import json
+    import subprocess
+
+    root = Path(__file__).resolve().parents[1]
+    env = dict(os.environ, PYTHONPATH=str(root) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+    if cli:
+        cmd = [str(Path(sys.executable).with_name("delkit")), *_CLI[name](n)]
+    else:
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--one", name, str(n)]
+    import resource
+
+    def limit_cpu() -> None:  # the limit is CPU time (as the figures): a loaded machine stretches wall time
+        resource.setrlimit(resource.RLIMIT_CPU, (int(timeout), int(timeout) + 1))
+
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=20 * timeout,
+                              preexec_fn=limit_cpu)
+    except subprocess.TimeoutExpired:
+        return None
+    if proc.returncode != 0:  # killed by SIGXCPU/SIGKILL at the CPU limit
+        if proc.returncode < 0 or "CPU" in proc.stderr:
+            return None
+        raise RuntimeError(f"{' '.join(cmd)} failed: {proc.stderr.strip()[-400:]}")
+    out = proc.stdout
+    data = json.loads(out.strip().splitlines()[-1])
+    if cli:
+        ok = {"muddy": lambda d: d["nobody_knows_rounds"] == n - 1 and d["muddy_know_round"] == n,
+              "drinking": lambda d: d["holds"], "dining": lambda d: d["valid"],
+              "sum-product (SMCDEL formula)": lambda d: d["solutions"] == [[4, 13]]}[name](data)
+        return data["seconds"], bool(ok)
+    return data["cpu"], data["ok"]
+
+
+def fresh_rows(jobs: list[tuple[str, int]], repeat: int, cli: bool, timeout: float):
+    """Every row in ``repeat`` fresh processes, the rows interleaved (round r runs every row once), so
+    that a change in the machine's load touches all rows alike. Yields name, N, min, median, ok, load."""
+    import statistics
+
+    times: dict[tuple[str, int], list[float]] = {j: [] for j in jobs}
+    oks: dict[tuple[str, int], bool] = dict.fromkeys(jobs, True)
+    dead: set[tuple[str, int]] = set()
+    loads: dict[tuple[str, int], float] = {}
+    for _ in range(repeat):
+        for job in jobs:
+            if job in dead:
+                continue
+            got = _spawn(*job, cli=cli, timeout=timeout)
+            loads[job] = os.getloadavg()[0]
+            if got is None:
+                dead.add(job)
+                continue
+            times[job].append(got[0])
+            oks[job] = oks[job] and got[1]
+    for job in jobs:
+        ts = times[job]
+        yield (*job, min(ts) if ts else None, statistics.median(ts) if ts else None, oks[job] and bool(ts),
+               len(ts), loads.get(job, 0.0))
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -98,40 +184,95 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--dining", default="10,40,80")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--markdown", action="store_true", help="print a Markdown table instead")
+    ap.add_argument("--fresh-process", action="store_true",
+                    help="one row per process (SMCDEL's protocol): min and median over --repeat processes")
+    ap.add_argument("--cli", action="store_true", help="with --fresh-process: run the `delkit puzzle` command "
+                    "line and read its own reported seconds")
+    ap.add_argument("--timeout", type=float, default=60.0, help="CPU seconds per fresh process (RLIMIT_CPU; "
+                    "then the row says '> T s')")
+    ap.add_argument("--one", nargs=2, metavar=("PUZZLE", "N"), help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+
+    if args.one:
+        import json
+
+        cpu, ok = _job(args.one[0], int(args.one[1]))
+        print(json.dumps({"cpu": cpu, "ok": bool(ok)}))
+        return 0
 
     def ints(text: str) -> list[int]:
         return [int(x) for x in text.split(",") if x]
 
+    if args.fresh_process:
+        return _main_fresh(args, ints)
+    return _main_inprocess(args, ints)
+
+
+def _main_fresh(args, ints) -> int:
+    jobs = [("muddy", n) for n in ints(args.muddy)] + [("drinking", n) for n in ints(args.drinking)]
+    jobs += [("dining", n) for n in ints(args.dining)] + [("sum-product (SMCDEL formula)", 100)]
+    where = "the CLI's own reported seconds" if args.cli else "the API call"
+    cols = ("puzzle", "N", "right answer", "delkit CPU s (min)", "delkit CPU s (median)", "SMCDEL CPU s",
+            "ratio (min)", "ratio (median)", "processes", "load")
+    md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
+    table = Table(title=f"delkit symbolic vs SMCDEL: fresh process per run, {where} (CPU seconds)")
+    for col in cols:
+        table.add_column(col, justify="right")
+    mine: list[tuple[int, float]] = []
+    for name, n, lo, med, ok, count, load in fresh_rows(jobs, args.repeat, args.cli, args.timeout):
+        ref = SMCDEL.get((name, n))
+        if lo is None:
+            cells = (name, str(n), "—", f"> {args.timeout:.0f} s", "—", f"{ref:.4g}" if ref else "—", "—", "—",
+                     "0", f"{load:.1f}")
+        else:
+            cells = (name, str(n), "yes" if ok else "NO", f"{lo:.4f}", f"{med:.4f}", f"{ref:.4g}" if ref else "—",
+                     f"{lo / ref:.2f}" if ref else "—", f"{med / ref:.2f}" if ref else "—", str(count),
+                     f"{load:.1f}")
+            if name == "muddy":
+                mine.append((n, lo))
+        table.add_row(*cells)
+        md.append("| " + " | ".join(cells) + " |")
+    if args.markdown:
+        print("\n".join(md))
+    else:
+        Console().print(table)
+    _growth(mine)
+    return 0
+
+
+def _growth(mine: list[tuple[int, float]]) -> None:
+    """Least-squares exponents of t ∝ N^k on log-log: over N = 100…200 (delkit beside SMCDEL's) and over all
+    muddy rows measured."""
+    big = [(n, t) for n, t in mine if 100 <= n <= 200 and ("muddy", n) in SMCDEL]
+    if len(big) >= 2:
+        ref = [(n, SMCDEL[("muddy", n)]) for n, _ in big]
+        print(f"muddy growth on N = {', '.join(str(n) for n, _ in big)}: delkit N^{_fit(big):.2f}, "
+              f"SMCDEL N^{_fit(ref):.2f}")
+    if len(mine) >= 2:
+        print(f"muddy growth on N = {', '.join(str(n) for n, _ in mine)}: delkit N^{_fit(mine):.2f}")
+
+
+def _main_inprocess(args, ints) -> int:
     muddy_symbolic(3, 3)  # warm up
     table = Table(title="delkit symbolic vs SMCDEL (in-process CPU seconds; min of repeats)")
     cols = ("puzzle", "N", "right answer", "delkit CPU s", "delkit wall s", "SMCDEL CPU s", "ratio", "load")
     for col in cols:
         table.add_column(col, justify="right")
     md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
-    mine: list[tuple[int, float]] = []
     every: list[tuple[int, float]] = []
     for name, n, cpu, wall, ok, ref in rows(ints(args.muddy), ints(args.drinking), ints(args.dining), args.repeat):
         ratio = f"{cpu / ref:.2f}" if ref else "—"
         cells = (name, str(n), "yes" if ok else "NO", f"{cpu:.4f}", f"{wall:.4f}",
-                 f"{ref:.3f}" if ref else "—", ratio, f"{os.getloadavg()[0]:.1f}")
+                 f"{ref:.4g}" if ref else "—", ratio, f"{os.getloadavg()[0]:.1f}")
         table.add_row(*cells)
         md.append("| " + " | ".join(cells) + " |")
         if name == "muddy":
             every.append((n, cpu))
-            if ref:
-                mine.append((n, cpu))
-    console = Console()
     if args.markdown:
         print("\n".join(md))
     else:
-        console.print(table)
-    if len(mine) >= 2:
-        ref_pts = [(n, SMCDEL[("muddy", n)]) for n, _ in mine]
-        print(f"muddy growth on N = {', '.join(str(n) for n, _ in mine)}: delkit N^{_fit(mine):.2f}, "
-              f"SMCDEL N^{_fit(ref_pts):.2f}")
-    if len(every) > len(mine) and len(every) >= 2:
-        print(f"muddy growth on N = {', '.join(str(n) for n, _ in every)}: delkit N^{_fit(every):.2f}")
+        Console().print(table)
+    _growth(every)
     return 0
 
 

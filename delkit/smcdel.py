@@ -14,7 +14,8 @@ A file gives a knowledge structure and a list of queries (SMCDEL's ``exec/smcdel
 Formulas: ``Top Bot``, numbers, ``~ φ`` (also ``Not``/``not``/``¬``), ``φ & ψ``, ``φ | ψ``, ``φ -> ψ``,
 ``φ iff ψ``, ``AND(φ,…)``, ``OR(φ,…)``, ``XOR(φ,…)`` (odd parity), ``ONEOF(φ,…)`` (exactly one),
 ``K a φ`` / ``a knows that φ``, ``Kw a φ`` / ``a knows whether φ``, ``a,b comknow that φ`` /
-``(a,b) comknow whether φ``, public announcements ``[! φ] ψ``, announce-whether ``[?! φ] ψ``, their
+``(a,b) comknow whether φ``, ``a,b distknow that φ`` / ``(a,b) distknow whether φ``, public
+announcements ``[! φ] ψ``, announce-whether ``[?! φ] ψ``, their
 duals ``<! φ> ψ`` and ``<?! φ> ψ``, group announcements ``[a,b ! φ] ψ`` / ``[a,b ?! φ] ψ`` (a and b learn
 φ / whether φ, the others learn that they did), Boolean quantifiers ``Forall 1,2 φ`` / ``Exists 1 φ``
 (on Boolean φ). Unary operators bind tighter than ``&``/``|``, which bind tighter than ``->``/``iff``.
@@ -51,6 +52,8 @@ from delkit.formula import (
     TOP,
     Announce,
     C,
+    D,
+    Dkw,
     Formula,
     Iff,
     Implies,
@@ -95,6 +98,10 @@ names: NAME ("," NAME)*
       | names "comknow" "whether" unary -> ckw
       | "(" names ")" "comknow" "that" unary    -> ck
       | "(" names ")" "comknow" "whether" unary -> ckw
+      | names "distknow" "that" unary   -> dk
+      | names "distknow" "whether" unary -> dkw
+      | "(" names ")" "distknow" "that" unary    -> dk
+      | "(" names ")" "distknow" "whether" unary -> dkw
       | "[" "!" form "]" unary             -> pub
       | "[" "?" "!" form "]" unary         -> pubw
       | "<" "!" form ">" unary             -> dpub
@@ -331,6 +338,9 @@ class _Build:
         if d in ("ck", "ckw"):
             group, arg = self._names(ch[0]), self.form(ch[1])
             return C(group, arg) if d == "ck" else disj([C(group, arg), C(group, Not(arg))])
+        if d in ("dk", "dkw"):
+            group, arg = self._names(ch[0]), self.form(ch[1])
+            return D(group, arg) if d == "dk" else Dkw(group, arg)
         if d in ("pub", "pubw", "dpub", "dpubw"):
             what, arg = self.form(ch[0]), self.form(ch[1])
             dual = d.startswith("d")

@@ -46,6 +46,7 @@ import numpy as np
 
 from delkit.errors import ModelError, UnknownSymbolError
 from delkit.formula import (
+    BOT,
     TOP,
     And,
     Announce,
@@ -63,7 +64,6 @@ from delkit.formula import (
     Prop,
     Top,
     Update,
-    children,
     conj,
     disj,
     parse,
@@ -72,6 +72,7 @@ from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
 __all__ = ["KnowledgeStructure", "Transformer", "from_kripke", "transformer_from_event_model", "new_manager",
+           "prepare", "declare", "form_of",
            "event_model_from_transformer",
            "muddy_symbolic", "SymbolicMuddyResult"]
 
@@ -83,19 +84,18 @@ def new_manager(*, reordering: bool = False) -> Any:
     which they are declared (the vocabulary order), which keeps runs deterministic and, on the puzzles,
     is several times faster than CUDD's sifting (muddy children N = 80: 1.4 s vs 12 s).
 
-    Creating dd's default manager costs 5-15 ms of CPU (a third of the whole muddy-children puzzle at
-    N = 40, most of it at N = 10): its computed table starts at 2^18 entries, and CUDD's start-up work grows
-    with the memory estimate (dd passes 1 GiB). Here the table starts at 2^16 entries (CUDD grows it when
-    its hit rate is high; the cache lookups of muddy children N = 100 differ by 4 %) and the estimate is
-    256 MiB. The estimate is no limit: past it CUDD only collects garbage more eagerly. Creation: < 1 ms.
+    Creating dd's default manager costs 5-15 ms of CPU (most of the muddy-children puzzle at N = 10): its
+    computed table starts at 2^18 entries and CUDD zeroes a "death row" (for delayed dereferencing, which
+    dd never uses) in proportion to the memory estimate (dd passes 1 GiB; CUDD's start-up is ~4.5 ms per
+    GiB, page faults mostly). Here the table starts at 2^14 entries (CUDD grows it while its hit rate is
+    high) and the estimate is 80 MiB (see ``_MEMORY_ESTIMATE``): creation ≈ 0.4 ms. The estimate is no
+    limit: past 90 % of it CUDD only collects garbage more eagerly.
 
-    The unique table grows fast (doubling, collecting garbage rarely) only up to 50,000 slots instead of
-    the ~6.7 M dd's estimate gives; beyond that CUDD collects dead nodes before it grows the table. Dead
-    nodes pile up quickly in the puzzles (every round's intermediate conjunctions die), and a table of
-    mostly dead nodes spoils the CPU caches: muddy children N = 100 peaked at 496 k nodes in a 178 k-slot
-    table, now 229 k nodes in 71 k slots for 1 % more computed-table lookups (N = 80: 245 k → 135 k nodes;
-    with a 100,000-slot bound N = 150 had 15 % fewer last-level cache misses in valgrind's cache model);
-    measured side by side: N = 80 0.156 → 0.124 s, N = 100 0.38 → 0.30 s, N = 150 2.35 → 1.55 s."""
+    The unique table grows fast (doubling, collecting garbage rarely) only up to 50,000 slots; beyond that
+    CUDD collects dead nodes before it grows the table. Dead nodes pile up quickly in the puzzles (every
+    round's intermediate conjunctions die), and a table of mostly dead nodes spoils the CPU caches: muddy
+    children N = 100 peaked at 496 k nodes in a 178 k-slot table, 229 k nodes in 71 k slots with the bound
+    (bench/RESULTS-symbolic.md)."""
     import dd.cudd
 
     mgr = dd.cudd.BDD(memory_estimate=_MEMORY_ESTIMATE, initial_cache_size=_INITIAL_CACHE)
@@ -103,9 +103,48 @@ def new_manager(*, reordering: bool = False) -> Any:
     return mgr
 
 
-_INITIAL_CACHE = 1 << 16
-_MEMORY_ESTIMATE = 1 << 28
+_INITIAL_CACHE = 1 << 14  # computed-table entries at start; CUDD grows the table while its hit rate is high
+# CUDD zeroes a "death row" of 2^⌊log2(estimate / 640)⌋ pointers at start-up (dd never uses it) and garbage
+# collects eagerly once its nodes exceed 90 % of the estimate: 80 MiB − 1 keeps the row at 2^16 entries
+# (512 KiB) and muddy children N = 200 (≈ 60 MiB of nodes) clear of the eager collection.
+_MEMORY_ESTIMATE = 80 * (1 << 20) - 1
 _LOOSE_UP_TO = 50_000  # unique-table slots
+
+_PREPARED: list[bool] = []
+
+
+def prepare() -> None:
+    """Load the BDD library and settle the interpreter before a timed region (imports excluded).
+
+    Imports ``dd.cudd`` (with networkx, ~0.1 s: it was inside the CLI's timer) and runs one full garbage
+    collection the first time only: until CPython's collector has done a full pass it has no count of the
+    long-lived objects, and its first automatic full pass — over every object the imports made, 10–25 ms —
+    lands in whatever runs next (SMCDEL's dining cryptographers at n = 40: 35 ms instead of 14 ms)."""
+    if _PREPARED:
+        return
+    import gc
+
+    import dd.cudd  # noqa: F401
+
+    gc.collect()
+    _PREPARED.append(True)
+
+
+def declare(mgr: Any, names: Sequence[str]) -> None:
+    """Declare ``names`` (new ones, in this order, after the manager's existing variables).
+
+    CUDD grows its variable arrays by 10 entries per new variable index, copying them each time (quadratic:
+    SMCDEL's dining cryptographers at n = 80 declare 3,241 variables, 16–57 ms); declaring the last index
+    first creates every subtable in one resize, and the others then take their indices in order, so the
+    levels are still the declaration order."""
+    new = [v for v in dict.fromkeys(names) if v not in mgr.vars]
+    if not new:
+        return
+    base = len(mgr.vars)
+    mgr.add_var(new[-1], base + len(new) - 1)
+    add = mgr.add_var
+    for j, v in enumerate(new[:-1], base):
+        add(v, j)
 
 
 def _fresh(prefix: str, taken: set[str]) -> str:
@@ -191,7 +230,7 @@ class KnowledgeStructure:
                 raise UnknownSymbolError(f"agent {a!r} observes {bad}, not in the vocabulary {list(voc)}")
         mgr = bdd if bdd is not None else new_manager()
         if voc:
-            mgr.declare(*voc)
+            declare(mgr, voc)
         bare = KnowledgeStructure(mgr, voc, mgr.true, obs, mgr.true)
         law_node = bare._propositional(law)
         act = law_node if actual is None else law_node & bare._propositional(actual)
@@ -249,15 +288,15 @@ class KnowledgeStructure:
         then the rule of the formula's kind."""
         if kind is str:
             return self.evaluate(parse(formula))
-        props = self._props
-        hit = props.get(formula) if kind is Prop or kind in _BOOLEAN else None
-        if hit is None:
+        if kind is Prop or kind in _BOOLEAN:
+            hit = self._props.get(formula.name if kind is Prop else formula)
+            if hit is None:
+                hit = _boolean(self, formula)
+        else:
             rule = _DISPATCH.get(kind)
             if rule is None:
                 raise TypeError(f"cannot evaluate {formula!r}")
             hit = rule(self, formula)
-            if kind is Prop or (kind in _BOOLEAN and _children_propositional(formula, props)):
-                props[formula] = hit  # propositional: the same BDD in every structure on this manager
         self._cache[formula] = hit
         return hit
 
@@ -286,7 +325,7 @@ class KnowledgeStructure:
             if a not in self.observed:
                 raise UnknownSymbolError(f"unknown agent {a!r}; the structure has {list(self.observed)}")
             seen.update(self.observed[a])
-        out = hidden[key] = frozenset(v for v in self.vocabulary if v not in seen)
+        out = hidden[key] = frozenset(self.vocabulary).difference(seen)
         return out
 
     def _box(self, agents: tuple[str, ...], u: Any) -> Any:
@@ -373,11 +412,11 @@ class KnowledgeStructure:
         if unknown:
             raise UnknownSymbolError(f"transformer changes {unknown}, not in the vocabulary {list(self.vocabulary)}")
         if x.vocabulary:
-            b.declare(*x.vocabulary)
+            declare(b, x.vocabulary)
         taken = set(b.vars)
         copies = {q: _fresh(f"{q}'", taken) for q in x.changes}
         if copies:
-            b.declare(*copies.values())
+            declare(b, list(copies.values()))
         to_copy = {q: b.var(c) for q, c in copies.items()}
 
         def shift(u: Any) -> Any:
@@ -405,6 +444,75 @@ class KnowledgeStructure:
             subst[q] = self.evaluate(f.model.post[event].get(q, Prop(q)))
         return ~pre | b.let(subst, psi)
 
+    # ------------------------------------------------------------------ toolbox (SMCDEL's optimize, formOf)
+    def form_of(self, node: Any = None) -> Formula:
+        """A formula over the vocabulary whose truth set is ``node`` (default: the state law), see
+        :func:`form_of`; SMCDEL's ``formOf``."""
+        return form_of(self.bdd, self.law if node is None else node)
+
+    def generated(self) -> KnowledgeStructure:
+        """The substructure generated by the actual states: θ' = the states reachable from them along
+        the agents' indistinguishability (least fixpoint of X ∨ ⋁_a (θ ∧ ∃(V∖O_a) X)). Bisimilar to this
+        structure at every actual state (a generated submodel)."""
+        x = self.actual & self.law
+        while True:
+            nxt = x
+            for a in self.observed:
+                hidden = self._unobserved((a,))
+                if hidden:
+                    nxt = nxt | (self.law & self.bdd.apply("\\E", self._cube(hidden), x))
+            if nxt == x:
+                break
+            x = nxt
+        return KnowledgeStructure(self.bdd, self.vocabulary, x, self.observed, self.actual & x)
+
+    def minimise(self, keep: Iterable[str] = ()) -> KnowledgeStructure:
+        """SMCDEL's ``optimize``: drop the variables outside ``keep`` that θ determines (θ ⊨ p or θ ⊨ ¬p:
+        p is replaced by its constant) or makes equivalent to another variable (θ ⊨ p ↔ q or p ↔ ¬q: p
+        is replaced by that literal, and an agent observing p observes q instead — on the states they are
+        the same observation). The result has the same states up to the dropped variables and is
+        bisimilar to this structure (state by state, through the dropped variables' values)."""
+        b = self.bdd
+        keep_set = set(keep)
+        law, actual = self.law, self.actual
+        voc = list(self.vocabulary)
+        observed = {a: list(v) for a, v in self.observed.items()}
+        changed = True
+        while changed:
+            changed = False
+            for p in list(voc):
+                if p in keep_set:
+                    continue
+                x = b.var(p)
+                sub: Any = None
+                if (law & ~x) == b.false:
+                    sub = b.true
+                elif (law & x) == b.false:
+                    sub = b.false
+                else:
+                    for q in voc:
+                        if q == p:
+                            continue
+                        y = b.var(q)
+                        if (law & b.apply("xor", x, y)) == b.false:
+                            sub = y
+                        elif (law & ~b.apply("xor", x, y)) == b.false:
+                            sub = ~y
+                        if sub is not None:
+                            break
+                if sub is None:
+                    continue
+                law = b.let({p: sub}, law)
+                actual = b.let({p: sub}, actual)
+                voc.remove(p)
+                for vs in observed.values():
+                    if p in vs:
+                        vs.remove(p)
+                        if sub.var is not None and sub.var not in vs:  # p ↔ ±q: observing p = observing q
+                            vs.append(sub.var)
+                changed = True
+        return KnowledgeStructure(b, tuple(voc), law, {a: tuple(v) for a, v in observed.items()}, actual)
+
     # ------------------------------------------------------------------ translation back
     def to_kripke(self, props: Sequence[str] | None = None) -> KripkeModel:
         """The explicit S5 model: one world per state; i relates states agreeing on O_i.
@@ -428,28 +536,9 @@ class KnowledgeStructure:
         return KripkeModel(keep, self.agents, val, rels, des)
 
 
-def _ev_prop(ks: KnowledgeStructure, f: Prop) -> Any:
-    b = ks.bdd
-    if f.name not in b.vars:
-        raise UnknownSymbolError(f"unknown proposition {f.name!r}; the vocabulary is {list(ks.vocabulary)}")
-    return b.var(f.name)
-
-
-def _fold(ks: KnowledgeStructure, args: tuple[Formula, ...], unit: Any, op: Any) -> Any:
-    """Fold ``op`` over the truth sets of ``args``, deepest top variable first: a BDD grows upwards in
-    O(1) per new root variable, whereas combining with a variable below the root rebuilds every node
-    above it (80 parities of 80 variables out of 3,241: 18x faster bottom-up)."""
-    ev = ks.evaluate
-    if len(args) <= 2:
-        out = unit
-        for a in args:
-            out = op(out, ev(a))
-        return out
-    # negations are not cached (evaluate): complement the argument's truth set here, one lookup less
-    return _fold_bdds([~ev(a.arg) if type(a) is Not and type(a.arg) is not Iff else ev(a) for a in args], op)
-
-
 def _fold_bdds(parts: list[Any], op: Any) -> Any:
+    if len(parts) <= 2:  # no order to choose (reading a node's level is a Python-level call per node)
+        return parts[0] if len(parts) == 1 else op(parts[0], parts[1])
     parts.sort(key=_level, reverse=True)
     out = parts[0]
     for u in parts[1:]:
@@ -458,14 +547,6 @@ def _fold_bdds(parts: list[Any], op: Any) -> Any:
 
 
 _level = operator.attrgetter("level")
-
-
-def _ev_and(ks: KnowledgeStructure, f: And) -> Any:
-    return _fold(ks, f.args, ks.bdd.true, operator.and_)
-
-
-def _ev_or(ks: KnowledgeStructure, f: Or) -> Any:
-    return _fold(ks, f.args, ks.bdd.false, operator.or_)
 
 
 def _is_literal(f: Formula) -> bool:
@@ -502,24 +583,6 @@ def _ev_knows_whether(ks: KnowledgeStructure, f: Kw) -> Any:
     if lit:
         return ks._knows_whether_literal(f.agent, *lit)
     return ks._knows_whether(f.agent, ks.evaluate(f.arg))
-
-
-def _ev_xor(ks: KnowledgeStructure, iff: Iff) -> Any:
-    """``¬(a ↔ b)`` = a ⊕ b. A nest of such exclusive ors (an n-ary XOR written with binary ones, as
-    SMCDEL's dining cryptographers' ``XOR`` of revealed bits) is flattened and folded bottom-up (XOR is
-    associative and commutative), instead of one rebuild of the whole parity per operand."""
-    leaves, stack = [], [iff.left, iff.right]
-    while stack:
-        g = stack.pop()
-        if type(g) is Not and type(g.arg) is Iff:
-            stack += (g.arg.left, g.arg.right)
-        else:
-            leaves.append(ks.evaluate(g))
-    leaves.sort(key=_level, reverse=True)
-    apply, out = ks.bdd.apply, leaves[0]
-    for u in leaves[1:]:
-        out = apply("xor", out, u)
-    return out
 
 
 def _ev_every(ks: KnowledgeStructure, f: E) -> Any:
@@ -562,28 +625,114 @@ def _ev_announce(ks: KnowledgeStructure, f: Announce) -> Any:
 _BOOLEAN = frozenset((Top, Bot, Not, And, Or, Implies, Iff))
 
 
+def _xor_leaves(f: Not) -> list[Formula]:
+    """The operands of a nest of exclusive ors ``¬(a ↔ b)`` (an n-ary XOR written with binary ones)."""
+    leaves, stack = [], [f.arg.right, f.arg.left]
+    while stack:
+        g = stack.pop()
+        if type(g) is Not and type(g.arg) is Iff:
+            stack += (g.arg.right, g.arg.left)
+        else:
+            leaves.append(g)
+    return leaves
+
+
+def _boolean(ks: KnowledgeStructure, root: Formula) -> Any:
+    """``||φ||`` for a formula whose top is a proposition or a Boolean connective, in one iterative pass
+    over its Boolean skeleton (the evaluator's per-node dispatch, cache probes and fold set-up cost several
+    microseconds of Python per node: most of a small puzzle).
+
+    Shared subformulas are computed once (memo by identity); modal subformulas go through
+    :meth:`KnowledgeStructure.evaluate` (cached per structure); propositional subformulas are looked up in
+    and stored into the manager-wide propositional cache (their truth sets do not depend on θ; negations
+    are not stored, ``~u`` is free). n-ary ∧/∨ fold deepest top variable first, nested ⊕ are flattened
+    (XOR is associative and commutative) and folded the same way."""
+    props, b, ev = ks._props, ks.bdd, ks.evaluate
+    if type(root) is Prop:
+        return _var(ks, root.name)
+    memo: dict[int, tuple[Any, bool]] = {}  # id ↦ (truth set, propositional)
+    stack = [root]
+    while stack:
+        f = stack[-1]
+        kind = type(f)
+        if kind is Not:
+            kids = _xor_leaves(f) if type(f.arg) is Iff else (f.arg,)
+        elif kind is And or kind is Or:
+            kids = f.args
+        elif kind is Implies or kind is Iff:
+            kids = (f.left, f.right)
+        else:  # ⊤, ⊥
+            kids = ()
+        parts, plain, todo = [], True, False
+        for c in kids:
+            kc = type(c)
+            negate = False
+            if kc is Not and type(c.arg) is not Iff:
+                c, kc, negate = c.arg, type(c.arg), True
+            if kc is Prop:
+                u = props.get(c.name)
+                if u is None:
+                    u = _var(ks, c.name)
+            elif kc not in _BOOLEAN:  # a modal subformula
+                u, plain = ev(c), False
+            else:
+                hit = memo.get(id(c))
+                if hit is None:
+                    u = props.get(c) if kc is not Not else None
+                    if u is None:
+                        stack.append(c)
+                        todo = True
+                        continue
+                else:
+                    u, ok = hit
+                    plain = plain and ok
+            parts.append(~u if negate else u)
+        if todo:
+            continue
+        stack.pop()
+        if kind is Not:
+            if len(parts) == 1:
+                u = ~parts[0]
+            else:
+                parts.sort(key=_level, reverse=True)
+                u = parts[0]
+                for v in parts[1:]:
+                    u = b.apply("xor", u, v)
+        elif kind is And:
+            u = _fold_bdds(parts, operator.and_) if parts else b.true
+        elif kind is Or:
+            u = _fold_bdds(parts, operator.or_) if parts else b.false
+        elif kind is Implies:
+            u = ~parts[0] | parts[1]
+        elif kind is Iff:
+            u = b.apply("<=>", parts[0], parts[1])
+        else:
+            u = b.true if kind is Top else b.false
+        memo[id(f)] = (u, plain)
+        if plain and kind is not Not:
+            props[f] = u  # propositional: the same BDD in every structure on this manager
+    return memo[id(root)][0]
+
+
+def _var(ks: KnowledgeStructure, name: str) -> Any:
+    """The BDD variable ``name``, kept in the propositional cache by name (a str hashes in C; fresh Prop
+    objects would hash in Python)."""
+    b = ks.bdd
+    if name not in b.vars:
+        raise UnknownSymbolError(f"unknown proposition {name!r}; the vocabulary is {list(ks.vocabulary)}")
+    u = ks._props[name] = b.var(name)
+    return u
+
+
 def _in_props(f: Formula, props: dict) -> bool:
-    """Whether the truth set of ``f`` is in the propositional cache (negations are looked up by argument)."""
+    """Whether the truth set of ``f`` is in the propositional cache (negations are looked up by argument,
+    propositions by name)."""
     while type(f) is Not and type(f.arg) is not Iff:
         f = f.arg
-    return f in props
+    return (f.name in props) if type(f) is Prop else (f in props)
 
 
-def _children_propositional(f: Formula, props: dict) -> bool:
-    """Whether every immediate subformula of the Boolean formula ``f`` has its truth set in ``props``
-    (negations are not cached, see :meth:`KnowledgeStructure.evaluate`: their argument is looked up)."""
-    return all(_in_props(c, props) for c in children(f))   # ⊤, ⊥: no children
-
-
-_DISPATCH: dict[type, Any] = {
-    Prop: _ev_prop,
-    Top: lambda ks, f: ks.bdd.true,
-    Bot: lambda ks, f: ks.bdd.false,
-    Not: lambda ks, f: _ev_xor(ks, f.arg) if type(f.arg) is Iff else ~ks.evaluate(f.arg),
-    And: _ev_and,
-    Or: _ev_or,
-    Implies: lambda ks, f: ~ks.evaluate(f.left) | ks.evaluate(f.right),
-    Iff: lambda ks, f: ks.bdd.apply("<=>", ks.evaluate(f.left), ks.evaluate(f.right)),
+_DISPATCH: dict[type, Any] = {  # modal kinds; propositions and Boolean connectives: _boolean
     K: lambda ks, f: _ev_knows(ks, f),
     Kw: _ev_knows_whether,
     E: _ev_every,
@@ -592,6 +741,48 @@ _DISPATCH: dict[type, Any] = {
     Announce: _ev_announce,
     Update: lambda ks, f: ks._eval_update(f),
 }
+
+
+def form_of(bdd: Any, node: Any) -> Formula:
+    """A formula whose truth set is the BDD ``node`` (SMCDEL's ``formOf``), read off the diagram top-down
+    with the usual simplifications: a node ``x ? h : l`` becomes ``x`` / ``¬x`` for constant children,
+    ``x ∨ l``, ``¬x ∨ h``, ``x ∧ h``, ``¬x ∧ l`` when one child is constant, ``x ↔ h`` when ``l = ¬h``, and
+    ``(x ∧ h) ∨ (¬x ∧ l)`` otherwise; shared sub-diagrams give shared (identical) subformulas. The size is
+    the diagram's when printed as a DAG, not minimal as a DNF would be."""
+    memo: dict[Any, Formula] = {}
+    true, false = bdd.true, bdd.false
+
+    def rec(u: Any) -> Formula:
+        if u == true:
+            return TOP
+        if u == false:
+            return BOT
+        hit = memo.get(u)
+        if hit is not None:
+            return hit
+        v = u.var
+        lo, hi = bdd.let({v: False}, u), bdd.let({v: True}, u)
+        x = Prop(v)
+        if hi == true and lo == false:
+            out: Formula = x
+        elif hi == false and lo == true:
+            out = Not(x)
+        elif hi == true:
+            out = disj([x, rec(lo)])
+        elif lo == true:
+            out = disj([Not(x), rec(hi)])
+        elif hi == false:
+            out = conj([Not(x), rec(lo)])
+        elif lo == false:
+            out = conj([x, rec(hi)])
+        elif lo == ~hi:
+            out = Iff(x, rec(hi))
+        else:
+            out = disj([conj([x, rec(hi)]), conj([Not(x), rec(lo)])])
+        memo[u] = out
+        return out
+
+    return rec(node)
 
 
 def from_kripke(model: KripkeModel, *, bdd: Any = None) -> tuple[KnowledgeStructure, list[dict[str, bool]]]:
@@ -616,7 +807,7 @@ def from_kripke(model: KripkeModel, *, bdd: Any = None) -> tuple[KnowledgeStruct
         observed[a] = names
         columns.append(bits)
     full = np.concatenate(columns, axis=1)
-    mgr.declare(*voc)
+    declare(mgr, voc)
     states = [dict(zip(voc, (bool(x) for x in row), strict=True)) for row in full]
     cubes = [mgr.cube(s) for s in states]
     law = mgr.false
@@ -697,9 +888,9 @@ def muddy_symbolic(children: int, muddy: int, *, max_rounds: int | None = None) 
     :func:`delkit.puzzles.muddy.solve_muddy` (father's ⋁ m_i, then rounds of truthful ±Kw_i m_i)."""
     if children < 1 or not 1 <= muddy <= children:
         raise ModelError(f"muddy children: need 1 <= muddy <= children, got children={children}, muddy={muddy}")
-    import dd.cudd  # noqa: F401 - imported before the clock starts
-
     from delkit.puzzles.muddy import at_least_one, run_rounds
+
+    prepare()  # imports and the interpreter's first full garbage collection before the clock starts
 
     t0, w0 = time.process_time(), time.perf_counter()
     props = [f"m{i}" for i in range(children)]
@@ -722,7 +913,7 @@ def event_model_from_transformer(x: Transformer, structure: KnowledgeStructure, 
     the events satisfying ``designated``. ``product_update(M, E')`` is then bisimilar to ``M × X``.
     """
     from delkit.events import EventModel
-    from delkit.formula import BOT, is_propositional, substitute
+    from delkit.formula import is_propositional, substitute
 
     for f in (x.law, x.designated, *x.changes.values()):
         if not is_propositional(f):

@@ -39,6 +39,31 @@ def register(app: typer.Typer) -> None:
     sub = typer.Typer(help="Epistemic puzzles solved with DEL (literature answers).", no_args_is_help=True)
     app.add_typer(sub, name="puzzle")
 
+    @sub.callback(invoke_without_command=True)
+    def puzzles(ctx: typer.Context,
+                list_: bool = typer.Option(False, "--list", help="list the puzzles, their answers and sources"),
+                as_json: bool = typer.Option(False, "--json", help="with --list: print one JSON object")) -> None:
+        """Epistemic puzzles solved with DEL (literature answers)."""
+        if not list_:
+            return
+        from delkit.puzzles import CATALOGUE
+
+        if as_json:
+            typer.echo(json.dumps({"puzzles": CATALOGUE}))
+        else:
+            from rich.console import Console
+            from rich.markup import escape
+            from rich.table import Table
+
+            table = Table(title="delkit puzzle …")
+            for col in ("command", "answer (literature)", "backends", "source", "docs"):
+                table.add_column(col)
+            for row in CATALOGUE:
+                table.add_row(escape(row["command"]), escape(row["answer"]), escape(", ".join(row["backends"])),
+                              escape(row["source"]), escape(row["docs"]))
+            Console().print(table)
+        raise typer.Exit(0)
+
     @sub.command("muddy")
     def muddy(children: int = typer.Option(3, "--children", "-n", help="number of children N"),
               muddy: int = typer.Option(2, "--muddy", "-m", help="number of muddy children M (1..N)"),
@@ -173,6 +198,42 @@ def register(app: typer.Typer) -> None:
             data = solve_dining(n, None if payer < 0 else payer, coins, symbolic=symbolic).as_dict()
         data["timed"] = _TIMED.replace("knowledge structure", "model" if not symbolic else "knowledge structure")
         _emit(data, as_json, "dining cryptographers")
+
+    @sub.command("gossip")
+    def gossip(n: int = typer.Option(4, "--n", help="number of agents (2..4; 4 takes ~20 s CPU)"),
+               as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
+        """Gossip: the least number of calls making everyone an expert (2n-4 for n >= 4); symbolic."""
+        from delkit.errors import ModelError
+        from delkit.puzzles.gossip import solve_gossip
+
+        if not 2 <= n <= 4:
+            raise ModelError(f"puzzle gossip: --n must be 2..4 (the search is a depth-first search over call "
+                             f"sequences), got {n}")
+        data = solve_gossip(n).as_dict() | {"timed": _TIMED.replace("running the protocol",
+                                                                    "searching the call sequences")}
+        _emit(data, as_json, f"gossip, {n} agents")
+
+    @sub.command("what-sum")
+    def what_sum(bound: int = typer.Option(50, "--bound", help="numbers 1..BOUND"),
+                 anne_says: int = typer.Option(50, "--anne-says", help="the number Anne finally announces"),
+                 symbolic: bool = typer.Option(True, "--symbolic/--explicit", help="BDD backend or explicit model"),
+                 as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
+        """What Sum: three "I don't know my number"s, then Anne knows hers."""
+        from delkit.errors import ModelError
+        from delkit.puzzles.what_sum import solve_what_sum
+
+        if not 3 <= bound <= 255 or not 1 <= anne_says <= bound:
+            raise ModelError(f"puzzle what-sum: need 3 <= --bound <= 255 and 1 <= --anne-says <= --bound, got "
+                             f"--bound {bound} --anne-says {anne_says}")
+        data = solve_what_sum(bound, anne_says, symbolic=symbolic).as_dict() | {"timed": _TIMED}
+        _emit(data, as_json, "What Sum")
+
+    @sub.command("door-mat")
+    def door_mat(as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
+        """Door mat: tryTake gets Bob the key, but only after Anne's announcement does he know it will."""
+        from delkit.puzzles.door_mat import solve_door_mat
+
+        _emit(solve_door_mat().as_dict() | {"timed": _TIMED}, as_json, "door mat")
 
     @sub.command("all")
     def all_puzzles(as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:

@@ -5,7 +5,12 @@
 * :mod:`~delkit.puzzles.cheryl` — Cheryl's birthday (July 16);
 * :mod:`~delkit.puzzles.russian_cards` — Russian cards (102 safe announcements of 5–7 hands);
 * :mod:`~delkit.puzzles.drinking` — three logicians in a bar;
-* :mod:`~delkit.puzzles.dining` — dining cryptographers.
+* :mod:`~delkit.puzzles.dining` — dining cryptographers;
+* :mod:`~delkit.puzzles.gossip` — the gossip problem (2n − 4 calls), with knowledge transformers;
+* :mod:`~delkit.puzzles.door_mat` — the door mat (factual change, knowledge transformers);
+* :mod:`~delkit.puzzles.what_sum` — What Sum (SMCDEL's encoding; see docs/puzzles.md for what is checked).
+
+:data:`CATALOGUE` lists them for ``delkit puzzle --list`` (command, literature answer, backends, source).
 
 :func:`summary_table` runs them all (a few seconds) for ``delkit demo``.
 """
@@ -25,7 +30,35 @@ __all__ = [
     "CherylResult", "DiningResult", "DrinkingResult", "MuddyResult", "RussianCardsResult", "SumProductResult",
     "cheryl_model", "dining_model", "drinking_model", "muddy_model", "russian_cards_model", "solve_cheryl",
     "solve_dining", "solve_drinking", "solve_muddy", "solve_russian_cards", "solve_sum_product",
-    "summary_table", "sum_product_model",
+    "summary_table", "sum_product_model", "CATALOGUE",
+]
+
+_DOC = "docs/puzzles.md"
+CATALOGUE: list[dict] = [
+    {"command": "muddy", "answer": "M-1 rounds of 'nobody knows', then the muddy children know",
+     "backends": ["explicit", "symbolic"], "source": "Fagin, Halpern, Moses, Vardi 1995, sec. 1.1",
+     "docs": _DOC + "#muddy-children"},
+    {"command": "sum-product", "answer": "(x, y) = (4, 13)", "backends": ["explicit", "symbolic"],
+     "source": "Freudenthal 1969; van Ditmarsch, Ruan, Verbrugge 2008", "docs": _DOC + "#sum-and-product"},
+    {"command": "cheryl", "answer": "July 16", "backends": ["explicit"], "source": "Singapore and Asian Schools "
+     "Math Olympiad 2015", "docs": _DOC + "#cheryls-birthday"},
+    {"command": "russian-cards", "answer": "102 safe announcements of 5-7 hands", "backends": ["explicit"],
+     "source": "van Ditmarsch 2003", "docs": _DOC + "#russian-cards"},
+    {"command": "drinking", "answer": "'I don't know' n-1 times, then 'yes' (all want)",
+     "backends": ["explicit", "symbolic"], "source": "the three-logicians cartoon; SMCDEL's DrinkLogic",
+     "docs": _DOC + "#drinking-logicians"},
+    {"command": "dining", "answer": "whether someone paid becomes common knowledge, not who",
+     "backends": ["explicit", "symbolic"], "source": "Chaum 1988; van Eijck & Orzan 2007",
+     "docs": _DOC + "#dining-cryptographers"},
+    {"command": "gossip", "answer": "least calls making all experts: 1, 3, 4 for n = 2, 3, 4 (2n-4, n >= 4)",
+     "backends": ["symbolic"], "source": "Tijdeman 1971; Baker & Shostak 1972; SMCDEL's GossipS5",
+     "docs": _DOC + "#gossip"},
+    {"command": "what-sum", "answer": "(50, 20, 30) survives 'Anne knows: 50' (not singled out at bounds "
+     "<= 255)", "backends": ["explicit", "symbolic"], "source": "van Ditmarsch & Kooi 2015, ch. 4; "
+     "SMCDEL's WhatSum", "docs": _DOC + "#what-sum"},
+    {"command": "door-mat", "answer": "tryTake gets Bob the key; he knows it will only after Anne announces "
+     "where it is", "backends": ["symbolic", "explicit (via the event model)"], "source": "Gattinger 2018; "
+     "SMCDEL's DoorMat", "docs": _DOC + "#door-mat"},
 ]
 
 

@@ -252,3 +252,101 @@ def test_cli_bad_input_exits_2(capsys) -> None:
     assert main(["puzzle", "muddy", "--children", "3", "--muddy", "4", "--json"]) == 2
     assert "--muddy" in capsys.readouterr().err
     assert main(["puzzle", "drinking", "--wants", "12"]) == 2
+
+
+# ----------------------------------------------------------------------------- gossip, What Sum (issue 23)
+
+def test_gossip_four_calls_make_four_experts() -> None:
+    """Literature (Tijdeman 1971; Baker & Shostak 1972): 2n − 4 = 4 calls suffice for n = 4 (01, 23, 02, 13);
+    the first three of them do not."""
+    from delkit.puzzles.gossip import after_calls, all_experts
+
+    assert after_calls(4, [(0, 1), (2, 3), (0, 2), (1, 3)]).holds(all_experts(4))
+    assert not after_calls(4, [(0, 1), (2, 3), (0, 2)]).holds(all_experts(4))
+    assert not after_calls(4, [(0, 1), (0, 2), (0, 3), (0, 1)]).holds(all_experts(4))  # a star needs 5
+
+
+def test_gossip_calls_are_private_to_the_callers() -> None:
+    """After the call 01, agent 0 knows it has 1's secret; agent 2 knows that some call happened but not
+    which one (SMCDEL's GossipS5 observations)."""
+    from delkit.formula import disj
+    from delkit.puzzles.gossip import after_calls
+
+    ks = after_calls(4, [(0, 1)])
+    assert ks.holds(K("0", Prop("h_0_1"))) and ks.holds(K("1", Prop("h_1_0")))
+    assert ks.holds(Not(K("2", Prop("h_0_1")))) and ks.holds(Not(K("2", Not(Prop("h_0_1")))))
+    some_call = disj(Prop(f"h_{i}_{j}") for i in range(4) for j in range(4) if i != j)
+    assert ks.holds(K("2", some_call))
+
+
+def test_gossip_least_calls_small() -> None:
+    from delkit.puzzles.gossip import solve_gossip
+
+    assert [len(solve_gossip(n).calls) for n in (2, 3)] == [1, 3]
+
+
+@pytest.mark.slow
+def test_gossip_least_calls_four_agents() -> None:
+    """2n − 4 = 4 for n = 4, and every shorter sequence fails (the search checks them all)."""
+    from delkit.puzzles.gossip import solve_gossip
+
+    r = solve_gossip(4)
+    assert len(r.calls) == 4 and r.shorter_fail
+
+
+def test_what_sum_backends_agree_with_smcdel_count() -> None:
+    """SMCDEL's encoding with numbers up to 50: 330 states survive the three "I don't know"s (the figure
+    SMCDEL's test suite checks), on both backends, the first (1, 3, 2)."""
+    from delkit.puzzles.what_sum import solve_what_sum
+
+    sym, exp = solve_what_sum(50), solve_what_sum(50, symbolic=False)
+    assert sym.states == exp.states == 330
+    assert sym.solutions == exp.solutions
+
+
+@pytest.mark.slow
+def test_what_sum_literature_state_survives() -> None:
+    """van Ditmarsch & Kooi's answer (50, 20, 30): after the three "I don't know"s Anne knows her number 50
+    there (at bound 200; at bound ≤ 150 the model's edge removes it, and the bounded model keeps other
+    triples too — docs/puzzles.md)."""
+    from delkit.puzzles.what_sum import solve_what_sum
+
+    assert (50, 20, 30) in solve_what_sum(200).solutions
+
+
+def test_cli_puzzle_list_and_new_puzzles(capsys) -> None:
+    data = _json(capsys, ["puzzle", "--list", "--json"])
+    assert {"gossip", "what-sum", "muddy", "dining"} <= {p["command"] for p in data["puzzles"]}
+    assert _json(capsys, ["puzzle", "gossip", "--n", "3", "--json"])["minimum_calls"] == 3
+    assert _json(capsys, ["puzzle", "what-sum", "--bound", "50", "--json"])["states_after_three_dont_knows"] == 330
+    assert main(["puzzle", "gossip", "--n", "9"]) == 2
+
+
+def test_door_mat_literature_claims() -> None:
+    """SMCDEL's DoorMat (Gattinger 2018): tryTake gets Bob the key but Bob does not know beforehand that it
+    will; after Anne announces that the key is under the mat he does, and the two-step plan works."""
+    from delkit.puzzles.door_mat import solve_door_mat
+
+    r = solve_door_mat()
+    assert r.goal_after_try and not r.bob_knows_beforehand
+    assert r.bob_knows_after_announcement and r.goal_after_announcement_and_try and r.bob_knows_goal_after_try
+
+
+def test_door_mat_explicit_equals_symbolic() -> None:
+    """The transformer read back as an event model: the explicit product update gives the same answers."""
+    from delkit.bisim import bisimilar
+    from delkit.puzzles.door_mat import door_mat_start, try_take
+    from delkit.symbolic import event_model_from_transformer
+    from delkit.update import product_update
+
+    start, x = door_mat_start(), try_take("1")
+    explicit = product_update(start.to_kripke(), event_model_from_transformer(x, start))
+    symbolic = start.transform(x)
+    for f in ("bob_has", "K_bob bob_has", "K_anne bob_has", "K_anne K_bob bob_has | K_anne ~K_bob bob_has"):
+        assert explicit.holds(f) == symbolic.holds(f)
+    assert bisimilar(explicit, symbolic.to_kripke(props=("key", "bob_has")))
+
+
+def test_cli_door_mat(capsys) -> None:
+    data = _json(capsys, ["puzzle", "door-mat", "--json"])
+    assert data["goal_after_try"] and not data["bob_knows_beforehand_that_try_works"]
