@@ -7,7 +7,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 PROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
-HEAVY = {"mujoco", "mink", "pin", "example-robot-data", "daqp", "imageio", "clingo", "dask", "distributed"}
+HEAVY = {"mujoco", "mink", "pin", "frankik", "example-robot-data", "daqp", "imageio", "clingo", "dask", "distributed"}
 
 
 def _name(requirement: str) -> str:
@@ -19,9 +19,10 @@ def test_the_core_has_no_heavy_dependency_and_the_extras_have_them():
     assert not core & HEAVY, core & HEAVY
     extras = PROJECT["optional-dependencies"]
     assert {"arms", "sim", "asp", "dask", "all", "test", "docs"} <= set(extras)
-    assert {_name(r) for r in extras["arms"]} == {"mujoco", "mink", "pin", "example-robot-data", "daqp", "imageio"}
+    assert {_name(r) for r in extras["arms"]} == {"mujoco", "mink", "pin", "frankik", "example-robot-data", "daqp",
+                                                 "imageio"}
     assert {_name(r) for r in extras["asp"]} == {"clingo"}
-    assert extras["all"] == ["delkit[arms,sim,asp,dask]"]
+    assert extras["all"] == ["delkit[arms,sim,asp,dask,view]"]
 
 
 def test_every_plugin_names_an_extra_that_exists():

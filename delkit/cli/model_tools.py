@@ -10,40 +10,11 @@ from __future__ import annotations
 import json
 import sys
 from pathlib import Path
-from typing import Any
 
 __all__ = ["load_any", "run_diff", "run_draw"]
 
 
-def is_smcdel(path: str) -> bool:
-    return str(path).lower().endswith(".smcdel.txt")
-
-
-#: what :func:`load_any` reads (``model draw``, ``model diff``, ``model show``)
-ANY_FORMATS = "delkit's JSON model format (.json), DOT (.dot/.gv) or SMCDEL's language (.smcdel.txt)"
-
-
-def load_any(path: str) -> Any:
-    """A KripkeModel or EventModel (JSON/DOT), or a knowledge/belief structure (SMCDEL's language: a
-    ``.smcdel.txt`` file, or one whose text starts ``VARS … LAW …``)."""
-    from delkit.io import load, sniff
-
-    smcdel = is_smcdel(path)
-    if not smcdel and Path(path).suffix.lower() not in (".json", ".dot", ".gv"):
-        try:
-            smcdel = sniff(Path(path).read_text(encoding="utf-8")) == "smcdel"
-        except (OSError, UnicodeDecodeError):
-            smcdel = False  # load() below says what is wrong with the file
-    if smcdel:
-        from delkit.errors import ParseError
-        from delkit.smcdel import parse_smcdel, structure
-
-        try:
-            text = Path(path).read_text(encoding="utf-8")
-        except UnicodeDecodeError:
-            raise ParseError("not UTF-8 text; is it an SMCDEL file?", source=str(path)) from None
-        return structure(parse_smcdel(text, source=str(path)))
-    return load(path, formats=ANY_FORMATS)
+from delkit.files import ANY_FORMATS, is_smcdel, load_any, structure_model  # noqa: E402,F401  (delkit.view reads them)
 
 
 def _core_format(path: str) -> bool:
@@ -73,24 +44,6 @@ def _task_state(paths: list[str], plan: Path | None, step: int):
         raise DelkitError(f"--step {step}: the plan fails at this step ({frame.notes[-1]}); draw --step {step - 1}")
     panel = next(p for p in frame.panels if p.key == carried)
     return panel.model, (f"{doc.title}: {'initial state' if step == 0 else 'state after step ' + frame.title}")
-
-
-def _state_name(state: dict[str, bool], vocabulary) -> str:
-    return "{" + ",".join(v for v in vocabulary if state[v]) + "}"
-
-
-def structure_model(obj: Any, path: str, max_worlds: int):
-    """The explicit model of a symbolic structure, worlds named by their true variables, e.g. ``{1,3}``."""
-    from delkit.bisimulation import as_kripke
-    from delkit.errors import ModelError
-    from delkit.kripke import KripkeModel
-
-    try:
-        m = as_kripke(obj, max_worlds=max_worlds)
-    except ModelError as exc:
-        raise ModelError(f"{path}: {exc}") from None
-    names = tuple(_state_name(s, obj.vocabulary) for s in obj.states())
-    return KripkeModel(m.props, m.agents, m.valuation, m.relations, m.designated, names)
 
 
 def _pointed(path: str, world: str | None, max_worlds: int):
@@ -194,6 +147,18 @@ def run_diff(a_path: str, b_path: str, world_a: str | None, world_b: str | None,
     return 0 if res.bisimilar else 1
 
 
+def _lone_problem(path: str) -> bool:
+    """Whether ``path`` is a (E-)PDDL problem file, which a task needs its domain for."""
+    import re
+
+    try:
+        head = Path(path).read_text(encoding="utf-8", errors="replace")[:4096]
+    except OSError:
+        return False
+    return re.search(r"\(\s*define\s*\(\s*problem\b", head, re.I) is not None and \
+        re.search(r"\(\s*define\s*\(\s*domain\b", head, re.I) is None
+
+
 def run_draw(path: str | list[str], output: Path, max_worlds: int, layout: str, seed: int, *,
              plan: Path | None = None, step: int = 0) -> None:
     """``delkit model draw``: the picture in the format of the output's suffix (.svg, .png, .tex). A planning
@@ -210,6 +175,10 @@ def run_draw(path: str | list[str], output: Path, max_worlds: int, layout: str, 
         obj = load_any(paths[0])
         pic = draw.picture(obj, max_worlds=max_worlds, layout=layout, seed=seed)
     else:
+        if len(paths) == 1 and _lone_problem(paths[0]):
+            raise DelkitError(f"{paths[0]}: an E-PDDL/EPDDL planning problem; model draw reads it with its domain "
+                              f"(delkit model draw DOMAIN PROBLEM [--plan PLAN --step K]), and reads by itself "
+                              f"{ANY_FORMATS}")
         obj, what = _task_state(paths, plan, step)
         pic = draw.picture(obj, max_worlds=max_worlds, layout=layout, seed=seed)
         pic.header = [what] * bool(what) + pic.header

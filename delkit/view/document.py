@@ -140,7 +140,7 @@ def _size(model: Any) -> int:
 
 def core_viewer(paths: Sequence[Path], options: dict) -> Document:
     """Kripke / event models (JSON, DOT) and SMCDEL structures: one frame."""
-    from delkit.cli.model_tools import is_smcdel, load_any
+    from delkit.files import is_smcdel, load_any
 
     if len(paths) != 1:
         raise DelkitError(f"{paths[1]}: a model or structure file is viewed alone (a second file is a plan, "
@@ -154,7 +154,7 @@ def core_viewer(paths: Sequence[Path], options: dict) -> Document:
         if n > limit:
             raise ModelError(f"{path}: the structure has {n} states; the viewer draws its Kripke model up to "
                              f"{limit} (raise --max-worlds, at most {MAX_WORLDS})")
-        from delkit.cli.model_tools import structure_model
+        from delkit.files import structure_model
 
         model = structure_model(obj, str(path), limit)
         notes.append(f"the structure's Kripke model, drawn explicitly ({n} states; limit {limit}, --max-worlds); "

@@ -223,6 +223,8 @@ LEGEND = """Legend: reading = which model (paper: both robots ignorant of their 
   state (branching factor). off/on = CPU ratio (> 1: macros help). paper = the e-PICO paper's Table 1, seconds
   (Intel i7-8565U, EFP; search from a given initial state); paper init = the paper's initial-state seconds
   (§5). echosys = the peer implementation (PyPI echosys) on a machine like ours, seconds.
+  Table 2: cpu ms = CPU milliseconds of all classical-planner calls of a solve; calls = their number;
+  max ms = the slowest call; paper s / paper calls = the paper's Table 2.
   ND = not defined (γ, δ need two colours); TO = no plan within the time limit (110 s, as the paper)."""
 
 

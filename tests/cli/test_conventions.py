@@ -52,13 +52,15 @@ def test_model_help_names_the_formats_it_reads(capsys):
 
 
 def test_epico_table_has_a_legend():
-    from planners.cli.epico_cmd import TABLE_LEGEND, format_tables
+    from planners.cli.epico_cmd import LEGEND, format_tables
 
     cell = {"goal": "gamma", "colors": 1, "status": "ND"}
     text = format_tables([cell])
-    assert all(line in text for line in TABLE_LEGEND)
-    for column in ("goal", "col", "delkit no", "no/yes", "seed no", "peer no", "init s", "TO", "ND"):
-        assert column in " ".join(TABLE_LEGEND), column
+    assert LEGEND in text
+    for column in ("reading", "off", "on", "CPU s", "exp", "br", "off/on", "init", "paper init", "echosys",
+                   "cpu ms", "calls", "max ms", "paper calls"):
+        assert column in text.split("Legend:")[0] and column in LEGEND, column
+    assert "TO =" in LEGEND and "ND =" in LEGEND
 
 
 def test_shell_completion_completes_command_names():

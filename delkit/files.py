@@ -1,0 +1,58 @@
+"""Reading any model file the core reads by itself: delkit's JSON model format, DOT and SMCDEL's language
+(``model draw``, ``model diff``, ``model show``, ``delkit view``)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+__all__ = ["ANY_FORMATS", "is_smcdel", "load_any", "structure_model"]
+
+
+def is_smcdel(path: str) -> bool:
+    return str(path).lower().endswith(".smcdel.txt")
+
+
+#: what :func:`load_any` reads (``model draw``, ``model diff``, ``model show``)
+ANY_FORMATS = "delkit's JSON model format (.json), DOT (.dot/.gv) or SMCDEL's language (.smcdel.txt)"
+
+
+def load_any(path: str) -> Any:
+    """A KripkeModel or EventModel (JSON/DOT), or a knowledge/belief structure (SMCDEL's language: a
+    ``.smcdel.txt`` file, or one whose text starts ``VARS … LAW …``)."""
+    from delkit.io import load, sniff
+
+    smcdel = is_smcdel(path)
+    if not smcdel and Path(path).suffix.lower() not in (".json", ".dot", ".gv"):
+        try:
+            smcdel = sniff(Path(path).read_text(encoding="utf-8")) == "smcdel"
+        except (OSError, UnicodeDecodeError):
+            smcdel = False  # load() below says what is wrong with the file
+    if smcdel:
+        from delkit.errors import ParseError
+        from delkit.smcdel import parse_smcdel, structure
+
+        try:
+            text = Path(path).read_text(encoding="utf-8")
+        except UnicodeDecodeError:
+            raise ParseError("not UTF-8 text; is it an SMCDEL file?", source=str(path)) from None
+        return structure(parse_smcdel(text, source=str(path)))
+    return load(path, formats=ANY_FORMATS)
+
+
+def structure_model(obj: Any, path: str, max_worlds: int):
+    """The explicit model of a symbolic structure, worlds named by their true variables, e.g. ``{1,3}``."""
+    from delkit.bisimulation import as_kripke
+    from delkit.errors import ModelError
+    from delkit.kripke import KripkeModel
+
+    try:
+        m = as_kripke(obj, max_worlds=max_worlds)
+    except ModelError as exc:
+        raise ModelError(f"{path}: {exc}") from None
+    names = tuple(_state_name(s, obj.vocabulary) for s in obj.states())
+    return KripkeModel(m.props, m.agents, m.valuation, m.relations, m.designated, names)
+
+
+def _state_name(state: dict[str, bool], vocabulary) -> str:
+    return "{" + ",".join(v for v in vocabulary if state[v]) + "}"
