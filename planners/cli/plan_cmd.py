@@ -3,7 +3,8 @@ property checker) and ``delkit convert`` (write a task as EPDDL 2026 or mA*).
 
 Exit statuses: ``plan`` — 0 plan found, 1 no plan exists (state space exhausted), 3 no plan within the
 limits (the limit also covers reading, grounding and building the initial state); ``check`` — 0 valid,
-1 invalid; all — 2 bad input. A failure is never printed as an empty plan. The language of a file is
+1 invalid, 3 ``--timeout`` reached; all — 2 bad input. ``--timeout`` counts from the start of the process,
+0 or inf means no limit (:func:`delkit.resources.parse_timeout`, the same for every command). A failure is never printed as an empty plan. The language of a file is
 decided by its content. Heavy imports stay inside the commands.
 
 Start-up: typer (with the click and pydantic it imports) costs about 0.1 s, half of the 0.2 s budget of a
@@ -44,39 +45,42 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
 
     if search not in ("bfs", "gbfs", "astar"):
         raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
-    Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
-    from delkit.resources import ResourceError, deadline
+    from delkit.resources import TimeLimit, command_start, deadline, keep_alive, parse_timeout
 
-    start = time.monotonic()
+    limit = parse_timeout(timeout)  # 0 / inf: no limit; counted from the start of the process
+    Limits(timeout=limit, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
+    start = command_start()
+    reached = f"--timeout {timeout:g} s reached (counted from the start of the process)"
+
+    def limit_result(phase: str, expanded: int = 0, generated: int = 0) -> SearchResult:
+        return SearchResult("limit", None, expanded, generated, time.monotonic() - start, search,
+                            reason=f"no plan within limits: {reached} while {phase}")
+
+    # one deadline for every phase: the readers and the search check it themselves, the alarm (and, in the
+    # console script, a watchdog) stop any phase that does not
+    task = space = None
     try:
-        # --timeout covers every phase: the readers check the deadline while grounding and building the initial
-        # state; the alarm is the backstop for any reader that does not check it
-        with deadline(timeout, "reading, grounding and building the initial state"):
-            task = load_task(spec, problem, list(library or ()), deadline=start + timeout, strict=strict)
-    except (LoadTimeout, ResourceError) as exc:
-        if isinstance(exc, ResourceError) and "--timeout" not in str(exc) and "time limit" not in str(exc):
-            raise
-        res = SearchResult(status="limit", plan=None, expanded=0, generated=0,
-                           seconds=time.monotonic() - start, search=search, reason=str(exc))
+        with deadline(limit, "delkit plan"):
+            task = load_task(spec, problem, list(library or ()), deadline=None if limit is None else start + limit,
+                             strict=strict)
+            from planners.lang.epddl_run import space_for
+
+            left = None if limit is None else max(0.0, start + limit - time.monotonic())
+            limits = Limits(timeout=left, max_expanded=max_nodes, max_memory_mb=max_memory)
+            space = space_for(task, engine, allow_inconsistent)
+            res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
+    except (LoadTimeout, TimeLimit) as exc:
+        keep_alive(space, task, exc)  # console script: freeing the search space must not delay the exit
+        res = limit_result("reading, grounding and building the initial state" if task is None else
+                           "contracting the initial state" if space is None else "searching")
+    if res.status == "limit" and res.reason.endswith(" s reached") and "time limit" in res.reason:
+        res = limit_result("searching", res.expanded, res.generated)
+    if task is None:
         if as_json:
             _echo(json.dumps({**res.to_json(), "task": str(problem or spec)}))
         else:
-            _echo(f"NO PLAN (timeout): {exc} — {res.seconds:.3f} s")
+            _echo(f"NO PLAN (timeout): {res.reason} — {res.seconds:.3f} s")
         return 3
-    limits = Limits(timeout=max(0.0, timeout - (time.monotonic() - start)), max_expanded=max_nodes,
-                    max_memory_mb=max_memory)
-    from planners.lang.epddl_run import space_for
-
-    try:
-        # the search checks its own limit; the alarm (a little later) is the backstop for every other phase
-        with deadline(limits.timeout + 2.0, "contracting the initial state for the search, or searching"):
-            space = space_for(task, engine, allow_inconsistent)
-            res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
-    except ResourceError as exc:
-        if "--timeout" not in str(exc) and "time limit" not in str(exc):
-            raise
-        res = SearchResult("limit", None, 0, 0, time.monotonic() - start, search,
-                           reason=f"--timeout {timeout:g} s reached: {exc}")
     out = res.to_json()
     out["task"] = task.name
     if as_json:
@@ -99,13 +103,9 @@ def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path
               allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
               strict: bool = False, timeout: float = 0.0) -> int:
     """The body of ``delkit check``; returns the exit status (``timeout`` 0: no limit)."""
-    from delkit.resources import deadline
+    from delkit.resources import deadline, parse_timeout
 
-    if timeout < 0 or timeout != timeout:
-        from delkit.errors import ParseError
-
-        raise ParseError(f"--timeout {timeout!r}: use a number of seconds ≥ 0 (0: no limit)", source="delkit check")
-    with deadline(timeout, "delkit check"):
+    with deadline(parse_timeout(timeout), "delkit check"):  # 0 / inf: no limit; from the start of the process
         return _run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict)
 
 
@@ -142,6 +142,10 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
     return 0 if res.valid else 1
 
 
+_TIMEOUT_HELP = ("wall-clock limit in seconds, counted from the start of the process (0 or inf: no limit); "
+                 "reaching it is exit status 3")
+
+
 def register(app: typer.Typer) -> None:
     """Attach ``plan`` and ``check`` to the top-level app."""
     import typer
@@ -153,7 +157,7 @@ def register(app: typer.Typer) -> None:
         library: list[Path] = typer.Option([], "--library", "-l", help="EPDDL action-type library (repeatable)"),
         strict: bool = typer.Option(False, "--strict", help="refuse mA* duplicate declarations"),
         search: str = typer.Option("bfs", "--search", help="bfs (optimal), gbfs or astar"),
-        timeout: float = typer.Option(60.0, "--timeout", help="wall-clock limit in seconds"),
+        timeout: float = typer.Option(60.0, "--timeout", help=_TIMEOUT_HELP),
         max_nodes: int | None = typer.Option(None, "--max-nodes", help="limit on expanded nodes"),
         max_memory: float = typer.Option(8192.0, "--max-memory", help="resident memory limit in MiB"),
         engine: str = typer.Option("auto", "--engine",
@@ -176,11 +180,12 @@ def register(app: typer.Typer) -> None:
         props_file: Path | None = typer.Option(None, "--properties", help="file with one property a line"),
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="do not fail when an agent comes to believe ⊥"),
-        timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="wall-clock limit in seconds (0: none)"),
+        timeout: float = typer.Option(0.0, "--timeout", help=_TIMEOUT_HELP),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
         """Replay a plan on a spec and check its executability, goal and properties."""
-        raise typer.Exit(run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict))
+        raise typer.Exit(run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict,
+                                   timeout))
 
     @app.command("convert")
     def convert_command(
