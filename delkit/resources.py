@@ -223,6 +223,11 @@ def check_time() -> None:
             raise TimeLimit(_MESSAGE[0])
 
 
+def time_limit() -> TimeLimit:
+    """The :class:`TimeLimit` of the active deadline (to raise where a library stopped at it, e.g. z3)."""
+    return TimeLimit(_MESSAGE[0])
+
+
 _MESSAGE = ["time limit reached"]
 _KEEP: list = []
 

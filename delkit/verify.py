@@ -621,7 +621,15 @@ def find_model(formula: Formula | str, *, logic: str = "S5", worlds: int = 4, pr
             s = z3.Solver()
             s.add(*enc.constraints)
             s.add(goal)
+            from delkit.resources import check_time, remaining, time_limit
+
+            check_time()
+            left = remaining()  # z3 runs in C: the alarm cannot interrupt it, its own timeout can
+            if left is not None:
+                s.set("timeout", max(1, int(left * 1000)))
             res = s.check()
+            if res == z3.unknown and left is not None and remaining() <= 0.05:
+                raise time_limit()
         except (RecursionError, ctypes.ArgumentError) as exc:
             # z3's Python API converts terms recursively: its ctypes calls report Python's recursion limit as
             # an ArgumentError wrapping the RecursionError

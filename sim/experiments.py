@@ -97,10 +97,15 @@ def run_sweep(spec: SweepSpec, *, workers: int | None = None, dask: str | None =
 
     def drive(ex: Executor) -> None:
         futures = {ex.submit(run_one, c): k for k, c in enumerate(cfgs)}
-        for done, fut in enumerate(as_completed(futures), 1):
-            rows[futures[fut]] = fut.result()
-            if progress is not None:
-                progress(done, len(cfgs))
+        try:
+            for done, fut in enumerate(as_completed(futures), 1):
+                rows[futures[fut]] = fut.result()
+                if progress is not None:
+                    progress(done, len(cfgs))
+        except BaseException:  # e.g. --timeout reached: the pool must not run the missions still queued
+            for fut in futures:
+                fut.cancel()
+            raise
 
     if pool is not None:
         drive(pool)

@@ -234,6 +234,8 @@ def register(app: typer.Typer) -> None:
         logic: str = typer.Option("S5", "--logic", "-l", help="Frame class: S5, KD45 or K."),
         worlds: int = typer.Option(4, "--worlds", "-k", min=1, max=12,
                                    help="Largest counter-model searched (number of worlds)."),
+        timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="Wall-clock limit in seconds from the start "
+                                      "of the process (0 or inf: none); reaching it is exit status 3."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Is FORMULA valid? Searches (z3) a counter-model with at most --worlds worlds; prints it as JSON."""
@@ -244,7 +246,10 @@ def register(app: typer.Typer) -> None:
 
         if logic.upper() not in LOGICS:
             raise DelkitError(f"--logic {logic!r}: use one of {', '.join(LOGICS)}")
-        v = prove(parse(formula), logic=logic, worlds=worlds)
+        from delkit.resources import deadline
+
+        with deadline(timeout, f"prove --worlds {worlds}"):
+            v = prove(parse(formula), logic=logic, worlds=worlds)
         if as_json:
             print(json.dumps(v.to_dict()))
         elif v.valid:

@@ -52,7 +52,8 @@ def register(app: typer.Typer) -> None:
                   symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
                                                  "(either may learn the other's; 4^n worlds instead of 2^n)"),
                   macros: bool = typer.Option(True, "--macros/--no-macros", help="offer the macros to the planner"),
-                  timeout: float = typer.Option(110.0, "--timeout", help="epistemic search limit, seconds"),
+                  timeout: float = typer.Option(110.0, "--timeout", help="wall-clock limit in seconds from the "
+                                                "start of the process (0 or inf: none); reaching it is exit 3"),
                   classical: str = typer.Option("bfs", "--classical", help="classical engine: bfs or clingo"),
                   world: Path | None = typer.Option(None, "--world", help="start from this layout: a world JSON "
                                                     "or a plan/1 JSON (its world), e.g. observed after a fault, "
@@ -86,8 +87,17 @@ def register(app: typer.Typer) -> None:
             if not sep or not cols:
                 raise EpicoError(f"--known takes ROBOT:COLOUR,COLOUR, got {k!r}")
             knows.setdefault(robot, []).extend(c for c in cols.split(",") if c)
-        sol = solve(generate(goal, colors, symmetric=symmetric, layout=layout), macros=macros,
-                    known=knows or None, limits=EpicoLimits(timeout=timeout, classical=classical))
+        from delkit.resources import deadline, parse_timeout, remaining, time_limit
+
+        limit = parse_timeout(timeout)
+        with deadline(limit, f"epico solve --goal {goal} --colors {colors}"):
+            try:
+                sol = solve(generate(goal, colors, symmetric=symmetric, layout=layout), macros=macros,
+                            known=knows or None, limits=EpicoLimits(timeout=remaining(), classical=classical))
+            except EpicoError as exc:
+                if limit is not None and "time limit" in str(exc):
+                    raise time_limit() from None  # the search stopped at the deadline: exit 3 like every limit
+                raise
         if out is not None:
             sol.write(out)
         if as_json:
@@ -138,7 +148,11 @@ def register(app: typer.Typer) -> None:
     @sub.command("table")
     def table_cmd(repeat: int = typer.Option(1, "--repeat", min=1, help="runs per cell (mean)"),
                   colors: str = typer.Option("1,2,3,4", "--colors", help="comma-separated colour counts"),
-                  timeout: float = typer.Option(110.0, "--timeout", help="limit per run, seconds"),
+                  timeout: float = typer.Option(110.0, "--timeout", help="limit per run, seconds (0 or inf: "
+                                                "none); a run over it is a TO cell"),
+                  total: float = typer.Option(0.0, "--total-timeout", help="wall-clock limit of the whole table "
+                                              "from the start of the process (0 or inf: none); reaching it is "
+                                              "exit 3"),
                   symmetric: bool = typer.Option(False, "--symmetric", help="model both robots' colours "
                                                  "(either may learn the other's; 4^n worlds instead of 2^n)"),
                   as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
@@ -150,19 +164,30 @@ def register(app: typer.Typer) -> None:
             cols = [int(c) for c in colors.split(",") if c.strip()]
         except ValueError:
             raise EpicoError(f"--colors {colors!r}: a comma-separated list of numbers, e.g. 1,2,3,4") from None
+        if not cols:
+            raise EpicoError(f"--colors {colors!r} names no colour count; e.g. --colors 1,2,3,4")
+        from delkit.resources import deadline, parse_timeout
+
+        per_run, limit = parse_timeout(timeout), parse_timeout(total, "--total-timeout")
+        worst = 2.0 * repeat * len(GOALS) * len(cols) * (per_run if per_run is not None else float("inf"))
+        if limit is None and worst > 86400.0:
+            raise EpicoError(f"epico table: {2 * repeat * len(GOALS) * len(cols)} runs of up to "
+                             f"{'no limit' if per_run is None else f'{per_run:g} s'} each could take more than a "
+                             f"day; bound the whole table with --total-timeout SECONDS, or use a smaller --repeat")
         from rich.progress import Progress
 
         from planners.epico import generate
         from planners.hierarchy import solve
 
-        solve(generate("alpha", 1))  # warm-up: imports and caches are not part of any cell's time
         cells = []
-        with Progress(transient=True, disable=as_json) as prog:
-            job = prog.add_task("e-PICO table", total=len(GOALS) * len(cols))
-            for g in GOALS:
-                for n in cols:
-                    cells.append(table_cell(g, n, repeat=repeat, timeout=timeout, symmetric=symmetric))
-                    prog.advance(job)
+        with deadline(limit, "epico table", "--total-timeout"):
+            solve(generate("alpha", 1))  # warm-up: imports and caches are not part of any cell's time
+            with Progress(transient=True, disable=as_json) as prog:
+                job = prog.add_task("e-PICO table", total=len(GOALS) * len(cols))
+                for g in GOALS:
+                    for n in cols:
+                        cells.append(table_cell(g, n, repeat=repeat, timeout=per_run, symmetric=symmetric))
+                        prog.advance(job)
         if as_json:
             typer.echo(json.dumps({"cells": cells, "repeat": repeat}))
             return
