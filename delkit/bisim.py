@@ -20,7 +20,7 @@ import numpy as np
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
-__all__ = ["refine", "bisimulation_classes", "contract", "bisimilar", "canonical_form", "canonical_hash",
+__all__ = ["refine", "bisimulation_classes", "contract", "quotient", "bisimilar", "canonical_form", "canonical_hash",
            "disjoint_union"]
 
 
@@ -169,7 +169,13 @@ def contract(model: KripkeModel, *, generated: bool = True) -> KripkeModel:
     v ∈ Y have w R_a v. Partitions stay partitions. The result is bisimilar to the input and minimal.
     """
     m = model.generated() if generated else model
-    blocks = refine(m)
+    return quotient(m, refine(m))
+
+
+def quotient(m: KripkeModel, blocks: np.ndarray, *, keep_names: bool = False) -> KripkeModel:
+    """The quotient of ``m`` by the partition ``blocks`` (world -> block, blocks numbered 0..k-1 in order of
+    their least world, as :func:`refine` gives them): X R_a Y iff some w ∈ X and v ∈ Y have w R_a v.
+    ``keep_names``: each block is named after its least world (else the worlds are unnamed)."""
     k = int(blocks.max()) + 1 if blocks.size else 0
     rep = np.zeros(k, dtype=np.int64)
     rep[blocks[::-1]] = np.arange(m.n_worlds)[::-1]  # first world of each block
@@ -183,7 +189,8 @@ def contract(model: KripkeModel, *, generated: bool = True) -> KripkeModel:
             coo = r.matrix.tocoo()
             rels[a] = Relation.from_pairs(k, zip(blocks[coo.row].tolist(), blocks[coo.col].tolist(), strict=True))
     des = sorted({int(blocks[d]) for d in m.designated})
-    return KripkeModel(m.props, m.agents, m.valuation[rep], rels, tuple(des))
+    names = tuple(m.names[int(r)] for r in rep) if keep_names and m.names else None
+    return KripkeModel(m.props, m.agents, m.valuation[rep], rels, tuple(des), names)
 
 
 def canonical_form(model: KripkeModel, *, generated: bool = True, exact: bool = False) -> tuple:

@@ -131,6 +131,8 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
     properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
     # one checker; EPDDL (2026) tasks are replayed with EPDDL's semantics (see check_plan's ``epddl``)
     res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent, plan_source=str(files[-1]))
+    for line in res.warnings():  # EPDDL kept a state where an agent believes ⊥ (also in the JSON)
+        print(f"delkit: warning: {line}", file=sys.stderr)
     if as_json:
         _echo(json.dumps(res.to_json()))
     elif res.valid:

@@ -1448,7 +1448,9 @@ def _action_grounder(g: _Ground, at: _ActType, ev_refs, events, obs_node, agents
             return EventModel(slots, agents, pre, post, relations, des, name)
 
         return EventAction(name=name, build=build, conditions=conds, where=where, kind=tname,
-                           designated_pre=tuple([pre[d] for d in des]))
+                           designated_pre=tuple([pre[d] for d in des]),
+                           event_labels=tuple([f"{e[0]} (the action type's ?{slot})"
+                                               for e, slot in zip(evs, slots, strict=True)]))
     return ground
 
 

@@ -358,8 +358,10 @@ def parse_mastar(text: str, source: str = "<mA*>", *, strict: bool = False, dead
 
 
 def parse_mastar_formula(text: str, task: Task, *, source: str = "<formula>") -> Formula:
-    """One mA* formula over the fluents and agents of ``task``."""
-    p = _Parser(text, source)
+    """One mA* formula over the fluents and agents of ``task``. Outside mA* files (a property, a goal given on
+    the command line) ``~`` and ``!`` are read as mA*'s negation ``-`` too, as in delkit's own syntax, so a
+    formula may mix the two (``~B(a, p)``); the replacement keeps every column."""
+    p = _Parser(re.sub(r"[~!]", "-", text), source)
     p.fluents, p.agents = list(task.props), list(task.agents)
     p._fl, p._ag, p._ac = set(task.props), set(task.agents), {a.name for a in task.actions}
     f = p.formula()
