@@ -226,10 +226,14 @@ class KripkeModel:
         kind, data = common_reach(self, tuple(ags))  # cached per model and group
         if kind == "components":  # S5: reachable = the connected components of the sources
             return np.isin(data, data[mask])
-        union = data
+        indptr, indices = data.rows()
         frontier = mask.copy()
         while frontier.any():
-            nxt = (union.T @ frontier.astype(np.int64)) > 0
+            nxt = np.zeros(self.n_worlds, dtype=bool)
+            rows = np.flatnonzero(frontier)
+            deg = indptr[rows + 1] - indptr[rows]
+            nxt[indices[np.repeat(indptr[rows], deg) + np.arange(int(deg.sum())) - np.repeat(np.cumsum(deg) - deg,
+                                                                                          deg)]] = True
             new = nxt & ~mask
             mask |= new
             frontier = new
