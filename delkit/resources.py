@@ -17,8 +17,6 @@ import resource
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-import numpy as np
-
 from delkit.errors import DelkitError
 
 __all__ = ["ResourceError", "memory_budget", "require", "fmt_bytes", "product_update_bytes",
@@ -84,6 +82,8 @@ def product_update_bytes(model, events) -> float:
     applicable at world w, the product has k = Σ c_e worlds; a partition × partition relation costs O(k),
     any other relation materialises two sparse matrices with Σ_{(e,f)∈R_E} c_e·c_f and
     Σ_{(w,v)∈R_a} d_w·d_v entries (≈ 16 bytes each)."""
+    import numpy as np
+
     n = model.n_worlds
     if n == 0 or not len(events.events):
         return 0.0

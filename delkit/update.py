@@ -76,7 +76,13 @@ def product_update(model, events, *, return_pairs=False, designated="product"):
             continue
         for p, f in post.items():
             val[rows, model.prop_index(p)] = model.check(f)[w_idx[rows]]
-    rels = {a: model.relations[a].product(events.relations[a], pairs) for a in model.agents}
+    from delkit.resources import check_time
+
+    check_time()  # the active --timeout: a product of a large model can take seconds per relation
+    rels = {}
+    for a in model.agents:
+        rels[a] = model.relations[a].product(events.relations[a], pairs)
+        check_time()
     des_w = np.zeros(model.n_worlds, dtype=bool)
     des_w[list(model.designated)] = True
     if designated == "all":

@@ -34,6 +34,7 @@ from delkit.errors import PlanningError
 from delkit.events import EventModel
 from delkit.formula import Formula, Top, is_propositional, props_of
 from delkit.kripke import KripkeModel
+from delkit.resources import check_time
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, build_event_model, goal_conjuncts
 
 __all__ = ["CompactSpace", "DelSpace", "make_space"]
@@ -72,6 +73,7 @@ class DelSpace:
 
     def successors(self, model: KripkeModel) -> Iterator[tuple[str, KripkeModel, Hashable]]:
         for act in self.task.actions:
+            check_time()  # one clock read per action: a single expansion can take seconds
             new = self.step(model, act.name)
             if new is None:
                 continue
@@ -350,6 +352,7 @@ class CompactSpace:
             cands = self._by_point[here] = self._candidates(s, here)
         apply = self.engine.apply_compiled
         for name, entry, comp in cands:
+            check_time()  # one clock read: a single expansion of a large state can take seconds
             new = apply(s, comp) if comp is not None else self.apply_entry(s, entry)  # type: ignore[arg-type]
             if new is None:
                 continue
