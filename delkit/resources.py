@@ -325,3 +325,30 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout") 
         _DEADLINE, _MESSAGE[0] = outer_deadline, outer_message
         if outer:
             signal.setitimer(signal.ITIMER_REAL, max(outer - (time.monotonic() - t0), 1e-3))
+
+
+# ----------------------------------------------------------------------------- outputs
+
+def check_outputs(outputs, inputs, *, force: bool = False, folder=None, option: str = "-o") -> None:
+    """Refuse (exit 2, nothing written) an output that is one of the ``inputs`` (unless ``force``: then the
+    input is overwritten on purpose) or that lies outside ``folder``; call it for every output before
+    writing the first one."""
+    from pathlib import Path
+
+    from delkit.errors import ParseError
+
+    ins = {}
+    for p in inputs:
+        try:
+            ins[Path(p).resolve()] = str(p)
+        except (OSError, RuntimeError):  # pragma: no cover - unresolvable: cannot be clobbered either
+            continue
+    base = Path(folder).resolve() if folder is not None else None
+    for out in outputs:
+        path = Path(out).resolve()
+        if base is not None and path.parent != base:
+            raise ParseError(f"the output {out} would be written outside the folder {folder}; give a plain file "
+                             f"name (no '/' or '..')", source=str(out))
+        if path in ins and not force:
+            raise ParseError(f"the output would overwrite the input file {ins[path]}; write elsewhere (another "
+                             f"{option}) or give --force to overwrite it", source=str(out))

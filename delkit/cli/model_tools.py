@@ -115,6 +115,9 @@ def run_diff(a_path: str, b_path: str, world_a: str | None, world_b: str | None,
         raise DelkitError("--engine symbolic compares two structures (.smcdel.txt files); use --engine explicit "
                           "for Kripke model files")
     prop_list = [p.strip() for p in props.split(",") if p.strip()] if props is not None else None
+    if prop_list == []:  # compared on no propositions everything is bisimilar: not what --props "" means
+        raise DelkitError(f"--props {props!r} names no proposition; give a comma-separated list such as "
+                          f"--props p,q, or leave --props out to compare on all of them")
     if both and engine != "explicit":
         from delkit.bisimulation_symbolic import symbolic_diff
 

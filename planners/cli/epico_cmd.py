@@ -78,9 +78,14 @@ def register(app: typer.Typer) -> None:
                 raise EpicoError(f"{world}: cannot read a world JSON ({exc})") from None
             obj = obj.get("world", obj) if isinstance(obj, dict) else obj
             owners = dict(o.split("=", 1) for o in owner if "=" in o)
-            if len(owners) != len(owner):
-                raise EpicoError(f"--owner takes BLOCK=ROBOT, got {owner}")
-            layout = Layout.from_world(obj, owners)
+            if len(owners) != len(owner) or any(not k.strip() or not v.strip() for k, v in owners.items()):
+                raise EpicoError(f"--owner takes BLOCK=ROBOT, e.g. --owner red_2=robot2; got {owner}")
+            try:
+                layout = Layout.from_world(obj, owners)
+            except EpicoError as exc:
+                raise EpicoError(f"{world}: {exc}") from None
+        elif owner:
+            raise EpicoError("--owner says whose block lies on the shared table of --world; give --world too")
         knows: dict[str, list[str]] = {}
         for k in known:
             robot, sep, cols = k.partition(":")
@@ -143,7 +148,8 @@ def register(app: typer.Typer) -> None:
                            f"{cex['plan'] or 'nothing'}: {cex['difference']}")
                 for line in hw["symbolic"]:
                     typer.echo(f"  symbolic: {line}")
-        raise typer.Exit(0 if rep["all_equal"] else 1)
+        # exit 1 when a macro differs from its sequence or the hand-written macro is inconsistent
+        raise typer.Exit(0 if rep["all_equal"] and rep["handwritten_check"]["consistent"] else 1)
 
     @sub.command("table")
     def table_cmd(repeat: int = typer.Option(1, "--repeat", min=1, help="runs per cell (mean)"),

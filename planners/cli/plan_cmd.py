@@ -194,7 +194,9 @@ def register(app: typer.Typer) -> None:
         files: list[Path] = typer.Argument(..., help="mA* file, or E-PDDL DOMAIN PROBLEM"),
         to: str = typer.Option("epddl", "--to", help="epddl (EPDDL 2026: domain, problem, library) or mastar"),
         out: Path = typer.Option(Path("."), "--out", "-o", help="output directory"),
-        name: str | None = typer.Option(None, "--name", help="base name of the written files"),
+        name: str | None = typer.Option(None, "--name", help="base name of the written files (a plain name: no "
+                                        "'/' or '..')"),
+        force: bool = typer.Option(False, "--force", help="overwrite an input file that an output would replace"),
         as_json: bool = typer.Option(False, "--json", help="print the written paths as JSON"),
     ) -> None:
         """Write an mA* or E-PDDL (2021) task as EPDDL (2026), or as mA* where it fits."""
@@ -206,23 +208,29 @@ def register(app: typer.Typer) -> None:
             raise ParseError(f"--to {to!r}: use epddl or mastar", source="delkit convert")
         if len(files) not in (1, 2):
             raise ParseError(f"expected SPEC or DOMAIN PROBLEM, got {len(files)} file(s)", source="delkit convert")
+        from delkit.resources import check_outputs
+
+        if name is not None and (not name.strip() or "/" in name or "\\" in name or name in (".", "..")):
+            raise ParseError(f"--name {name!r}: give a plain base name for the written files (not empty, no '/' "
+                             f"or '..'), e.g. --name mytask", source="delkit convert")
         task = load_task(files[0], files[1] if len(files) == 2 else None)
         base = name or (files[-1].stem if len(files) == 2 else files[0].stem)
+        if to == "epddl":
+            dom, prob, lib = to_epddl(task, base)
+            texts = {"domain": (out / f"{base}_domain.epddl", dom), "problem": (out / f"{base}_problem.epddl", prob),
+                     "library": (out / "mastar.epddl", lib)}
+        else:
+            texts = {"mastar": (out / f"{base}.txt", to_mastar(task))}
+        # every output checked before the first is written: none replaces an input, none leaves -o
+        check_outputs([p for p, _ in texts.values()], files, force=force, folder=out)
         try:
             out.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise ParseError(f"cannot create the output directory: {exc.strerror}", source=str(out)) from None
         written: dict[str, str] = {}
-        if to == "epddl":
-            dom, prob, lib = to_epddl(task, base)
-            for kind, text in (("domain", dom), ("problem", prob), ("library", lib)):
-                path = out / (f"{base}_{kind}.epddl" if kind != "library" else "mastar.epddl")
-                path.write_text(text)
-                written[kind] = str(path)
-        else:
-            path = out / f"{base}.txt"
-            path.write_text(to_mastar(task))
-            written["mastar"] = str(path)
+        for kind, (path, text) in texts.items():
+            path.write_text(text)
+            written[kind] = str(path)
         if as_json:
             typer.echo(json.dumps(written))
         else:

@@ -304,10 +304,12 @@ class _Parser:
                     # EFP reads C statements of the initial state as holding in every world (S5 finitary)
                     pass
                 common.append((g.arg, where))
-            elif isinstance(g, Prop):
-                pointed[g.name] = True
-            elif isinstance(g, Not) and isinstance(g.arg, Prop):
-                pointed[g.arg.name] = False
+            elif isinstance(g, Prop) or (isinstance(g, Not) and isinstance(g.arg, Prop)):
+                name, value = (g.name, True) if isinstance(g, Prop) else (g.arg.name, False)  # type: ignore[union-attr]
+                if pointed.get(name, value) != value:  # `initially p; initially -p;`: no actual world
+                    raise self.err(f"the 'initially' literals contradict each other: fluent {name!r} is given "
+                                   f"both true and false; keep one of them", t)
+                pointed[name] = value
             else:
                 others.append((g, where))
 
