@@ -254,6 +254,7 @@ def picture(obj: Any, *, max_worlds: int = 64, layout: str = "auto", seed: int =
     if layout not in ("auto", "circle", "spring", "kamada-kawai"):
         raise DelkitError(f"layout {layout!r}: use auto, circle, spring or kamada-kawai")
     if isinstance(obj, KripkeModel):
+        _refuse_huge(obj.n_worlds, obj.relations, layout)
         names = [obj.world_name(w) for w in range(obj.n_worlds)]
         labels = [[names[w], ", ".join(sorted(obj.true_props(w))) or "∅"] for w in range(obj.n_worlds)]
         pic = _graph(labels, names, set(obj.designated), obj.relations, obj.agents, layout, seed)
@@ -275,6 +276,38 @@ def picture(obj: Any, *, max_worlds: int = 64, layout: str = "auto", seed: int =
     raise DelkitError(f"cannot draw a {type(obj).__name__}: give a Kripke model, an event model or a structure")
 
 
+#: above these a drawing is refused before it is built: kamada-kawai is O(n²) memory and ~O(n³) time
+#: (3.8 s CPU for 300 worlds), and every drawn element costs ~1 KB in the picture
+KAMADA_KAWAI_MAX = 300
+
+
+def drawn_edges(relations) -> float:
+    """Upper bound of the edges a picture draws: per agent the pairs of its relation (Σ class² for a
+    partition), before merging the two directions."""
+    import numpy as np
+
+    total = 0.0
+    for r in relations.values():
+        if r.labels is not None:
+            sizes = np.bincount(r.labels).astype(float)
+            total += float(sizes @ sizes)
+        else:
+            total += float(r.rows()[1].size)
+    return total
+
+
+def _refuse_huge(n: int, relations, layout: str) -> None:
+    from delkit.errors import DelkitError
+    from delkit.resources import require
+
+    if layout == "kamada-kawai" and n > KAMADA_KAWAI_MAX:
+        raise DelkitError(f"--layout kamada-kawai: {n} worlds is more than the {KAMADA_KAWAI_MAX} it lays out in "
+                          f"reasonable time (O(n³)); use --layout spring or circle, or contract the model first "
+                          f"(delkit model contract)")
+    require(1024.0 * (n + drawn_edges(relations)), f"drawing {n} world(s)",
+            "draw a smaller or contracted model (delkit model contract), or a lower --max-worlds")
+
+
 def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
     from delkit.kripke import KripkeModel
 
@@ -291,6 +324,10 @@ def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
                                                       f"{max_worlds}; raise max_worlds)"])
         pic.summary = f"structure with {n} states, Kripke model not drawn"
         return pic
+    from delkit.resources import require, structure_kripke_bytes
+
+    require(structure_kripke_bytes(obj), f"the explicit model of a structure with {n} states",
+            "use a lower --max-worlds")
     m = obj.to_kripke()
     states = obj.states()
     names = ["{" + ",".join(v for v in obj.vocabulary if s[v]) + "}" for s in states]

@@ -20,8 +20,8 @@ from contextlib import contextmanager
 from delkit.errors import DelkitError
 
 __all__ = ["ResourceError", "memory_budget", "require", "fmt_bytes", "product_update_bytes",
-           "sum_product_bytes", "sar_bytes", "deadline", "TimeLimit", "parse_timeout", "check_time",
-           "begin_command", "remaining", "keep_alive"]
+           "sum_product_bytes", "sar_bytes", "structure_kripke_bytes", "deadline", "TimeLimit", "parse_timeout",
+           "check_time", "begin_command", "remaining", "keep_alive", "time_limit", "check_outputs"]
 
 ENV = "DELKIT_MEMORY_BUDGET"
 
@@ -106,6 +106,16 @@ def product_update_bytes(model, events) -> float:
         cand = float(out_w @ applicable.astype(float) @ out_e)
         total += 48.0 * cand + 16.0 * (float(out_w.sum()) if mr.labels is not None else 0.0)
     return total
+
+
+def structure_kripke_bytes(structure) -> float:
+    """Peak bytes of the explicit Kripke model of a knowledge/belief structure (``to_kripke`` and the world
+    names): about 2 KB per state (its valuation and the per-state dict the enumeration builds), plus for a
+    belief structure, whose relations are not partitions, up to 16 bytes per pair of states per agent."""
+    n = float(structure.count_states())
+    belief = hasattr(structure, "relations") and not hasattr(structure, "observed")
+    agents = len(getattr(structure, "relations", None) or getattr(structure, "observed", None) or {})
+    return 2048.0 * n + (16.0 * agents * n * n if belief else 0.0)
 
 
 def sum_product_bytes(limit: int) -> float:

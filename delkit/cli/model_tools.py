@@ -45,7 +45,12 @@ def structure_model(obj: Any, path: str, max_worlds: int):
     from delkit.errors import ModelError
     from delkit.kripke import KripkeModel
 
+    from delkit.resources import require, structure_kripke_bytes
+
     try:
+        if hasattr(obj, "count_states") and obj.count_states() <= max_worlds:  # estimated before it is built
+            require(structure_kripke_bytes(obj), f"{path}: the explicit model of its {obj.count_states()} states",
+                    "use a lower --max-worlds or the symbolic engine (two .smcdel.txt files)")
         m = as_kripke(obj, max_worlds=max_worlds)
     except ModelError as exc:
         raise ModelError(f"{path}: {exc}") from None
@@ -157,6 +162,10 @@ def run_diff(a_path: str, b_path: str, world_a: str | None, world_b: str | None,
     return 0 if res.bisimilar else 1
 
 
+#: the most nodes + edges drawn as PNG (matplotlib: ~10 ms CPU per element measured; SVG/TikZ are text)
+PNG_MAX = 2000
+
+
 def run_draw(path: str, output: Path, max_worlds: int, layout: str, seed: int) -> None:
     """``delkit model draw``: the picture in the format of the output's suffix (.svg, .png, .tex)."""
     from delkit import draw
@@ -167,6 +176,11 @@ def run_draw(path: str, output: Path, max_worlds: int, layout: str, seed: int) -
         raise DelkitError(f"{output}: cannot tell the picture format; name the output *.svg, *.png or *.tex")
     obj = load_any(path)
     pic = draw.picture(obj, max_worlds=max_worlds, layout=layout, seed=seed)
+    if suffix == ".png" and len(pic.nodes) + len(pic.edges) > PNG_MAX:
+        # matplotlib draws each node and edge as its own patch: ~10 ms each, minutes for thousands
+        raise DelkitError(f"{output}: {len(pic.nodes)} worlds and {len(pic.edges)} edges are more than the "
+                          f"{PNG_MAX} elements a PNG is drawn with in reasonable time; write *.svg or *.tex "
+                          f"instead (fast at any size), or draw a contracted model (delkit model contract)")
     try:
         output.parent.mkdir(parents=True, exist_ok=True)  # like the other commands' --out
         if suffix == ".svg":
