@@ -205,7 +205,8 @@ def parse_timeout(value: float | str | None, option: str = "--timeout") -> float
     except (TypeError, ValueError):
         raise ResourceError(f"{option} {value!r}: use a number of seconds (0 or inf: no limit)") from None
     if seconds != seconds or seconds < 0:
-        raise ResourceError(f"{option} {value!r}: use a number of seconds >= 0 (0 or inf: no limit)")
+        raise ResourceError(f"{option} {seconds:g} is impossible: use a number of seconds >= 0 (0 or inf: no "
+                            f"limit)")
     return None if seconds == 0 or seconds > _HUGE else seconds
 
 
