@@ -89,7 +89,6 @@ def product_update_bytes(model, events) -> float:
         return 0.0
     applicable = np.stack([np.asarray(model.check(p), dtype=bool) for p in events.pre], axis=1)  # n × |E|
     c = applicable.sum(axis=0).astype(float)  # per event
-    d = applicable.sum(axis=1).astype(float)  # per world
     k = float(c.sum())
     total = k * (8.0 * 4 + len(model.props))  # pairs, valuation, labels
     for a in model.agents:
@@ -270,12 +269,16 @@ def _watchdog(when: float, message: str, token: list) -> None:
 
 
 @contextmanager
-def deadline(seconds: float | str | None, what: str, option: str = "--timeout") -> Iterator[None]:
+def deadline(seconds: float | str | None, what: str, option: str = "--timeout", *,
+             alarm: bool = True) -> Iterator[None]:
     """Raise :class:`TimeLimit` in the main thread once ``seconds`` (see :func:`parse_timeout`) of wall time
     have passed since the command started (:func:`begin_command`; when none was marked, since now).
 
     An outer, earlier deadline (a test harness's ``ITIMER_REAL`` timer, or an enclosing :func:`deadline`)
-    stays in charge and is restored afterwards; off the main thread only the explicit checks apply."""
+    stays in charge and is restored afterwards; off the main thread only the explicit checks apply.
+    ``alarm=False``: no SIGALRM (for a body that runs a C library through ctypes, e.g. z3, whose wrappers
+    turn an exception raised inside them into another one or print it as "Exception ignored"): only the
+    explicit checks (:func:`check_time`, :func:`remaining`) and, in the console script, the watchdog."""
     import signal
     import threading
     import time
@@ -292,9 +295,19 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout") 
         yield
         return
     _DEADLINE, _MESSAGE[0] = when, message
-    if threading.current_thread() is not threading.main_thread():
+    if not alarm or threading.current_thread() is not threading.main_thread():
+        token = [False]
+        if HARD_EXIT:
+            threading.Thread(target=_watchdog, args=(when + _GRACE, message, token), daemon=True).start()
         try:
             yield
+        except TimeLimit:
+            raise
+        except BaseException:
+            token[0] = True
+            raise
+        else:
+            token[0] = True
         finally:
             _DEADLINE, _MESSAGE[0] = outer_deadline, outer_message
         return

@@ -432,8 +432,8 @@ def answer(spec: SmcdelFile, *, max_states: int = MAX_STATES, source: str = "<sm
         else:
             assignment = {_name(v): v in q.state for v in spec.variables}
             if not ks.truth(spec.law, assignment):
-                raise ModelError(f"{source}:{q.line}:{q.column}: TRUE? state {{{', '.join(map(str, q.state))}}} does not satisfy "
-                                 "the LAW")
+                raise ModelError(f"{source}:{q.line}:{q.column}: TRUE? state {{{', '.join(map(str, q.state))}}} "
+                                 "does not satisfy the LAW")
             row["state"] = list(q.state)
             row["answer"] = bool(ks.truth(q.formula, assignment))
         out.append(row)

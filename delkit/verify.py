@@ -76,6 +76,7 @@ from delkit.formula import (
 )
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
+from delkit.resources import check_time
 
 __all__ = [
     "VerificationError", "Verdict", "MacroCheck", "valid", "satisfiable", "equivalent", "counterexample",
@@ -520,6 +521,7 @@ class _Encoding:
         for r in range(max(1, math.ceil(math.log2(k))) if k > 1 else 0):
             nxt = [[z3.Bool(f"T{len(self.closures)}_{r}({w},{v})") for v in range(k)] for w in range(k)]
             for w in range(k):
+                check_time()  # the encoding of k = 12 worlds is seconds of Python: the --timeout holds here
                 for v in range(k):
                     self.constraints.append(nxt[w][v] == z3.Or(
                         cur[w][v], *[z3.And(cur[w][u], cur[u][v]) for u in range(k)]))
@@ -621,7 +623,7 @@ def find_model(formula: Formula | str, *, logic: str = "S5", worlds: int = 4, pr
             s = z3.Solver()
             s.add(*enc.constraints)
             s.add(goal)
-            from delkit.resources import check_time, remaining, time_limit
+            from delkit.resources import remaining, time_limit
 
             check_time()
             left = remaining()  # z3 runs in C: the alarm cannot interrupt it, its own timeout can

@@ -44,7 +44,6 @@ def structure_model(obj: Any, path: str, max_worlds: int):
     from delkit.bisimulation import as_kripke
     from delkit.errors import ModelError
     from delkit.kripke import KripkeModel
-
     from delkit.resources import require, structure_kripke_bytes
 
     try:
@@ -174,6 +173,9 @@ def run_draw(path: str, output: Path, max_worlds: int, layout: str, seed: int) -
     suffix = output.suffix.lower()
     if suffix not in (".svg", ".png", ".tex"):
         raise DelkitError(f"{output}: cannot tell the picture format; name the output *.svg, *.png or *.tex")
+    from delkit.resources import check_outputs
+
+    check_outputs([output], [path], option="-o")
     obj = load_any(path)
     pic = draw.picture(obj, max_worlds=max_worlds, layout=layout, seed=seed)
     if suffix == ".png" and len(pic.nodes) + len(pic.edges) > PNG_MAX:

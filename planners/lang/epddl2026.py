@@ -635,8 +635,8 @@ class _Ground:
 
     def _effect(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
         head = node.head() if isinstance(node, Node) and node.kind == "(" else None
-        if head == ":and":
-            parts = [self.effects(x) for x in node[1:]]
+        if head == ":and" or (isinstance(node, Node) and node.kind == "(" and len(node) == 0):
+            parts = [self.effects(x) for x in node[1:]]  # `()`: the empty list of effects
 
             def conj(env, cond, pos, neg) -> None:
                 for p in parts:
@@ -693,6 +693,8 @@ class _Ground:
             x = todo.pop()
             if isinstance(x, Node) and x.kind == "(" and x.head() == ":and":
                 todo.extend(reversed(x[1:]))
+            elif isinstance(x, Node) and x.kind == "(" and len(x) == 0:
+                continue  # `:effects ()`: no effect (the EPDDL grammar and plank accept the empty list)
             elif (lit := self._literal_atom(x)) is not None:
                 lits.append((*lit, x))
             else:   # a conditional effect, a :forall, or an error (reported by the general path, in order)

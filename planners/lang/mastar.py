@@ -324,8 +324,7 @@ class _Parser:
                         first = self.decl_at[n.text]
                         msg = (f"{self.source}:{n.line}: warning: {t.text} {n.text!r} is declared twice (first at "
                                f"line {first.line}); the duplicate is ignored (--strict makes this an error)")
-                        self.warnings.append(msg)
-                        _warn(msg)
+                        self.warnings.append(msg)  # printed once the file has been read without error
                         if self.accept(";"):
                             break
                         self.expect(",")
@@ -356,7 +355,11 @@ def parse_mastar(text: str, source: str = "<mA*>", *, strict: bool = False, dead
     A name declared twice in the same kind of list (``fluent p, q, p;``, as some published files do) is
     accepted with a one-line warning naming the file, line and duplicate; ``strict`` keeps it an error.
     ``deadline`` (``time.monotonic()``) bounds building the initial state."""
-    return _Parser(text, source, strict=strict, deadline=deadline).parse()
+    parser = _Parser(text, source, strict=strict, deadline=deadline)
+    task = parser.parse()
+    for msg in parser.warnings:  # after the parse: a file that fails is one error line, no warnings before it
+        _warn(msg)
+    return task
 
 
 def parse_mastar_formula(text: str, task: Task, *, source: str = "<formula>") -> Formula:
