@@ -149,6 +149,15 @@ _TIMEOUT_HELP = ("wall-clock limit in seconds, counted from the start of the pro
                  "reaching it is exit status 3")
 
 
+_CHECK_HELP = (
+    "Replay a plan on a spec and check its executability, goal and properties.\n\n"
+    "A plan under which an agent comes to believe ⊥ (no accessible world at the actual world, so every belief "
+    "goal would hold vacuously) fails on mA* and E-PDDL tasks unless --allow-inconsistent is given. EPDDL (2026) "
+    "semantics keeps such states (as plank does): the plan is checked on, with one warning line per such state "
+    "on stderr and their list in the JSON field inconsistent_beliefs.\n\n"
+    "Exit status: 0 valid, 1 invalid, 2 bad input, 3 --timeout reached.")
+
+
 def register(app: typer.Typer) -> None:
     """Attach ``plan`` and ``check`` to the top-level app."""
     import typer
@@ -173,16 +182,20 @@ def register(app: typer.Typer) -> None:
         raise typer.Exit(run_plan(spec, problem, search, timeout, max_nodes, max_memory, engine,
                                   allow_inconsistent, as_json, library, strict))
 
-    @app.command("check")
+    @app.command("check", help=_CHECK_HELP)
     def check_command(
         files: list[Path] = typer.Argument(..., help="SPEC [PROBLEM] PLAN_FILE"),
         library: list[Path] = typer.Option([], "--library", "-l", help="EPDDL action-type library (repeatable)"),
         strict: bool = typer.Option(False, "--strict", help="refuse mA* duplicate declarations"),
         prop: list[str] = typer.Option([], "--property", "-p",
-                                       help='"always φ", "eventually φ" or "at end φ" (repeatable)'),
+                                       help='"always φ", "eventually φ" or "at end φ" (repeatable); φ in the '
+                                            'formula syntax delkit reads everywhere (K_a p, C{a,b} p, ~ ! not, '
+                                            '&, |, ->) or in mA* syntax (B(a, p), -p), the two mixed as in '
+                                            '~B(a, p)'),
         props_file: Path | None = typer.Option(None, "--properties", help="file with one property a line"),
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
-                                                help="do not fail when an agent comes to believe ⊥"),
+                                                help="do not fail (mA*, E-PDDL) or warn (EPDDL) when an agent "
+                                                     "comes to believe ⊥"),
         timeout: float = typer.Option(0.0, "--timeout", help=_TIMEOUT_HELP),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object"),
     ) -> None:
