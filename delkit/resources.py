@@ -146,13 +146,13 @@ def sar_bytes(width: int, height: int, robots: int, epochs: int) -> float:
 #   loops that can run long (grounding, initial states, inside a search expansion, product update), a
 #   SIGALRM at the deadline that raises :class:`TimeLimit` in whatever Python code runs (re-fired every
 #   0.25 s in case something swallows it), and, when running as the console script (:data:`HARD_EXIT`), a
-#   watchdog thread that ends the process 0.3 s after the deadline if the body has still not returned;
+#   watchdog thread that ends the process 0.2 s after the deadline if the body has still not returned;
 # * the console script leaves with ``os._exit`` after flushing its output (delkit.cli.run), so freeing a
 #   large search space never delays the exit.
 
 HARD_EXIT = False            # set by the console-script entry point: the process may be ended by a watchdog
 _HUGE = 1e7                  # seconds (≈ 116 days): a longer limit is no limit (setitimer overflows ~1e9)
-_GRACE = 0.3                 # seconds after the deadline before the watchdog ends the process
+_GRACE = 0.2                 # seconds after the deadline before the watchdog ends the process
 _DEADLINE: float | None = None   # the innermost active deadline, a time.monotonic() instant
 _T0: float | None = None         # start of the current command (time.monotonic())
 _BEGUN_PID: int | None = None
@@ -266,6 +266,34 @@ def _watchdog(when: float, message: str, token: list) -> None:
         sys.stderr.flush()
     finally:
         os._exit(3)
+
+
+def early_watchdog(argv: list[str]) -> None:
+    """Console script only: end the process ``_GRACE`` + 0.1 s after ``--timeout`` (``epico table``:
+    ``--total-timeout``) counted from process start, whatever it is doing — a backstop started before the
+    command's imports (mujoco, z3, typer: seconds on a loaded machine), which the command's own deadline
+    normally beats by reporting the limit in its own words."""
+    import threading
+
+    option = "--total-timeout" if argv[:2] == ["epico", "table"] else "--timeout"
+    value = None
+    for i, arg in enumerate(argv):
+        if arg == "--":
+            break
+        if arg == option and i + 1 < len(argv):
+            value = argv[i + 1]
+        elif arg.startswith(option + "="):
+            value = arg.split("=", 1)[1]
+    try:
+        limit = parse_timeout(value, option)
+    except ResourceError:
+        return  # the command reports the bad value
+    if limit is None:
+        return
+    name = " ".join(a for a in argv[:2] if not a.startswith("-"))
+    message = f"delkit {name}: no answer within {option} {limit:g} s; give it more time with {option}"
+    threading.Thread(target=_watchdog, args=(process_start() + limit + _GRACE + 0.1, message, [False]),
+                     daemon=True).start()
 
 
 @contextmanager

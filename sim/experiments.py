@@ -102,9 +102,11 @@ def run_sweep(spec: SweepSpec, *, workers: int | None = None, dask: str | None =
                 rows[futures[fut]] = fut.result()
                 if progress is not None:
                     progress(done, len(cfgs))
-        except BaseException:  # e.g. --timeout reached: the pool must not run the missions still queued
-            for fut in futures:
+        except BaseException:  # e.g. --timeout reached: the pool must not run the missions still queued,
+            for fut in futures:  # nor keep running the current ones (its workers hold our stdout open)
                 fut.cancel()
+            for proc in list((getattr(ex, "_processes", None) or {}).values()):  # a local process pool's
+                proc.terminate()
             raise
 
     if pool is not None:

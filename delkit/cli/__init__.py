@@ -128,6 +128,7 @@ def run() -> None:
     import delkit.resources as resources
 
     resources.HARD_EXIT = True
+    resources.early_watchdog(sys.argv[1:])  # the --timeout holds even while the command is being imported
     try:
         rc = main()
     except SystemExit as exc:  # pragma: no cover - main returns its status

@@ -135,6 +135,9 @@ def run_case(case: Case) -> Outcome:
         lost = _inputs_changed(case, d)
         if lost:
             return Outcome("wrong", rc, lost, secs)
+        if rc == 3 and not out.strip():  # a limit reached (exit 3, every command): one clean line on stderr
+            bad = classify_error_text(err)
+            return Outcome("crash" if bad else "ok", rc, bad or err.strip()[:240], secs)
         if case.oracle:
             try:
                 why = ORACLES[case.oracle](case, argv, rc, out, d)
