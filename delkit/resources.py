@@ -152,6 +152,7 @@ def sar_bytes(width: int, height: int, robots: int, epochs: int) -> float:
 
 HARD_EXIT = False            # set by the console-script entry point: the process may be ended by a watchdog
 _HUGE = 1e7                  # seconds (≈ 116 days): a longer limit is no limit (setitimer overflows ~1e9)
+ALARM_SLACK = 0.05           # seconds after the deadline before the alarm interrupts the body
 _GRACE = 0.2                 # seconds after the deadline before the watchdog ends the process
 _DEADLINE: float | None = None   # the innermost active deadline, a time.monotonic() instant
 _T0: float | None = None         # start of the current command (time.monotonic())
@@ -222,12 +223,14 @@ def expired() -> bool:
     return _DEADLINE is not None and time.monotonic() > _DEADLINE
 
 
-def check_time() -> None:
-    """Raise :class:`TimeLimit` if the active deadline has passed (cheap: one clock read)."""
+def check_time(slack: float = 0.0) -> None:
+    """Raise :class:`TimeLimit` if the active deadline has passed by more than ``slack`` seconds (cheap: one
+    clock read). A search passes a small slack inside an expansion so that its own per-expansion check,
+    which reports how far it got, normally comes first."""
     if _DEADLINE is not None:
         import time
 
-        if time.monotonic() > _DEADLINE:
+        if time.monotonic() > _DEADLINE + slack:
             raise TimeLimit(_MESSAGE[0])
 
 
@@ -360,7 +363,9 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
     # the timer re-fires every 0.25 s after expiry: an exception raised where Python swallows it (a C
     # extension's finaliser, e.g. a BDD node freed by CUDD's wrapper, prints "Exception ignored") must not
     # leave the body running without a limit
-    signal.setitimer(signal.ITIMER_REAL, max(left, 1e-3), 0.25)
+    # ALARM_SLACK after the deadline: a loop that checks the deadline itself (the search, per expansion)
+    # normally stops first and reports how far it got; the alarm stops everything else
+    signal.setitimer(signal.ITIMER_REAL, max(left + ALARM_SLACK, 1e-3), 0.25)
     try:
         yield
     except TimeLimit:

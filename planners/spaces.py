@@ -34,7 +34,7 @@ from delkit.errors import PlanningError
 from delkit.events import EventModel
 from delkit.formula import Formula, Top, is_propositional, props_of
 from delkit.kripke import KripkeModel
-from delkit.resources import check_time
+from delkit.resources import ALARM_SLACK, check_time
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, build_event_model, goal_conjuncts
 
 __all__ = ["CompactSpace", "DelSpace", "make_space"]
@@ -73,7 +73,7 @@ class DelSpace:
 
     def successors(self, model: KripkeModel) -> Iterator[tuple[str, KripkeModel, Hashable]]:
         for act in self.task.actions:
-            check_time()  # one clock read per action: a single expansion can take seconds
+            check_time(ALARM_SLACK)  # one clock read per action: a single expansion can take seconds
             new = self.step(model, act.name)
             if new is None:
                 continue
@@ -352,7 +352,7 @@ class CompactSpace:
             cands = self._by_point[here] = self._candidates(s, here)
         apply = self.engine.apply_compiled
         for name, entry, comp in cands:
-            check_time()  # one clock read: a single expansion of a large state can take seconds
+            check_time(ALARM_SLACK)  # one clock read: a single expansion of a large state can take seconds
             new = apply(s, comp) if comp is not None else self.apply_entry(s, entry)  # type: ignore[arg-type]
             if new is None:
                 continue
