@@ -433,3 +433,36 @@ def test_model_contract_refuses_its_input_and_errors_in_one_line(tmp_path, capsy
     if Path("/dev/full").exists():
         rc, _, err = run_cli(capsys, ["model", "contract", str(m), "-o", "/dev/full"])
         assert rc == 2 and len(err.strip().splitlines()) == 1, err
+
+
+def _cc(tmp_path: Path):
+    base = SHARED / "epddl2026" / "plank"
+    src = base / "domains" / "Collaboration-through-Communication"
+    if not src.exists():
+        pytest.skip("shared benchmarks not available")
+    return (src / "cc.epddl", src / "instances" / "cc_2_2_3" / "problem_1.epddl",
+            ["-l", str(base / "libraries" / "intermediate.epddl")])
+
+
+def test_epddl_undeclared_object_type_names_the_type_and_file(tmp_path, capsys):
+    dom, prob, lib = _cc(tmp_path)
+    bad = tmp_path / "p.epddl"
+    bad.write_text(prob.read_text().replace("- room", "- rooom"))
+    rc, _, err = run_cli(capsys, ["plan", str(dom), str(bad), *lib])
+    assert rc == 2 and f"{bad}:" in err and "'rooom'" in err and classify_error_text(err) is None, err
+
+
+def test_epddl_undeclared_parent_type_is_a_warning(tmp_path, capsys):
+    dom, prob, lib = _cc(tmp_path)
+    d = tmp_path / "cc.epddl"
+    d.write_text(dom.read_text().replace("(:types box room)", "(:types box room - number)"))
+    rc, _, err = run_cli(capsys, ["plan", str(d), str(prob), *lib])
+    assert rc == 0 and err.startswith("delkit: warning:") and "'number'" in err, err
+
+
+def test_epddl_unsupported_feature_is_named(tmp_path, capsys):
+    dom, prob, lib = _cc(tmp_path)
+    bad = tmp_path / "p.epddl"
+    bad.write_text(prob.read_text().replace("(at-ag A    room2)", "(at-ag (count ?x) room2)", 1))
+    rc, _, err = run_cli(capsys, ["plan", str(dom), str(bad), *lib])
+    assert rc == 2 and "(count ...)" in err and "not support" in err and classify_error_text(err) is None, err
