@@ -470,3 +470,11 @@ def test_epddl_unsupported_feature_is_named(tmp_path, capsys):
     bad.write_text(prob.read_text().replace("(at-ag A    room2)", "(at-ag (count ?x) room2)", 1))
     rc, _, err = run_cli(capsys, ["plan", str(dom), str(bad), *lib])
     assert rc == 2 and "(count ...)" in err and "not support" in err and classify_error_text(err) is None, err
+
+
+def test_epico_macros_exit_1_on_an_inconsistent_handwritten_macro(tmp_path, capsys):
+    """It printed INCONSISTENT and exited 0; the default (the seed's Listing 4) stays exit 0 by design."""
+    hw = tmp_path / "listing4.txt"
+    hw.write_text((REPO / "specs" / "epico" / "listing4.txt").read_text())
+    rc, out, _ = run_cli(capsys, ["epico", "macros", "--colors", "2", "--handwritten", str(hw)])
+    assert rc == 1 and "INCONSISTENT" in out
