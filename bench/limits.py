@@ -55,7 +55,7 @@ def cases(tmp: Path, t: str) -> list[tuple[str, list[str]]]:
         ("puzzle sum-product --limit 6000", ["puzzle", "sum-product", "--limit", "6000", "--timeout", t]),
         ("puzzle muddy -n 2000 --symbolic", ["puzzle", "muddy", "-n", "2000", "-m", "1000", "--symbolic",
                                              "--timeout", t]),
-        ("epico table --total-timeout", ["epico", "table", "--colors", "4", "--total-timeout", t]),
+        ("epico table --repeat 5 --total-timeout", ["epico", "table", "--repeat", "5", "--total-timeout", t]),
         ("explore sweep --maps 40", ["explore", "sweep", "--maps", "40", "--workers", "1", "--timeout", t,
                                      "--out", str(tmp / "sweep")]),
         ("arms run demo_plan --no-video", ["arms", "run", str(ROOT / "arms" / "demo_plan.json"), "--no-video",
