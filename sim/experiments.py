@@ -105,7 +105,11 @@ def run_sweep(spec: SweepSpec, *, workers: int | None = None, dask: str | None =
         except BaseException:  # e.g. --timeout reached: the pool must not run the missions still queued,
             for fut in futures:  # nor keep running the current ones (its workers hold our stdout open)
                 fut.cancel()
-            for proc in list((getattr(ex, "_processes", None) or {}).values()):  # a local process pool's
+            from delkit import resources
+
+            # the delkit program is about to leave: end a local pool's workers now (in-process callers let the
+            # pool finish the running missions: terminating them under a live executor upsets its manager)
+            for proc in list((getattr(ex, "_processes", None) or {}).values()) if resources.HARD_EXIT else []:
                 proc.terminate()
             raise
 
