@@ -8,8 +8,9 @@ from delkit.bisimulation import (  # noqa: F401
     canonical_hash,
     contract,
     disjoint_union,
+    quotient,
     refine,
 )
 
-__all__ = ["refine", "bisimulation_classes", "contract", "bisimilar", "canonical_form", "canonical_hash",
+__all__ = ["refine", "bisimulation_classes", "contract", "quotient", "bisimilar", "canonical_form", "canonical_hash",
            "disjoint_union"]

@@ -55,7 +55,7 @@ from delkit.formula import BOT, TOP, Formula, K, Not, children, conj, disj, moda
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
-__all__ = ["refine", "bisimulation_classes", "contract", "bisimilar", "canonical_form", "canonical_hash",
+__all__ = ["refine", "bisimulation_classes", "contract", "quotient", "bisimilar", "canonical_form", "canonical_hash",
            "disjoint_union", "Diff", "diff", "distinguishing_formula", "refinement_history", "formula_size",
            "as_kripke", "MAX_WORLDS"]
 
@@ -75,9 +75,8 @@ def _successor_sets(rel: Relation, blocks: np.ndarray) -> list[tuple[int, ...]]:
             for c_arr, b_arr in zip(np.split(cls, splits), np.split(blk, splits), strict=True):
                 per_class[int(c_arr[0])] = tuple(int(b) for b in b_arr)
         return [per_class[int(c)] for c in lab]
-    m = rel.matrix
+    ptr, ind = rel.rows()  # numpy only (no scipy import)
     out: list[tuple[int, ...]] = []
-    ind, ptr = m.indices, m.indptr
     succ_blocks = blocks[ind]
     for w in range(n):
         seg = succ_blocks[ptr[w]:ptr[w + 1]]
@@ -119,9 +118,9 @@ def _set_hashes(rel: Relation, blocks: np.ndarray) -> np.ndarray:
         for j, salt in enumerate(_SALTS):
             np.add.at(per[:, j], cls, _mix(blk, salt))
         return per[lab]
-    m = rel.matrix
-    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(m.indptr))
-    key = np.unique(rows * base + blocks[m.indices])
+    indptr, indices = rel.rows()  # numpy only (no scipy import)
+    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(indptr))
+    key = np.unique(rows * base + blocks[indices])
     r, blk = key // base, key % base
     for j, salt in enumerate(_SALTS):
         np.add.at(out[:, j], r, _mix(blk, salt))
@@ -188,14 +187,15 @@ def bisimulation_classes(model: KripkeModel) -> list[list[int]]:
 
 
 def _quotient_labels(blocks: np.ndarray, labels: np.ndarray, k: int) -> np.ndarray:
-    """Class of each block in the quotient of the partition ``labels`` by ``blocks`` (k blocks)."""
-    import scipy.sparse as sp
-    from scipy.sparse.csgraph import connected_components
+    """Class of each block in the quotient of the partition ``labels`` by ``blocks`` (k blocks): the connected
+    components of "same block or same class" (numpy min-label propagation; blocks that respect the relation
+    settle it in two rounds, and no scipy import)."""
+    from delkit.semantics import _components
 
-    n_lab = int(labels.max(initial=-1)) + 1
-    g = sp.csr_matrix((np.ones(blocks.size, dtype=bool), (blocks, k + labels)), shape=(k + n_lab, k + n_lab))
-    _, comp = connected_components(g, directed=False)
-    return comp[:k]
+    comp = _components(int(blocks.size), [np.asarray(blocks, dtype=np.int64), labels])
+    rep = np.zeros(k, dtype=np.int64)
+    rep[blocks[::-1]] = np.arange(blocks.size)[::-1]
+    return comp[rep]
 
 
 def contract(model: KripkeModel, *, generated: bool = True) -> KripkeModel:
@@ -205,7 +205,13 @@ def contract(model: KripkeModel, *, generated: bool = True) -> KripkeModel:
     v ∈ Y have w R_a v. Partitions stay partitions. The result is bisimilar to the input and minimal.
     """
     m = model.generated() if generated else model
-    blocks = refine(m)
+    return quotient(m, refine(m))
+
+
+def quotient(m: KripkeModel, blocks: np.ndarray, *, keep_names: bool = False) -> KripkeModel:
+    """The quotient of ``m`` by the partition ``blocks`` (world -> block, blocks numbered 0..k-1 in order of
+    their least world, as :func:`refine` gives them): X R_a Y iff some w ∈ X and v ∈ Y have w R_a v.
+    ``keep_names``: each block is named after its least world (else the worlds are unnamed)."""
     k = int(blocks.max()) + 1 if blocks.size else 0
     rep = np.zeros(k, dtype=np.int64)
     rep[blocks[::-1]] = np.arange(m.n_worlds)[::-1]  # first world of each block
@@ -216,10 +222,12 @@ def contract(model: KripkeModel, *, generated: bool = True) -> KripkeModel:
             # quotient is again an equivalence: the components of the bipartite block–class graph.
             rels[a] = Relation.from_labels(_quotient_labels(blocks, r.labels, k))
         else:
-            coo = r.matrix.tocoo()
-            rels[a] = Relation.from_pairs(k, zip(blocks[coo.row].tolist(), blocks[coo.col].tolist(), strict=True))
+            indptr, indices = r.rows()
+            src = np.repeat(np.arange(m.n_worlds, dtype=np.int64), np.diff(indptr))
+            rels[a] = Relation.from_pairs(k, np.stack([blocks[src], blocks[indices]], axis=1))
     des = sorted({int(blocks[d]) for d in m.designated})
-    return KripkeModel(m.props, m.agents, m.valuation[rep], rels, tuple(des))
+    names = tuple(m.names[int(r)] for r in rep) if keep_names and m.names else None
+    return KripkeModel(m.props, m.agents, m.valuation[rep], rels, tuple(des), names)
 
 
 def canonical_form(model: KripkeModel, *, generated: bool = True, exact: bool = False) -> tuple:

@@ -331,6 +331,7 @@ def picture(obj: Any, *, max_worlds: int = 64, layout: str = "auto", seed: int =
 
 def _kripke(m: Any, names: list[str], layout: str, seed: int) -> Picture:
     """A Kripke model's picture, its worlds called ``names``."""
+    _refuse_huge(m.n_worlds, m.relations, layout)
     # propositions true in every world are said once, in the caption, not in every node (planning states carry
     # many fluents that no world disagrees on)
     common = set(m.props) if m.n_worlds > 1 and len(m.props) > 2 else set()
@@ -344,6 +345,39 @@ def _kripke(m: Any, names: list[str], layout: str, seed: int) -> Picture:
         pic.caption.insert(0, "true in every world (not repeated in the worlds): " + ", ".join(sorted(common)))
     pic.summary = f"{m.n_worlds} world(s), agents {', '.join(m.agents)}"
     return pic
+
+
+#: above these a drawing is refused before it is built: kamada-kawai is O(n²) memory and ~O(n³) time
+#: (3.8 s CPU for 300 worlds), and every drawn element costs ~1 KB in the picture
+KAMADA_KAWAI_MAX = 300
+
+
+def drawn_edges(relations) -> float:
+    """Upper bound of the edges a picture draws: per agent the pairs of its relation (Σ class² for a
+    partition), before merging the two directions."""
+    import numpy as np
+
+    total = 0.0
+    for r in relations.values():
+        if r.labels is not None:
+            sizes = np.bincount(r.labels).astype(float)
+            total += float(sizes @ sizes)
+        else:
+            total += float(r.rows()[1].size)
+    return total
+
+
+def _refuse_huge(n: int, relations, layout: str) -> None:
+    from delkit.errors import DelkitError
+    from delkit.resources import require
+
+    if layout == "kamada-kawai" and n > KAMADA_KAWAI_MAX:
+        raise DelkitError(f"--layout kamada-kawai: {n} worlds is more than the {KAMADA_KAWAI_MAX} it lays out in "
+                          f"reasonable time (O(n³)); use --layout spring or circle, or contract the model first "
+                          f"(delkit model contract)")
+    require(1024.0 * (n + drawn_edges(relations)), f"drawing {n} world(s)",
+            "draw a smaller or contracted model (delkit model contract), or a lower --max-worlds")
+
 
 
 def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
@@ -360,6 +394,10 @@ def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
                                                       f"{max_worlds}; raise max_worlds)"])
         pic.summary = f"structure with {n} states, Kripke model not drawn"
         return pic
+    from delkit.resources import require, structure_kripke_bytes
+
+    require(structure_kripke_bytes(obj), f"the explicit model of a structure with {n} states",
+            "use a lower --max-worlds")
     m = obj.to_kripke()
     states = obj.states()
     names = ["{" + ",".join(v for v in obj.vocabulary if s[v]) + "}" for s in states]

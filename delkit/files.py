@@ -45,8 +45,12 @@ def structure_model(obj: Any, path: str, max_worlds: int):
     from delkit.bisimulation import as_kripke
     from delkit.errors import ModelError
     from delkit.kripke import KripkeModel
+    from delkit.resources import require, structure_kripke_bytes
 
     try:
+        if hasattr(obj, "count_states") and obj.count_states() <= max_worlds:  # estimated before it is built
+            require(structure_kripke_bytes(obj), f"{path}: the explicit model of its {obj.count_states()} states",
+                    "use a lower --max-worlds or the symbolic engine (two .smcdel.txt files)")
         m = as_kripke(obj, max_worlds=max_worlds)
     except ModelError as exc:
         raise ModelError(f"{path}: {exc}") from None

@@ -338,6 +338,10 @@ def event_model_from_dict(data: Any, *, source: str = "<data>") -> EventModel:
         r.keys(ev, ("name", "pre", "post"), f"event {names[i]!r}")
         pres.append(r.formula(ev.get("pre", "T"), f"precondition of event {names[i]!r}"))
         post = r.get(ev, "post", dict, f"event {names[i]!r}", default={})
+        if any(not p.strip() for p in post):  # the empty name: no proposition a formula could ever mention
+            raise r.fail(f"event {names[i]!r}: its postcondition names the empty proposition \"\"",
+                         "name the proposition the event changes, e.g. \"post\": {\"p\": \"F\"}")
+        r.plain_props([p for p in post], f"event {names[i]!r}'s postcondition")
         posts.append({p: r.formula(v, f"postcondition of {p!r} in event {names[i]!r}") for p, v in post.items()})
     agents, rels = r.relations(data, index, "event")
     des = [r.ref(x, index, "event", "designated") for x in r.get(data, "designated", list, "the event model")]

@@ -252,7 +252,13 @@ class KripkeModel:
                 continue
             for p, f in post.items():
                 val[rows, self.prop_index(p)] = self.check(f)[w_idx[rows]]
-        rels = {a: self.relations[a].product(events.relations[a], pairs) for a in self.agents}
+        from delkit.resources import check_time
+
+        check_time()  # the active --timeout: a product of a large model can take seconds per relation
+        rels = {}
+        for a in self.agents:
+            rels[a] = self.relations[a].product(events.relations[a], pairs)
+            check_time()
         des_w = np.zeros(self.n_worlds, dtype=bool)
         des_w[list(self.designated)] = True
         if designated == "all":
@@ -279,10 +285,14 @@ class KripkeModel:
         kind, data = common_reach(self, tuple(ags))  # cached per model and group
         if kind == "components":  # S5: reachable = the connected components of the sources
             return np.isin(data, data[mask])
-        union = data
+        indptr, indices = data.rows()
         frontier = mask.copy()
         while frontier.any():
-            nxt = (union.T @ frontier.astype(np.int64)) > 0
+            nxt = np.zeros(self.n_worlds, dtype=bool)
+            rows = np.flatnonzero(frontier)
+            deg = indptr[rows + 1] - indptr[rows]
+            nxt[indices[np.repeat(indptr[rows], deg) + np.arange(int(deg.sum())) - np.repeat(np.cumsum(deg) - deg,
+                                                                                          deg)]] = True
             new = nxt & ~mask
             mask |= new
             frontier = new

@@ -137,6 +137,25 @@ class Relation:
             object.__setattr__(self, "_matrix", cached)
         return cached
 
+    def rows(self) -> tuple[np.ndarray, np.ndarray]:
+        """(indptr, indices) of the CSR form, sorted rows, computed with numpy only (partitions included)."""
+        if self._csr is not None:
+            return self._csr.indptr, self._csr.indices
+        if self._rows is not None:
+            return self._rows
+        cached = self.__dict__.get("_label_rows")
+        if cached is None:
+            lab = self.labels
+            order = np.argsort(lab, kind="stable")
+            counts = np.bincount(lab) if lab.size else np.zeros(0, dtype=np.int64)
+            starts = np.concatenate([[0], np.cumsum(counts)]).astype(np.int64)
+            deg = counts[lab]
+            indptr = np.concatenate([[0], np.cumsum(deg)]).astype(np.int64)
+            off = np.arange(int(indptr[-1]), dtype=np.int64) - np.repeat(indptr[:-1], deg)
+            cached = (indptr, order[np.repeat(starts[lab], deg) + off].astype(np.int64))
+            object.__setattr__(self, "_label_rows", cached)
+        return cached
+
     def successors(self, w: int) -> np.ndarray:
         if self.labels is not None:
             return np.flatnonzero(self.labels == self.labels[w])
@@ -156,8 +175,9 @@ class Relation:
         if self.labels is not None:
             bad = np.bincount(self.labels[~truth], minlength=int(self.labels.max(initial=-1)) + 1)
             return bad[self.labels] == 0
-        bad = self.matrix @ (~truth).astype(np.int64)
-        return bad == 0
+        indptr, indices = self.rows()  # numpy only: no scipy import for a replay of small models
+        cs = np.concatenate(([0], np.cumsum(~truth[indices], dtype=np.int64)))
+        return cs[indptr[1:]] == cs[indptr[:-1]]
 
     def diamond(self, truth: np.ndarray) -> np.ndarray:
         """Vector of worlds with at least one successor satisfying ``truth``."""
@@ -166,7 +186,7 @@ class Relation:
     def has_successor(self) -> np.ndarray:
         if self.labels is not None:
             return np.ones(self.n, dtype=bool)
-        return np.diff(self.matrix.indptr) > 0
+        return np.diff(self.rows()[0]) > 0
 
     # ------------------------------------------------------------------ transformations
     def restrict(self, keep: np.ndarray) -> Relation:
@@ -176,7 +196,19 @@ class Relation:
             # labels stay as they are (not renumbered): they only need to be equal within a class and
             # bounded by the original size, which keeps restriction a single gather
             return Relation(n=int(keep.size), labels=self.labels[keep])
-        return Relation.from_matrix(self.matrix[keep][:, keep])
+        # numpy only: the kept rows, their targets renumbered, targets outside ``keep`` dropped
+        indptr, indices = self.rows()
+        new = np.full(self.n, -1, dtype=np.int64)
+        new[keep] = np.arange(keep.size, dtype=np.int64)
+        deg = indptr[keep + 1] - indptr[keep]
+        off = np.arange(int(deg.sum()), dtype=np.int64) - np.repeat(np.cumsum(deg) - deg, deg)
+        tgt = new[indices[np.repeat(indptr[keep], deg) + off]]
+        src = np.repeat(np.arange(keep.size, dtype=np.int64), deg)
+        ok = tgt >= 0
+        flat = np.sort(src[ok] * max(keep.size, 1) + tgt[ok])
+        src, tgt = np.divmod(flat, max(keep.size, 1))
+        return Relation(n=int(keep.size), _rows=(np.searchsorted(src, np.arange(keep.size + 1)).astype(np.int64),
+                                                 tgt.astype(np.int64)))
 
     def product(self, other: Relation, pairs: np.ndarray) -> Relation:
         """Relation on pairs (w, e): (w,e) ~ (v,f) iff w ~self v and e ~other f; ``pairs`` is (k, 2)."""
@@ -184,15 +216,46 @@ class Relation:
         if self.labels is not None and other.labels is not None:
             base = int(other.labels.max(initial=-1)) + 1
             return Relation.from_labels(self.labels[w] * base + other.labels[e])
-        a = self.to_matrix()[w][:, w]
-        b = other.to_matrix()[e][:, e]
-        return Relation.from_matrix(a.multiply(b))
+        # numpy only: for each new world i = (w_i, e_i) the candidates (v, f) with w_i R v and e_i R' f, kept
+        # where (v, f) is a new world (binary search in the sorted keys of ``pairs``)
+        k, ne = int(pairs.shape[0]), max(other.n, 1)
+        if k == 0:
+            return Relation(n=0, _rows=(np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64)))
+        ipa, ixa = self.rows()
+        ipb, ixb = other.rows()
+        db = ipb[e + 1] - ipb[e]
+        cnt = (ipa[w + 1] - ipa[w]) * db
+        off = np.arange(int(cnt.sum()), dtype=np.int64) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+        dbr = np.maximum(np.repeat(db, cnt), 1)
+        q = ixa[np.repeat(ipa[w], cnt) + off // dbr] * ne + ixb[np.repeat(ipb[e], cnt) + off % dbr]
+        keys = w.astype(np.int64) * ne + e
+        order = np.argsort(keys, kind="stable")
+        sk = keys[order]
+        pos = np.minimum(np.searchsorted(sk, q), k - 1)
+        hit = sk[pos] == q
+        flat = np.sort(np.repeat(np.arange(k, dtype=np.int64), cnt)[hit] * k + order[pos[hit]])
+        src, dst = np.divmod(flat, k)
+        return Relation(n=k, _rows=(np.searchsorted(src, np.arange(k + 1)).astype(np.int64), dst.astype(np.int64)))
 
     def intersect(self, other: Relation) -> Relation:
         if self.labels is not None and other.labels is not None:
             base = int(other.labels.max(initial=-1)) + 1
             return Relation.from_labels(self.labels * base + other.labels)
         return Relation.from_matrix(self.to_matrix().multiply(other.to_matrix()))
+
+    def union(self, others: Iterable[Relation]) -> Relation:
+        """The union with ``others`` (numpy only)."""
+        parts = [self, *others]
+        src, dst = [], []
+        for r in parts:
+            indptr, indices = r.rows()
+            src.append(np.repeat(np.arange(self.n, dtype=np.int64), np.diff(indptr)))
+            dst.append(indices.astype(np.int64))
+        n = max(self.n, 1)
+        flat = np.sort(np.concatenate(src) * n + np.concatenate(dst))
+        flat = flat[np.concatenate(([True], flat[1:] != flat[:-1]))] if flat.size else flat  # no numpy.ma
+        s, d = np.divmod(flat, n)
+        return Relation(n=self.n, _rows=(np.searchsorted(s, np.arange(self.n + 1)).astype(np.int64), d))
 
     def union_matrix(self, others: Iterable[Relation]) -> sp.csr_matrix:
         m = self.to_matrix().astype(np.int8)

@@ -20,7 +20,8 @@ from contextlib import contextmanager
 from delkit.errors import DelkitError
 
 __all__ = ["ResourceError", "memory_budget", "require", "fmt_bytes", "product_update_bytes",
-           "sum_product_bytes", "sar_bytes", "deadline"]
+           "sum_product_bytes", "sar_bytes", "structure_kripke_bytes", "deadline", "TimeLimit", "parse_timeout",
+           "check_time", "begin_command", "remaining", "keep_alive", "time_limit", "check_outputs"]
 
 ENV = "DELKIT_MEMORY_BUDGET"
 
@@ -88,7 +89,6 @@ def product_update_bytes(model, events) -> float:
         return 0.0
     applicable = np.stack([np.asarray(model.check(p), dtype=bool) for p in events.pre], axis=1)  # n × |E|
     c = applicable.sum(axis=0).astype(float)  # per event
-    d = applicable.sum(axis=1).astype(float)  # per world
     k = float(c.sum())
     total = k * (8.0 * 4 + len(model.props))  # pairs, valuation, labels
     for a in model.agents:
@@ -96,17 +96,25 @@ def product_update_bytes(model, events) -> float:
         if mr.labels is not None and er.labels is not None:
             total += 16.0 * k
             continue
-        emat = er.to_matrix().tocoo()
-        nnz_b = float(np.dot(c[emat.row], c[emat.col]))
-        if mr.labels is not None:  # the partition is first materialised as an n × n matrix
-            sizes = np.bincount(mr.labels).astype(float)
-            sums = np.bincount(mr.labels, weights=d)
-            nnz_a = float(np.dot(sums, sums) + np.dot(sizes, sizes))
-        else:
-            mmat = mr.to_matrix().tocoo()
-            nnz_a = float(np.dot(d[mmat.row], d[mmat.col]))
-        total += 16.0 * (nnz_a + nnz_b)
+        # Relation.product enumerates, per new world (w, e), the out-degree of w times that of e candidates
+        # (about 6 int64 arrays of that length); a partition's rows are materialised first (Σ class sizes²)
+        out_w = np.diff(mr.rows()[0]).astype(float) if mr.labels is None else \
+            np.bincount(mr.labels).astype(float)[mr.labels]
+        out_e = np.diff(er.rows()[0]).astype(float) if er.labels is None else \
+            np.bincount(er.labels).astype(float)[er.labels]
+        cand = float(out_w @ applicable.astype(float) @ out_e)
+        total += 48.0 * cand + 16.0 * (float(out_w.sum()) if mr.labels is not None else 0.0)
     return total
+
+
+def structure_kripke_bytes(structure) -> float:
+    """Peak bytes of the explicit Kripke model of a knowledge/belief structure (``to_kripke`` and the world
+    names): about 2 KB per state (its valuation and the per-state dict the enumeration builds), plus for a
+    belief structure, whose relations are not partitions, up to 16 bytes per pair of states per agent."""
+    n = float(structure.count_states())
+    belief = hasattr(structure, "relations") and not hasattr(structure, "observed")
+    agents = len(getattr(structure, "relations", None) or getattr(structure, "observed", None) or {})
+    return 2048.0 * n + (16.0 * agents * n * n if belief else 0.0)
 
 
 def sum_product_bytes(limit: int) -> float:
@@ -124,40 +132,280 @@ def sar_bytes(width: int, height: int, robots: int, epochs: int) -> float:
     return cells * (64.0 + 16.0 * robots) + log * (40.0 + robots) + 8.0 * (epochs + 1) * robots
 
 
-@contextmanager
-def deadline(seconds: float | None, what: str, option: str = "--timeout") -> Iterator[None]:
-    """Raise :class:`ResourceError` in the main thread if the body runs longer than ``seconds`` of wall time.
+# ----------------------------------------------------------------------------- time limits
+#
+# One discipline for every command with a time limit (``--timeout T``, see :func:`parse_timeout`):
+#
+# * T is wall time counted from the start of the *process* (the interpreter's start-up and the imports are
+#   inside it), or, for a command run in-process after another one (tests, batch runs), from the moment
+#   :func:`begin_command` was called for it;
+# * ``--timeout 0`` and ``--timeout inf`` both mean *no limit*; any other positive float is a limit (no
+#   overflow: beyond about 10^7 s it is no limit either); negative values and NaN are bad input (exit 2);
+# * a reached limit is exit status 3 everywhere (:class:`TimeLimit`), a refusal before starting exit 2;
+# * inside the body the limit is enforced in three ways: cheap explicit checks (:func:`check_time`) in the
+#   loops that can run long (grounding, initial states, inside a search expansion, product update), a
+#   SIGALRM at the deadline that raises :class:`TimeLimit` in whatever Python code runs (re-fired every
+#   0.25 s in case something swallows it), and, when running as the console script (:data:`HARD_EXIT`), a
+#   watchdog thread that ends the process 0.2 s after the deadline if the body has still not returned;
+# * the console script leaves with ``os._exit`` after flushing its output (delkit.cli.run), so freeing a
+#   large search space never delays the exit.
 
-    ``None``/0 means no limit. An outer, shorter ``ITIMER_REAL`` timer (e.g. a test harness's) stays in
-    charge and is restored afterwards; off the main thread the limit is not enforced (signals need it)."""
+HARD_EXIT = False            # set by the console-script entry point: the process may be ended by a watchdog
+_HUGE = 1e7                  # seconds (≈ 116 days): a longer limit is no limit (setitimer overflows ~1e9)
+ALARM_SLACK = 0.05           # seconds after the deadline before the alarm interrupts the body
+_GRACE = 0.2                 # seconds after the deadline before the watchdog ends the process
+_DEADLINE: float | None = None   # the innermost active deadline, a time.monotonic() instant
+_T0: float | None = None         # start of the current command (time.monotonic())
+_BEGUN_PID: int | None = None
+
+
+class TimeLimit(ResourceError):
+    """A ``--timeout`` was reached (exit status 3)."""
+
+    exit_code = 3
+
+
+def process_start() -> float:
+    """The ``time.monotonic()`` instant at which this process started (Linux: from /proc; else now)."""
+    import time
+
+    now = time.monotonic()
+    try:
+        with open("/proc/self/stat", "rb") as fh:
+            stat = fh.read()
+        ticks = int(stat[stat.rindex(b")") + 2:].split()[19])  # field 22: start time, clock ticks since boot
+        age = time.clock_gettime(time.CLOCK_BOOTTIME) - ticks / os.sysconf("SC_CLK_TCK")
+    except (OSError, ValueError, IndexError, AttributeError):  # pragma: no cover - not Linux
+        return now
+    return now - age if 0.0 <= age < 3600.0 else now
+
+
+def begin_command() -> None:
+    """Mark the start of a command: the process start for the first command of a process, else now."""
+    import time
+
+    global _T0, _BEGUN_PID
+    pid = os.getpid()
+    _T0 = process_start() if _BEGUN_PID != pid else time.monotonic()
+    _BEGUN_PID = pid
+
+
+def command_start() -> float:
+    import time
+
+    return time.monotonic() if _T0 is None else _T0
+
+
+def parse_timeout(value: float | str | None, option: str = "--timeout") -> float | None:
+    """The limit in seconds, or None for no limit (None, 0, inf, or more than ~10^7 s); bad input raises."""
+    if value is None:
+        return None
+    try:
+        seconds = float(value)
+    except (TypeError, ValueError):
+        raise ResourceError(f"{option} {value!r}: use a number of seconds (0 or inf: no limit)") from None
+    if seconds != seconds or seconds < 0:
+        raise ResourceError(f"{option} {seconds:g} is impossible: use a number of seconds >= 0 (0 or inf: no "
+                            f"limit)")
+    return None if seconds == 0 or seconds > _HUGE else seconds
+
+
+def remaining() -> float | None:
+    """Seconds left before the innermost active deadline (None: no deadline; may be negative)."""
+    import time
+
+    return None if _DEADLINE is None else _DEADLINE - time.monotonic()
+
+
+def expired() -> bool:
+    import time
+
+    return _DEADLINE is not None and time.monotonic() > _DEADLINE
+
+
+def check_time(slack: float = 0.0) -> None:
+    """Raise :class:`TimeLimit` if the active deadline has passed by more than ``slack`` seconds (cheap: one
+    clock read). A search passes a small slack inside an expansion so that its own per-expansion check,
+    which reports how far it got, normally comes first."""
+    if _DEADLINE is not None:
+        import time
+
+        if time.monotonic() > _DEADLINE + slack:
+            raise TimeLimit(_MESSAGE[0])
+
+
+def time_limit() -> TimeLimit:
+    """The :class:`TimeLimit` of the active deadline (to raise where a library stopped at it, e.g. z3)."""
+    return TimeLimit(_MESSAGE[0])
+
+
+_MESSAGE = ["time limit reached"]
+_KEEP: list = []
+
+
+def keep_alive(*objs) -> None:
+    """In the console script, keep large structures referenced until ``os._exit`` so that a limit never waits
+    for them to be freed (no-op in-process)."""
+    if HARD_EXIT:
+        _KEEP.extend(objs)
+
+
+def _watchdog(when: float, message: str, token: list) -> None:
+    import sys
+    import time
+
+    while True:
+        left = when - time.monotonic()
+        if left <= 0:
+            break
+        time.sleep(min(left, 0.5))
+        if token[0]:
+            return
+    if token[0]:
+        return
+    try:
+        sys.stdout.flush()
+        sys.stderr.write(f"delkit: error: {message}\n")
+        sys.stderr.flush()
+    finally:
+        os._exit(3)
+
+
+def early_watchdog(argv: list[str]) -> None:
+    """Console script only: end the process ``_GRACE`` + 0.1 s after ``--timeout`` (``epico table``:
+    ``--total-timeout``) counted from process start, whatever it is doing — a backstop started before the
+    command's imports (mujoco, z3, typer: seconds on a loaded machine), which the command's own deadline
+    normally beats by reporting the limit in its own words."""
+    import threading
+
+    option = "--total-timeout" if argv[:2] == ["epico", "table"] else "--timeout"
+    value = None
+    for i, arg in enumerate(argv):
+        if arg == "--":
+            break
+        if arg == option and i + 1 < len(argv):
+            value = argv[i + 1]
+        elif arg.startswith(option + "="):
+            value = arg.split("=", 1)[1]
+    try:
+        limit = parse_timeout(value, option)
+    except ResourceError:
+        return  # the command reports the bad value
+    if limit is None:
+        return
+    name = " ".join(a for a in argv[:2] if not a.startswith("-"))
+    message = f"delkit {name}: no answer within {option} {limit:g} s; give it more time with {option}"
+    threading.Thread(target=_watchdog, args=(process_start() + limit + _GRACE + 0.1, message, [False]),
+                     daemon=True).start()
+
+
+@contextmanager
+def deadline(seconds: float | str | None, what: str, option: str = "--timeout", *,
+             alarm: bool = True) -> Iterator[None]:
+    """Raise :class:`TimeLimit` in the main thread once ``seconds`` (see :func:`parse_timeout`) of wall time
+    have passed since the command started (:func:`begin_command`; when none was marked, since now).
+
+    An outer, earlier deadline (a test harness's ``ITIMER_REAL`` timer, or an enclosing :func:`deadline`)
+    stays in charge and is restored afterwards; off the main thread only the explicit checks apply.
+    ``alarm=False``: no SIGALRM (for a body that runs a C library through ctypes, e.g. z3, whose wrappers
+    turn an exception raised inside them into another one or print it as "Exception ignored"): only the
+    explicit checks (:func:`check_time`, :func:`remaining`) and, in the console script, the watchdog."""
     import signal
     import threading
     import time
 
-    if not seconds or threading.current_thread() is not threading.main_thread():
+    global _DEADLINE
+    limit = parse_timeout(seconds, option)
+    if limit is None:
         yield
         return
-    if not seconds > 0 or seconds != seconds:
-        raise ResourceError(f"{option} must be a positive number of seconds, got {seconds}")
-    outer = signal.getitimer(signal.ITIMER_REAL)[0]
-    if outer and outer <= seconds:
+    when = command_start() + limit
+    message = f"{what}: no answer within {option} {limit:g} s; give it more time with {option}"
+    outer_deadline, outer_message = _DEADLINE, _MESSAGE[0]
+    if outer_deadline is not None and outer_deadline <= when:
         yield
+        return
+    _DEADLINE, _MESSAGE[0] = when, message
+    if not alarm or threading.current_thread() is not threading.main_thread():
+        token = [False]
+        if HARD_EXIT:
+            threading.Thread(target=_watchdog, args=(when + _GRACE, message, token), daemon=True).start()
+        try:
+            yield
+        except TimeLimit:
+            raise
+        except BaseException:
+            token[0] = True
+            raise
+        else:
+            token[0] = True
+        finally:
+            _DEADLINE, _MESSAGE[0] = outer_deadline, outer_message
+        return
+    outer = signal.getitimer(signal.ITIMER_REAL)[0]
+    left = when - time.monotonic()
+    if outer and outer <= left:
+        try:
+            yield
+        finally:
+            _DEADLINE, _MESSAGE[0] = outer_deadline, outer_message
         return
     previous = signal.getsignal(signal.SIGALRM)
 
-    def expired(signum, frame):  # noqa: ARG001 - signal handler signature
-        raise ResourceError(f"{what}: no answer within {option} {seconds:g} s; give it more time with {option}")
+    def expired_(signum, frame):  # noqa: ARG001 - signal handler signature
+        raise TimeLimit(message)
 
     t0 = time.monotonic()
-    signal.signal(signal.SIGALRM, expired)
+    signal.signal(signal.SIGALRM, expired_)
+    token = [False]
+    if HARD_EXIT:
+        threading.Thread(target=_watchdog, args=(when + _GRACE, message, token), daemon=True).start()
     # the timer re-fires every 0.25 s after expiry: an exception raised where Python swallows it (a C
     # extension's finaliser, e.g. a BDD node freed by CUDD's wrapper, prints "Exception ignored") must not
     # leave the body running without a limit
-    signal.setitimer(signal.ITIMER_REAL, seconds, 0.25)
+    # ALARM_SLACK after the deadline: a loop that checks the deadline itself (the search, per expansion)
+    # normally stops first and reports how far it got; the alarm stops everything else
+    signal.setitimer(signal.ITIMER_REAL, max(left + ALARM_SLACK, 1e-3), 0.25)
     try:
         yield
+    except TimeLimit:
+        # the watchdog stays: unwinding and freeing what the body built must not delay the exit either
+        raise
+    except BaseException:
+        token[0] = True
+        raise
+    else:
+        token[0] = True
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
+        _DEADLINE, _MESSAGE[0] = outer_deadline, outer_message
         if outer:
             signal.setitimer(signal.ITIMER_REAL, max(outer - (time.monotonic() - t0), 1e-3))
+
+
+# ----------------------------------------------------------------------------- outputs
+
+def check_outputs(outputs, inputs, *, force: bool = False, folder=None, option: str = "-o") -> None:
+    """Refuse (exit 2, nothing written) an output that is one of the ``inputs`` (unless ``force``: then the
+    input is overwritten on purpose) or that lies outside ``folder``; call it for every output before
+    writing the first one."""
+    from pathlib import Path
+
+    from delkit.errors import ParseError
+
+    ins = {}
+    for p in inputs:
+        try:
+            ins[Path(p).resolve()] = str(p)
+        except (OSError, RuntimeError):  # pragma: no cover - unresolvable: cannot be clobbered either
+            continue
+    base = Path(folder).resolve() if folder is not None else None
+    for out in outputs:
+        path = Path(out).resolve()
+        if base is not None and path.parent != base:
+            raise ParseError(f"the output {out} would be written outside the folder {folder}; give a plain file "
+                             f"name (no '/' or '..')", source=str(out))
+        if path in ins and not force:
+            raise ParseError(f"the output would overwrite the input file {ins[path]}; write elsewhere (another "
+                             f"{option}) or give --force to overwrite it", source=str(out))

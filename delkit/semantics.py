@@ -138,10 +138,10 @@ def common_reach(m, group) -> tuple[str, object]:
         return "components", lab
     key = ("__union", tuple(group))
     u = m._cache.get(key)
-    if u is None:
-        u = rels[0].union_matrix(rels[1:]) if len(rels) > 1 else rels[0].to_matrix()
+    if u is None:  # the union as a Relation (numpy-only rows: no scipy import for small replays)
+        u = rels[0].union(rels[1:]) if len(rels) > 1 else rels[0]
         m._cache[key] = u
-    return "matrix", u
+    return "relation", u
 
 
 def _components(n: int, labelings: list[np.ndarray]) -> np.ndarray:
@@ -187,10 +187,9 @@ def _common(m, group, truth: np.ndarray) -> np.ndarray:
         return bad[lab] == 0
     union = data
     # X = worlds with a path of >= 1 steps to a world where φ fails: least fixpoint of X = pre(bad ∪ X).
-    target = ~truth
-    x = (union @ target.astype(np.int64)) > 0
+    x = union.diamond(~truth)
     while True:
-        nxt = x | ((union @ x.astype(np.int64)) > 0)
+        nxt = x | union.diamond(x)
         if (nxt == x).all():
             break
         x = nxt

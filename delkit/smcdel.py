@@ -416,9 +416,14 @@ def structure(spec: SmcdelFile) -> Any:
                                      {a: [_name(v) for v in obs] for a, obs in spec.observed.items()})
 
 
-def answer(spec: SmcdelFile) -> list[dict]:
+#: the most states a WHERE? answer lists (CLI: ``delkit smcdel --max-states``)
+MAX_STATES = 100_000
+
+
+def answer(spec: SmcdelFile, *, max_states: int = MAX_STATES, source: str = "<smcdel>") -> list[dict]:
     """Answer every query: ``{"query", "formula", "line", "column", "answer"}``; for WHERE? the answer is
-    the list of states, each the sorted list of its true variables (as SMCDEL prints them)."""
+    the list of states, each the sorted list of its true variables (as SMCDEL prints them) — refused when it
+    would list more than ``max_states`` states (counted on the BDD first)."""
     ks = structure(spec)
     out = []
     for q in spec.queries:
@@ -426,20 +431,26 @@ def answer(spec: SmcdelFile) -> list[dict]:
         if q.kind == "valid":
             row["answer"] = bool(ks.valid(q.formula))
         elif q.kind == "where":
-            states = ks.states(ks.evaluate(q.formula))
+            node = ks.evaluate(q.formula) & ks.law
+            count = int(ks.bdd.count(node, nvars=len(ks.vocabulary))) if ks.vocabulary else int(node == ks.bdd.true)
+            if count > max_states:
+                raise ModelError(f"{source}:{q.line}:{q.column}: WHERE? {q.text} holds at {count} states, more than "
+                                 f"the {max_states} an answer lists; ask a narrower query (or VALID?), or raise "
+                                 f"--max-states")
+            states = ks.states(node)
             row["answer"] = sorted(sorted(int(v) for v, val in s.items() if val) for s in states)
         else:
             assignment = {_name(v): v in q.state for v in spec.variables}
             if not ks.truth(spec.law, assignment):
-                raise ModelError(f"line {q.line}: TRUE? state {{{', '.join(map(str, q.state))}}} does not satisfy "
-                                 "the LAW")
+                raise ModelError(f"{source}:{q.line}:{q.column}: TRUE? state {{{', '.join(map(str, q.state))}}} "
+                                 "does not satisfy the LAW")
             row["state"] = list(q.state)
             row["answer"] = bool(ks.truth(q.formula, assignment))
         out.append(row)
     return out
 
 
-def check_file(path: str) -> list[dict]:
+def check_file(path: str, *, max_states: int = MAX_STATES) -> list[dict]:
     """Read, parse and answer a ``.smcdel.txt`` file."""
     from pathlib import Path
 
@@ -448,4 +459,4 @@ def check_file(path: str) -> list[dict]:
         text = p.read_text(encoding="utf-8")
     except UnicodeDecodeError:
         raise ParseError("not UTF-8 text", source=str(path)) from None
-    return answer(parse_smcdel(text, source=str(path)))
+    return answer(parse_smcdel(text, source=str(path)), max_states=max_states, source=str(path))

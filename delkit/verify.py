@@ -78,6 +78,7 @@ from delkit.formula import (
 from delkit.kripke import KripkeModel
 from delkit.propositional import _f, counterexample, equivalent, satisfiable, to_z3, valid
 from delkit.relation import Relation
+from delkit.resources import check_time
 
 __all__ = [
     "VerificationError", "Verdict", "MacroCheck", "valid", "satisfiable", "equivalent", "counterexample",
@@ -439,6 +440,7 @@ class _Encoding:
         for r in range(max(1, math.ceil(math.log2(k))) if k > 1 else 0):
             nxt = [[z3.Bool(f"T{len(self.closures)}_{r}({w},{v})") for v in range(k)] for w in range(k)]
             for w in range(k):
+                check_time()  # the encoding of k = 12 worlds is seconds of Python: the --timeout holds here
                 for v in range(k):
                     self.constraints.append(nxt[w][v] == z3.Or(
                         cur[w][v], *[z3.And(cur[w][u], cur[u][v]) for u in range(k)]))
@@ -540,7 +542,15 @@ def find_model(formula: Formula | str, *, logic: str = "S5", worlds: int = 4, pr
             s = z3.Solver()
             s.add(*enc.constraints)
             s.add(goal)
+            from delkit.resources import remaining, time_limit
+
+            check_time()
+            left = remaining()  # z3 runs in C: the alarm cannot interrupt it, its own timeout can
+            if left is not None:
+                s.set("timeout", max(1, int(left * 1000)))
             res = s.check()
+            if res == z3.unknown and left is not None and remaining() <= 0.05:
+                raise time_limit()
         except (RecursionError, ctypes.ArgumentError) as exc:
             # z3's Python API converts terms recursively: its ctypes calls report Python's recursion limit as
             # an ArgumentError wrapping the RecursionError

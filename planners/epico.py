@@ -122,7 +122,17 @@ class Layout:
 
     @staticmethod
     def from_world(obj: Mapping[str, Any], owners: Mapping[str, str] | None = None) -> Layout:
-        """A layout from a ``world`` object (block colours must be e-PICO colour names)."""
+        """A layout from a ``world`` object (block colours must be e-PICO colour names). Robots, stacks and
+        owners must name the instance's robots (``ROBOTS``); an owner must name a block on the shared table."""
+        if isinstance(obj, Mapping):
+            listed = obj.get("robots", [])
+            stacks_of = obj.get("stacks", {})
+            named = set(map(str, listed if isinstance(listed, list) else [listed]))
+            named |= set(map(str, stacks_of)) if isinstance(stacks_of, Mapping) else set()
+            extra = sorted(named - set(ROBOTS))
+            if extra:
+                raise EpicoError(f"world object: robot(s) {extra} are not e-PICO robots; e-PICO has exactly "
+                                 f"{', '.join(ROBOTS)}")
         try:
             stacks = {r: tuple(tuple(s) for s in obj["stacks"][r]) for r in ROBOTS}
             shared = tuple(obj.get("barrier", ()))
@@ -142,6 +152,12 @@ class Layout:
         odd_o = [x for kv in own.items() for x in kv if not isinstance(x, str)]
         if odd_c or odd_o:
             raise EpicoError(f"world object: colours and owners must be names (strings), got {(odd_c + odd_o)[0]!r}")
+        for block, robot in own.items():
+            if robot not in ROBOTS:
+                raise EpicoError(f"owner {block}={robot}: {robot!r} is not a robot; use one of {', '.join(ROBOTS)}")
+            if block not in shared:
+                raise EpicoError(f"owner {block}={robot}: no block {block!r} on the shared table (the barrier "
+                                 f"lists {list(shared) or 'none'})")
         return Layout(MappingProxyType(stacks), MappingProxyType(colors), shared, MappingProxyType(own))
 
     def classical(self):

@@ -436,7 +436,7 @@ def macro_report(colors: int = 2, handwritten: str | None = None) -> dict[str, A
         from delkit.errors import io_reason
 
         raise EpicoError(f"{path}: cannot read the hand-written macro ({io_reason(exc)})") from None
-    htask, hand = ground_handwritten(inst.domain_text, inst.problem_text, text)
+    htask, hand = ground_handwritten(inst.domain_text, inst.problem_text, text, source=str(path))
     hw = check_handwritten(htask, hand, ground_macros(htask, parse_macros(inst.domain_text), inst.problem_text))
     return {"proofs": proofs, "all_equal": all(p["equal"] for p in proofs) and bool(proofs),
             "handwritten": str(path), "handwritten_check": hw.to_json()}

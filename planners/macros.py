@@ -302,13 +302,16 @@ class HandwrittenCheck:
                 "counterexample": self.counterexample, "symbolic": list(self.symbolic)}
 
 
-def ground_handwritten(domain_text: str, problem_text: str, action_text: str) -> tuple[Task, list[ActionSpec]]:
-    """Ground a hand-written action (an ``(:action ...)`` form) in the domain: (task, its groundings)."""
+def ground_handwritten(domain_text: str, problem_text: str, action_text: str,
+                       source: str = "<macro>") -> tuple[Task, list[ActionSpec]]:
+    """Ground a hand-written action (an ``(:action ...)`` form) in the domain: (task, its groundings);
+    ``source`` names the file it came from in the errors."""
     from planners.lang.epddl import parse_epddl
 
-    forms = [x for x in read_sexps(action_text, "<macro>") if _head(x) == ":action"]
+    forms = [x for x in read_sexps(action_text, source) if _head(x) == ":action"]
     if len(forms) != 1:
-        raise ParseError("expected exactly one (:action NAME ...) form", source="<macro>")
+        raise ParseError(f"expected exactly one (:action NAME ...) form, found {len(forms)}; write the macro as "
+                         f"one (:action ...)", source=source)
     name = forms[0].items[1].text  # type: ignore[union-attr]
     body = "\n".join(ln for ln in action_text.splitlines() if not ln.lstrip().startswith(";"))
     end = domain_text.rstrip().rfind(")")

@@ -32,6 +32,7 @@ from typing import TYPE_CHECKING, Any, Literal
 from delkit.compact import CompactEngine, CompactState, PlainEvents, bit_positions, state_of_key
 from delkit.errors import PlanningError
 from delkit.formula import Formula, Top, is_propositional, props_of
+from delkit.resources import ALARM_SLACK, check_time
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, goal_conjuncts, plain_event_model
 
 if TYPE_CHECKING:  # numpy: the compact space of a small task never imports it (start-up)
@@ -74,6 +75,7 @@ class DelSpace:
 
     def successors(self, model: KripkeModel) -> Iterator[tuple[str, KripkeModel, Hashable]]:
         for act in self.task.actions:
+            check_time(ALARM_SLACK)  # one clock read per action: a single expansion can take seconds
             new = self.step(model, act.name)
             if new is None:
                 continue
@@ -463,6 +465,7 @@ class CompactSpace:
         loop_ok: bool | None = None  # s itself as a successor: is it consistent? (decided on first use)
         commute, ks = self._commute, s.key
         for name, entry, comp, test in cands:
+            check_time(ALARM_SLACK)  # one clock read: a single expansion of a large state can take seconds
             if name in commute:
                 z = self._predicted(ks, name)
                 if z is not None:  # known by commutation; it was yielded before, so it is consistent

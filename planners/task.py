@@ -92,6 +92,9 @@ class EventAction:
     where: str = ""
     kind: str = "event"
     designated_pre: tuple[Formula, ...] | None = None
+    #: the user's name of each event of the event models ``build`` returns (EPDDL: the domain's events with
+    #: their arguments, where the event model names the action type's event parameters), for messages
+    event_labels: tuple[str, ...] | None = None
 
 
 @dataclass(frozen=True)

@@ -19,17 +19,17 @@ and finally the goal on M_n. The first failure is reported with its step (0 = in
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
 
-from delkit.bisimulation import contract
+from delkit.bisimulation import quotient, refine
 from delkit.errors import DelkitError, ParseError, io_reason
 from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Or, Prop, show, subformulas
 from delkit.kripke import KripkeModel
-from delkit.resources import product_update_bytes, require
+from delkit.resources import check_time, product_update_bytes, require
 from delkit.update import product_update
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, has_event_actions, uncovered_worlds
 
@@ -63,10 +63,19 @@ class CheckResult:
     agent: str | None = None
     world: str | None = None
     details: dict = field(default_factory=dict)
+    #: EPDDL semantics keeps states where an agent believes ⊥: each such (step, action, agent, world)
+    inconsistent_beliefs: tuple[dict, ...] = ()
+
+    def warnings(self) -> list[str]:
+        """One line per state where EPDDL semantics kept an agent believing ⊥ (empty: none)."""
+        return [f"step {b['step']} ({b['action']}) leaves agent {b['agent']} believing ⊥ at {b['world']}; EPDDL "
+                f"keeps such states, so the plan is checked on (with --allow-inconsistent: no warning)"
+                for b in self.inconsistent_beliefs]
 
     def to_json(self) -> dict[str, Any]:
+        extra = {"inconsistent_beliefs": list(self.inconsistent_beliefs)} if self.inconsistent_beliefs else {}
         if self.valid:
-            return {"valid": True, "steps": self.steps}
+            return {"valid": True, "steps": self.steps, **extra}
         out: dict[str, Any] = {"valid": False, "step": self.step, "action": self.action, "kind": self.kind,
                                "reason": self.reason}
         if self.agent is not None:
@@ -74,6 +83,7 @@ class CheckResult:
         if self.world is not None:
             out["world"] = self.world
         out.update(self.details)
+        out.update(extra)
         return out
 
 
@@ -166,8 +176,10 @@ def parse_formula(body: str, task: Task, *, source: str = "<formula>") -> Formul
 # ----------------------------------------------------------------------------- explanations
 
 def _world_text(m: KripkeModel, w: int) -> str:
+    """A world by its name (the user's, for an explicit EPDDL initial state; ``w3`` otherwise) and its
+    true fluents — the same name :meth:`KripkeModel.world_name` gives everywhere else in a message."""
     true = sorted(m.true_props(w))
-    return f"w{w}{{{', '.join(true)}}}"
+    return f"{m.world_name(w)}{{{', '.join(true)}}}"
 
 
 def explain(m: KripkeModel, f: Formula, w: int, depth: int = 0) -> tuple[str, str | None, str | None]:
@@ -226,8 +238,10 @@ _CONTRACT_ABOVE = 64
 
 
 def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, model: KripkeModel,
-                allow_inconsistent: bool) -> CheckResult | KripkeModel:
-    """One (non-macro) action at step ``i``: the new model, or the CheckResult saying why it fails."""
+                allow_inconsistent: bool, kept: list | None = None) -> CheckResult | KripkeModel:
+    """One (non-macro) action at step ``i``: the new model, or the CheckResult saying why it fails.
+    ``kept`` (EPDDL semantics): a state where an agent believes ⊥ is kept and recorded there instead."""
+    check_time()
     point = model.designated[0]
     if not model.holds(act.executable):
         bad_w = next((int(w) for w in model.designated if not model.check(act.executable)[int(w)]), point)
@@ -243,7 +257,8 @@ def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, mod
         # plank's updater: every designated world needs a designated event whose precondition holds there;
         # explained at the first designated world where none does, with each designated event's reason
         w = uncovered[0]
-        whys = [f"event {em.events[d]}: {explain(model, em.pre[d], w)[0]}" for d in em.designated]
+        labels = getattr(act, "event_labels", None) or em.events  # the user's events, not the type's slots
+        whys = [f"event {labels[d]}: {explain(model, em.pre[d], w)[0]}" for d in em.designated]
         wname = model.world_name(w)
         return CheckResult(False, n, i, name, "not-applicable",
                            f"step {i} ({label}) is not applicable: at designated world {wname} no designated "
@@ -257,7 +272,9 @@ def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, mod
                            _world_text(model, point))
     if not allow_inconsistent:
         inc = new.inconsistent_agents()
-        if inc:
+        if inc and kept is not None:
+            kept.extend({"step": i, "action": label, "agent": ag, "world": _world_text(new, w)} for ag, w in inc)
+        elif inc:
             ag, w = inc[0]
             return CheckResult(False, n, i, name, "inconsistent-belief",
                                f"step {i} ({label}) leaves agent {ag} with no accessible world at the actual "
@@ -275,10 +292,43 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
     ``epddl`` (default: whether the task has :class:`EventAction` s, as the tasks read from EPDDL (2026) files
     do — the planner's ``space_for`` decides the same way) replays with EPDDL's semantics: a state where an
     agent believes ⊥ is never refused (K and KD45 states are legitimate there, and plank does not prune them),
-    and the replayed states are not contracted (an explicit initial state keeps its world names for the
-    explanations)."""
+    and recorded in ``CheckResult.inconsistent_beliefs`` (unless ``allow_inconsistent``), as a warning.
+
+    Every replayed state is contracted (bisimulation; with the groups whose distributed knowledge the task or
+    a property mentions refined like agents — collective bisimulation — and kept uncontracted only where
+    that quotient would change a group's intersection relation), so checking costs about what planning does;
+    a contracted world keeps the name of the first world it stands for."""
     if epddl is None:
         epddl = has_event_actions(task)
+    kept: list[dict] = []
+    res = _check(task, plan, properties, allow_inconsistent, require_goal, plan_source, epddl, kept)
+    return replace(res, inconsistent_beliefs=tuple(kept)) if kept else res
+
+
+def _contract(m: KripkeModel, groups: tuple[tuple[str, ...], ...]) -> KripkeModel:
+    """The bisimulation contraction of ``m`` keeping its world names; for ``groups``, the collective one."""
+    from planners.spaces import with_group_relations
+
+    g = m.generated()
+    blocks = refine(with_group_relations(g, groups) if groups else g)
+    if blocks.size and int(blocks.max()) + 1 == g.n_worlds:
+        return g  # nothing to merge
+    q = quotient(g, blocks, keep_names=True)
+    for grp in groups:  # D_G is read on ⋂ R_a: the quotient must not add pairs to it
+        inter = g.relations[grp[0]]
+        qinter = q.relations[grp[0]]
+        for a in grp[1:]:
+            inter, qinter = inter.intersect(g.relations[a]), qinter.intersect(q.relations[a])
+        coo = inter.to_matrix().tocoo()
+        want = {(int(x), int(y)) for x, y in zip(blocks[coo.row], blocks[coo.col], strict=True)}
+        qc = qinter.to_matrix().tocoo()
+        if want != set(zip(qc.row.tolist(), qc.col.tolist(), strict=True)):
+            return g
+    return q
+
+
+def _check(task: Task, plan, properties, allow_inconsistent: bool, require_goal: bool, plan_source: str,
+           epddl: bool, kept: list[dict]) -> CheckResult:
     names = {a.name for a in task.actions}
     for i, name in enumerate(plan, 1):
         if name not in names:
@@ -291,9 +341,12 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
             raise PlanningError(f"{plan_source}: step {i}: unknown action {name!r}")
     from planners.spaces import task_groups
 
-    groups = epddl or task_groups(task) or any(isinstance(g, D) and len(set(g.group)) > 1
-                                               for pr in properties for g in subformulas(pr.formula))
+    groups = tuple(sorted(set(task_groups(task)) | {tuple(sorted(set(g.group))) for pr in properties
+                                                     for g in subformulas(pr.formula)
+                                                     if isinstance(g, D) and len(set(g.group)) > 1}))
     model = task.initial
+    if model.n_worlds > _CONTRACT_ABOVE:
+        model = _contract(model, groups)
     n = len(plan)
     seen_eventually = [False] * len(properties)
 
@@ -319,16 +372,16 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
                  enumerate(act.steps, 1)] if isinstance(act, MacroSpec) else [(name, act)]
         new = model
         for label, part in parts:
-            bad = _replay_one(task, i, n, name, label, part, new, allow_inconsistent or epddl)
+            bad = _replay_one(task, i, n, name, label, part, new, allow_inconsistent,
+                              kept if epddl else None)
             if isinstance(bad, CheckResult):
                 return bad
             new = bad
         # bisimulation contraction keeps every formula's truth at the actual world (properties, goal,
-        # preconditions) and keeps the replay small: without it a 15-step plan doubled to 2^15 worlds. Not
-        # for tasks that mention distributed knowledge of a group, which contraction does not preserve, nor for
-        # EPDDL (world names); not for small models either (contraction needs scipy, whose import costs more
-        # than such a replay)
-        model = new if groups or new.n_worlds <= _CONTRACT_ABOVE else contract(new)
+        # preconditions) and keeps the replay small: without it a 15-step plan doubled to 2^15 worlds; for
+        # distributed knowledge the collective one (see _contract). Not for small models (contraction needs
+        # scipy, whose import costs more than such a replay)
+        model = new if new.n_worlds <= _CONTRACT_ABOVE else _contract(new, groups)
         bad = props_at(i, model, name)
         if bad:
             return bad

@@ -110,10 +110,21 @@ def run_sweep(spec: SweepSpec, *, workers: int | None = None, dask: str | None =
     def drive(ex: Executor) -> None:
         fn = run_one_diagnosed if spec.diagnose else run_one
         futures = {ex.submit(fn, c): k for k, c in enumerate(cfgs)}
-        for done, fut in enumerate(as_completed(futures), 1):
-            rows[futures[fut]] = fut.result()
-            if progress is not None:
-                progress(done, len(cfgs))
+        try:
+            for done, fut in enumerate(as_completed(futures), 1):
+                rows[futures[fut]] = fut.result()
+                if progress is not None:
+                    progress(done, len(cfgs))
+        except BaseException:  # e.g. --timeout reached: the pool must not run the missions still queued,
+            for fut in futures:  # nor keep running the current ones (its workers hold our stdout open)
+                fut.cancel()
+            from delkit import resources
+
+            # the delkit program is about to leave: end a local pool's workers now (in-process callers let the
+            # pool finish the running missions: terminating them under a live executor upsets its manager)
+            for proc in list((getattr(ex, "_processes", None) or {}).values()) if resources.HARD_EXIT else []:
+                proc.terminate()
+            raise
 
     if pool is not None:
         drive(pool)

@@ -226,6 +226,9 @@ def register(epico_app: typer.Typer) -> None:
                 note = _render(m, res, out)
                 (out / "result.json").write_text(json.dumps(res.to_json(), indent=2))
                 res.files["result"] = str(out / "result.json")
+        for f in res.faults:  # e.g. drop@K with K beyond the last primitive action: the run never tested it
+            if "not fired" in f:
+                print(f"delkit: warning: --fault {f}", file=sys.stderr)
         if as_json:
             obj = res.to_json()
             obj["instance"] = {"goal": inst.goal, "colors": inst.colors, "seed": seed,

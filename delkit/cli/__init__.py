@@ -78,8 +78,12 @@ def _plain_flags(command) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Run the CLI and return its exit status (0 ok, 1 a negative answer such as an invalid plan, 2 bad input)."""
+    """Run the CLI and return its exit status (0 ok, 1 a negative answer such as an invalid plan, 2 bad input,
+    3 a limit such as ``--timeout`` reached before an answer)."""
     args = list(sys.argv[1:] if argv is None else argv)
+    from delkit.resources import begin_command
+
+    begin_command()  # every --timeout counts from here (from process start for the process's first command)
     try:
         fast = _fast_path(args)
         if fast is not None:  # a plain `plan` / `check` line: run without importing typer (start-up time)
@@ -115,7 +119,7 @@ def _exit_status(exc: BaseException) -> int:
     typer = sys.modules.get("typer")
     if isinstance(exc, DelkitError):
         print(f"delkit: error: {exc}", file=sys.stderr)
-        return 2
+        return int(getattr(exc, "exit_code", 2))  # 3: a --timeout reached (delkit.resources.TimeLimit)
     if typer is not None and isinstance(exc, typer.Exit):
         return int(getattr(exc, "exit_code", 0) or 0)
     if typer is not None and isinstance(exc, typer.Abort):
@@ -150,5 +154,26 @@ def _usage_line(exc: Exception) -> str:
 
 
 def run() -> None:
-    """Console-script entry point."""
-    sys.exit(main())
+    """Console-script entry point: run, flush, and leave at once (``os._exit``): freeing a large model or
+    search space at interpreter shutdown can take seconds and must not delay the exit (or a --timeout)."""
+    import delkit.resources as resources
+
+    resources.HARD_EXIT = True
+    resources.early_watchdog(sys.argv[1:])  # the --timeout holds even while the command is being imported
+    try:
+        rc = main()
+    except SystemExit as exc:  # pragma: no cover - main returns its status
+        rc = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+    try:
+        sys.stdout.flush()
+    except OSError:  # e.g. stdout closed or /dev/full: the output could not be written
+        rc = rc or 2
+    try:
+        sys.stderr.flush()
+    except OSError:  # pragma: no cover
+        pass
+    if rc != 3:  # a reached limit skips the exit handlers too (they may wait for workers)
+        import atexit
+
+        atexit._run_exitfuncs()
+    os._exit(rc)

@@ -108,6 +108,9 @@ def run_diff(a_path: str, b_path: str, world_a: str | None, world_b: str | None,
         raise DelkitError("--engine symbolic compares two structures (.smcdel.txt files); use --engine explicit "
                           "for Kripke model files")
     prop_list = [p.strip() for p in props.split(",") if p.strip()] if props is not None else None
+    if prop_list == []:  # compared on no propositions everything is bisimilar: not what --props "" means
+        raise DelkitError(f"--props {props!r} names no proposition; give a comma-separated list such as "
+                          f"--props p,q, or leave --props out to compare on all of them")
     if both and engine != "explicit":
         from delkit.bisimulation_symbolic import symbolic_diff
 
@@ -147,6 +150,10 @@ def run_diff(a_path: str, b_path: str, world_a: str | None, world_b: str | None,
     return 0 if res.bisimilar else 1
 
 
+#: the most nodes + edges drawn as PNG (matplotlib: ~10 ms CPU per element measured; SVG/TikZ are text)
+PNG_MAX = 2000
+
+
 def _lone_problem(path: str) -> bool:
     """Whether ``path`` is a (E-)PDDL problem file, which a task needs its domain for."""
     import re
@@ -171,6 +178,9 @@ def run_draw(path: str | list[str], output: Path, max_worlds: int, layout: str, 
     if suffix not in (".svg", ".png", ".tex"):
         raise DelkitError(f"{output}: cannot tell the picture format; name the output *.svg, *.png or *.tex")
     paths = [path] if isinstance(path, str) else list(path)
+    from delkit.resources import check_outputs
+
+    check_outputs([output], [*paths, *([plan] if plan is not None else [])], option="-o")
     if plan is None and step == 0 and len(paths) == 1 and _core_format(paths[0]):
         obj = load_any(paths[0])
         pic = draw.picture(obj, max_worlds=max_worlds, layout=layout, seed=seed)
@@ -182,6 +192,11 @@ def run_draw(path: str | list[str], output: Path, max_worlds: int, layout: str, 
         obj, what = _task_state(paths, plan, step)
         pic = draw.picture(obj, max_worlds=max_worlds, layout=layout, seed=seed)
         pic.header = [what] * bool(what) + pic.header
+    if suffix == ".png" and len(pic.nodes) + len(pic.edges) > PNG_MAX:
+        # matplotlib draws each node and edge as its own patch: ~10 ms each, minutes for thousands
+        raise DelkitError(f"{output}: {len(pic.nodes)} worlds and {len(pic.edges)} edges are more than the "
+                          f"{PNG_MAX} elements a PNG is drawn with in reasonable time; write *.svg or *.tex "
+                          f"instead (fast at any size), or draw a contracted model (delkit model contract)")
     try:
         output.parent.mkdir(parents=True, exist_ok=True)  # like the other commands' --out
         if suffix == ".svg":

@@ -83,8 +83,9 @@ def register(app: typer.Typer) -> None:
                 from delkit.resources import require
                 from delkit.symbolic import muddy_symbolic
 
-                # a lower bound: per child a variable name, its formula, its BDD variable and observation cube
-                require(1024.0 * children, f"puzzle muddy --symbolic -n {children}", "use a smaller --children")
+                # measured (n = 500..2000): the "nobody knows" BDDs grow with n², 45-60 bytes per child²
+                require(1024.0 * children + 64.0 * float(children) ** 2, f"puzzle muddy --symbolic -n {children}",
+                        "use a smaller --children")
 
                 data = muddy_symbolic(children, muddy).as_dict() | {"timed": _TIMED}
             else:
@@ -111,8 +112,9 @@ def register(app: typer.Typer) -> None:
             raise ModelError(f"puzzle sum-product: --limit must be at least 5, got {limit}")
         if smcdel and not symbolic:
             raise ModelError("puzzle sum-product: --smcdel needs --symbolic")
-        if not symbolic:
-            require(sum_product_bytes(limit), f"puzzle sum-product --limit {limit}", "use a smaller --limit")
+        # the symbolic structure is built from the same pairs (numpy.triu_indices(limit)): the same estimate
+        require(sum_product_bytes(limit), f"puzzle sum-product --limit {limit}{' --symbolic' if symbolic else ''}",
+                "use a smaller --limit")
         with deadline(timeout, f"puzzle sum-product --limit {limit}"):
             if smcdel:
                 pairs, seconds = smcdel_sum_product(limit)

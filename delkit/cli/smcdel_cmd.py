@@ -13,11 +13,13 @@ def register(app: typer.Typer) -> None:
     @app.command("smcdel")
     def smcdel(path: str = typer.Argument(..., help="an SMCDEL .smcdel.txt file (VARS, LAW, OBS or delkit's REL "
                                           "extension for belief structures, queries)"),
+               max_states: int = typer.Option(100_000, "--max-states", min=1,
+                                              help="the most states a WHERE? answer may list"),
                as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Read SMCDEL's input language and answer its TRUE?/VALID?/WHERE? queries (as SMCDEL would)."""
         from delkit.smcdel import check_file
 
-        rows = check_file(path)
+        rows = check_file(path, max_states=max_states)
         if as_json:
             typer.echo(json.dumps({"file": path, "queries": rows}))
             return

@@ -3,8 +3,10 @@ property checker) and ``delkit convert`` (write a task as EPDDL 2026 or mA*).
 
 Exit statuses: ``plan`` — 0 plan found, 1 no plan exists (state space exhausted), 3 no plan within the
 limits (the limit also covers reading, grounding and building the initial state); ``check`` — 0 valid,
-1 invalid; all — 2 bad input. A failure is never printed as an empty plan. The language of a file is
-decided by its content. Heavy imports stay inside the commands.
+1 invalid, 3 ``--timeout`` reached; all — 2 bad input. ``--timeout`` counts from the start of the process,
+0 or inf means no limit (:func:`delkit.resources.parse_timeout`, the same for every command). A failure
+is never printed as an empty plan. The language of a file is decided by its content. Heavy imports stay
+inside the commands.
 
 Start-up: typer (with the click and pydantic it imports) costs about 0.1 s, half of the 0.2 s budget of a
 ``delkit plan`` run on a small instance. :func:`fast_args` therefore parses the *plain* forms of a ``plan``
@@ -49,39 +51,42 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
 
     if search not in ("bfs", "gbfs", "astar"):
         raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
-    Limits(timeout=timeout, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
-    from delkit.resources import ResourceError, deadline
+    from delkit.resources import TimeLimit, command_start, deadline, keep_alive, parse_timeout
 
-    start = time.monotonic()
+    limit = parse_timeout(timeout)  # 0 / inf: no limit; counted from the start of the process
+    Limits(timeout=limit, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
+    start = command_start()
+    reached = f"--timeout {timeout:g} s reached (counted from the start of the process)"
+
+    def limit_result(phase: str, expanded: int = 0, generated: int = 0) -> SearchResult:
+        return SearchResult("limit", None, expanded, generated, time.monotonic() - start, search,
+                            reason=f"no plan within limits: {reached} while {phase}")
+
+    # one deadline for every phase: the readers and the search check it themselves, the alarm (and, in the
+    # console script, a watchdog) stop any phase that does not
+    task = space = None
     try:
-        # --timeout covers every phase: the readers check the deadline while grounding and building the initial
-        # state; the alarm is the backstop for any reader that does not check it
-        with deadline(timeout, "reading, grounding and building the initial state"):
-            task = load_task(spec, problem, list(library or ()), deadline=start + timeout, strict=strict)
-    except (LoadTimeout, ResourceError) as exc:
-        if isinstance(exc, ResourceError) and "--timeout" not in str(exc) and "time limit" not in str(exc):
-            raise
-        res = SearchResult(status="limit", plan=None, expanded=0, generated=0,
-                           seconds=time.monotonic() - start, search=search, reason=str(exc))
+        with deadline(limit, "delkit plan"):
+            task = load_task(spec, problem, list(library or ()), deadline=None if limit is None else start + limit,
+                             strict=strict)
+            from planners.lang.epddl_run import space_for
+
+            left = None if limit is None else max(0.0, start + limit - time.monotonic())
+            limits = Limits(timeout=left, max_expanded=max_nodes, max_memory_mb=max_memory)
+            space = space_for(task, engine, allow_inconsistent)
+            res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
+    except (LoadTimeout, TimeLimit) as exc:
+        keep_alive(space, task, exc)  # console script: freeing the search space must not delay the exit
+        res = limit_result("reading, grounding and building the initial state" if task is None else
+                           "contracting the initial state" if space is None else "searching")
+    if res.status == "limit" and res.reason.endswith(" s reached") and "time limit" in res.reason:
+        res = limit_result("searching", res.expanded, res.generated)
+    if task is None:
         if as_json:
             _echo(json.dumps({**res.to_json(), "task": str(problem or spec)}))
         else:
-            _echo(f"NO PLAN (timeout): {exc} — {res.seconds:.3f} s")
+            _echo(f"NO PLAN (timeout): {res.reason} — {res.seconds:.3f} s")
         return 3
-    limits = Limits(timeout=max(0.0, timeout - (time.monotonic() - start)), max_expanded=max_nodes,
-                    max_memory_mb=max_memory)
-    from planners.lang.epddl_run import space_for
-
-    try:
-        # the search checks its own limit; the alarm (a little later) is the backstop for every other phase
-        with deadline(limits.timeout + 2.0, "contracting the initial state for the search, or searching"):
-            space = space_for(task, engine, allow_inconsistent)
-            res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
-    except ResourceError as exc:
-        if "--timeout" not in str(exc) and "time limit" not in str(exc):
-            raise
-        res = SearchResult("limit", None, 0, 0, time.monotonic() - start, search,
-                           reason=f"--timeout {timeout:g} s reached: {exc}")
     out = res.to_json()
     out["task"] = task.name
     if as_json:
@@ -105,13 +110,9 @@ def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path
               strict: bool = False, timeout: float = 0.0, trace: bool = False, trace_json: Path | None = None) -> int:
     """The body of ``delkit check``; returns the exit status (``timeout`` 0: no limit). ``trace`` /
     ``trace_json`` also print / write the states along the plan (:mod:`planners.trace`)."""
-    from delkit.resources import deadline
+    from delkit.resources import deadline, parse_timeout
 
-    if timeout < 0 or timeout != timeout:
-        from delkit.errors import ParseError
-
-        raise ParseError(f"--timeout {timeout!r}: use a number of seconds ≥ 0 (0: no limit)", source="delkit check")
-    with deadline(timeout, "delkit check"):
+    with deadline(parse_timeout(timeout), "delkit check"):  # 0 / inf: no limit; from the start of the process
         return _run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict, trace, trace_json)
 
 
@@ -138,6 +139,8 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
     properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
     # one checker; EPDDL (2026) tasks are replayed with EPDDL's semantics (see check_plan's ``epddl``)
     res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent, plan_source=str(files[-1]))
+    for line in res.warnings():  # EPDDL kept a state where an agent believes ⊥ (also in the JSON)
+        print(f"delkit: warning: {line}", file=sys.stderr)
     if trace or trace_json is not None:  # the states along the plan (issue 21)
         from planners.trace import emit_trace
 
@@ -154,6 +157,19 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
     return 0 if res.valid else 1
 
 
+_TIMEOUT_HELP = ("wall-clock limit in seconds, counted from the start of the process (0 or inf: no limit); "
+                 "reaching it is exit status 3")
+
+
+_CHECK_HELP = (
+    "Replay a plan on a spec and check its executability, goal and properties.\n\n"
+    "A plan under which an agent comes to believe ⊥ (no accessible world at the actual world, so every belief "
+    "goal would hold vacuously) fails on mA* and E-PDDL tasks unless --allow-inconsistent is given. EPDDL (2026) "
+    "semantics keeps such states (as plank does): the plan is checked on, with one warning line per such state "
+    "on stderr and their list in the JSON field inconsistent_beliefs.\n\n"
+    "Exit status: 0 valid, 1 invalid, 2 bad input, 3 --timeout reached.")
+
+
 def register(app: typer.Typer) -> None:
     """Attach ``plan`` and ``check`` to the top-level app."""
     import typer
@@ -165,7 +181,7 @@ def register(app: typer.Typer) -> None:
         library: list[Path] = typer.Option([], "--library", "-l", help="EPDDL action-type library (repeatable)"),
         strict: bool = typer.Option(False, "--strict", help="refuse mA* duplicate declarations"),
         search: str = typer.Option("bfs", "--search", help="bfs (optimal), gbfs or astar"),
-        timeout: float = typer.Option(60.0, "--timeout", help="wall-clock limit in seconds"),
+        timeout: float = typer.Option(60.0, "--timeout", help=_TIMEOUT_HELP),
         max_nodes: int | None = typer.Option(None, "--max-nodes", help="limit on expanded nodes"),
         max_memory: float = typer.Option(8192.0, "--max-memory", help="resident memory limit in MiB"),
         engine: str = typer.Option("auto", "--engine",
@@ -186,17 +202,21 @@ def register(app: typer.Typer) -> None:
                                     max_memory=max_memory, engine=engine, allow_inconsistent=allow_inconsistent,
                                     as_json=as_json, library=library, strict=strict, jobs=jobs, scheduler=scheduler))
 
-    @app.command("check")
+    @app.command("check", help=_CHECK_HELP)
     def check_command(
         files: list[Path] = typer.Argument(..., help="SPEC [PROBLEM] PLAN_FILE"),
         library: list[Path] = typer.Option([], "--library", "-l", help="EPDDL action-type library (repeatable)"),
         strict: bool = typer.Option(False, "--strict", help="refuse mA* duplicate declarations"),
         prop: list[str] = typer.Option([], "--property", "-p",
-                                       help='"always φ", "eventually φ" or "at end φ" (repeatable)'),
+                                       help='"always φ", "eventually φ" or "at end φ" (repeatable); φ in the '
+                                            'formula syntax delkit reads everywhere (K_a p, C{a,b} p, ~ ! not, '
+                                            '&, |, ->) or in mA* syntax (B(a, p), -p), the two mixed as in '
+                                            '~B(a, p)'),
         props_file: Path | None = typer.Option(None, "--properties", help="file with one property a line"),
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
-                                                help="do not fail when an agent comes to believe ⊥"),
-        timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="wall-clock limit in seconds (0: none)"),
+                                                help="do not fail (mA*, E-PDDL) or warn (EPDDL) when an agent "
+                                                     "comes to believe ⊥"),
+        timeout: float = typer.Option(0.0, "--timeout", help=_TIMEOUT_HELP),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object (a batch: one per group)"),
         jobs: int | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch of SPEC [PROBLEM] "
                                                                   "PLAN_FILE groups"),
@@ -218,7 +238,9 @@ def register(app: typer.Typer) -> None:
         files: list[Path] = typer.Argument(..., help="mA* file, or E-PDDL DOMAIN PROBLEM"),
         to: str = typer.Option("epddl", "--to", help="epddl (EPDDL 2026: domain, problem, library) or mastar"),
         out: Path = typer.Option(Path("."), "--out", "-o", help="output directory"),
-        name: str | None = typer.Option(None, "--name", help="base name of the written files"),
+        name: str | None = typer.Option(None, "--name", help="base name of the written files (a plain name: no "
+                                        "'/' or '..')"),
+        force: bool = typer.Option(False, "--force", help="overwrite an input file that an output would replace"),
         as_json: bool = typer.Option(False, "--json", help="print the written paths as JSON"),
     ) -> None:
         """Write an mA* or E-PDDL (2021) task as EPDDL (2026), or as mA* where it fits."""
@@ -230,23 +252,29 @@ def register(app: typer.Typer) -> None:
             raise ParseError(f"--to {to!r}: use epddl or mastar", source="delkit convert")
         if len(files) not in (1, 2):
             raise ParseError(f"expected SPEC or DOMAIN PROBLEM, got {len(files)} file(s)", source="delkit convert")
+        from delkit.resources import check_outputs
+
+        if name is not None and (not name.strip() or "/" in name or "\\" in name or name in (".", "..")):
+            raise ParseError(f"--name {name!r}: give a plain base name for the written files (not empty, no '/' "
+                             f"or '..'), e.g. --name mytask", source="delkit convert")
         task = load_task(files[0], files[1] if len(files) == 2 else None)
         base = name or (files[-1].stem if len(files) == 2 else files[0].stem)
+        if to == "epddl":
+            dom, prob, lib = to_epddl(task, base)
+            texts = {"domain": (out / f"{base}_domain.epddl", dom), "problem": (out / f"{base}_problem.epddl", prob),
+                     "library": (out / "mastar.epddl", lib)}
+        else:
+            texts = {"mastar": (out / f"{base}.txt", to_mastar(task))}
+        # every output checked before the first is written: none replaces an input, none leaves -o
+        check_outputs([p for p, _ in texts.values()], files, force=force, folder=out)
         try:
             out.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
             raise ParseError(f"cannot create the output directory: {exc.strerror}", source=str(out)) from None
         written: dict[str, str] = {}
-        if to == "epddl":
-            dom, prob, lib = to_epddl(task, base)
-            for kind, text in (("domain", dom), ("problem", prob), ("library", lib)):
-                path = out / (f"{base}_{kind}.epddl" if kind != "library" else "mastar.epddl")
-                path.write_text(text)
-                written[kind] = str(path)
-        else:
-            path = out / f"{base}.txt"
-            path.write_text(to_mastar(task))
-            written["mastar"] = str(path)
+        for kind, (path, text) in texts.items():
+            path.write_text(text)
+            written[kind] = str(path)
         if as_json:
             typer.echo(json.dumps(written))
         else:

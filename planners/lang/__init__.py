@@ -29,6 +29,19 @@ def is_epddl(path: str | Path) -> bool:
 
 def load_task(spec: str | Path, problem: str | Path | None = None, libraries=(), *,
               deadline: float | None = None, strict: bool = False):
+    """See :func:`_load_task`; an error raised without a file name (e.g. while building the initial state)
+    is given the problem's (or the spec's) name."""
+    try:
+        return _load_task(spec, problem, libraries, deadline=deadline, strict=strict)
+    except ParseError as exc:
+        if exc.source not in ("<text>", "", None):
+            raise
+        raise ParseError(exc.bare_message, source=str(problem or spec), line=exc.line, column=exc.column,
+                         expected=exc.expected) from None
+
+
+def _load_task(spec: str | Path, problem: str | Path | None = None, libraries=(), *,
+               deadline: float | None = None, strict: bool = False):
     """Read an mA* file, an E-PDDL (2021) domain (+ problem) or an EPDDL (2026) domain + problem (+ action-type
     libraries) into a :class:`planners.task.Task`. ``deadline`` (a ``time.monotonic()`` instant) bounds
     reading, grounding and the initial state (EPDDL 2026 and mA*); ``strict`` refuses what is otherwise

@@ -222,6 +222,12 @@ def find_libraries(domain: Path, names: list[str], given: list[Path], have: set[
 
 
 # ----------------------------------------------------------------------------- grounding context
+#: EPDDL term constructs (numeric / aggregate) that delkit refuses by name
+_UNSUPPORTED_TERMS = {"count": "numeric terms: counting", "+": "numeric terms", "-": "numeric terms",
+                      "*": "numeric terms", "/": "numeric terms", "sum": "numeric terms", "max": "numeric terms",
+                      "min": "numeric terms"}
+
+
 class _Ground:
     """Everything needed to ground formulas and lists: types, entities, facts, agents, predicates."""
 
@@ -348,6 +354,10 @@ class _Ground:
     # terms ---------------------------------------------------------------
     def term(self, x, env: dict[str, str]) -> str:
         if not isinstance(x, Sym):
+            head = x.head() if isinstance(x, Node) and x.kind == "(" else None
+            if head in _UNSUPPORTED_TERMS:  # name the EPDDL feature instead of a generic "expected a term"
+                raise self.err(f"({head} ...) is an EPDDL feature delkit does not support "
+                               f"({_UNSUPPORTED_TERMS[head]}); ground it by hand or leave it out", x)
             raise self.err("expected a term (a name or a ?variable)", x)
         if x.startswith("?"):
             try:
@@ -641,8 +651,8 @@ class _Ground:
 
     def _effect(self, node) -> Callable[[dict[str, str], Formula, dict, dict], None]:
         head = node.head() if isinstance(node, Node) and node.kind == "(" else None
-        if head == ":and":
-            parts = [self.effects(x) for x in node[1:]]
+        if head == ":and" or (isinstance(node, Node) and node.kind == "(" and len(node) == 0):
+            parts = [self.effects(x) for x in node[1:]]  # `()`: the empty list of effects
 
             def conj(env, cond, pos, neg) -> None:
                 for p in parts:
@@ -699,6 +709,8 @@ class _Ground:
             x = todo.pop()
             if isinstance(x, Node) and x.kind == "(" and x.head() == ":and":
                 todo.extend(reversed(x[1:]))
+            elif isinstance(x, Node) and x.kind == "(" and len(x) == 0:
+                continue  # `:effects ()`: no effect (the EPDDL grammar and plank accept the empty list)
             elif (lit := self._literal_atom(x)) is not None:
                 lits.append((*lit, x))
             else:   # a conditional effect, a :forall, or an error (reported by the general path, in order)
@@ -827,10 +839,16 @@ def parse_epddl2026(domain: Path, problem: Path, libraries: list[Path] = (), *,
                     deadline: float | None = None):
     """Read, type and ground one EPDDL run into a :class:`planners.task.Task`."""
     g = _Ground({}, deadline)
+    g.warnings = []  # printed once the whole run has been read without error
     try:
-        return _parse(g, _path(domain), _path(problem), [_path(p) for p in libraries], deadline)
+        task = _parse(g, _path(domain), _path(problem), [_path(p) for p in libraries], deadline)
     finally:
         g.release()
+    import sys
+
+    for w in g.warnings:
+        print(f"delkit: warning: {w}", file=sys.stderr)
+    return task
 
 
 def _parse(g: _Ground, domain: Path, problem: Path, libraries: list[Path], deadline: float | None):
@@ -858,9 +876,16 @@ def _parse(g: _Ground, domain: Path, problem: Path, libraries: list[Path], deadl
             declared_libs += [str(x) for x in sec[1:]]
         elif key == ":types":
             typed, _ = g.typed_list(sec[1:], _OBJECT)
+            declared = {t for t, _ in typed} | set(g.type_parent)
             for t, parent in typed:
                 if isinstance(parent, tuple):
                     raise g.err("a type's parent cannot be an (either ...)", sec)
+                if parent not in declared:  # accepted (as a type under object), but said
+                    g.warnings.append(f"{g.where}:{sec.line}: type {t!r} has the parent type "
+                                      f"{parent!r}, which is not declared; it is read as a type under object "
+                                      f"(declare it in (:types ...) to silence this)")
+                    g.type_parent.setdefault(parent, _OBJECT)  # type: ignore[arg-type]
+                    declared.add(parent)
                 g.type_parent[t] = parent  # type: ignore[assignment]
         elif key == ":constants":
             typed, _ = g.typed_list(sec[1:], _OBJECT)
@@ -936,6 +961,11 @@ def _parse(g: _Ground, domain: Path, problem: Path, libraries: list[Path], deadl
         elif key == ":objects":
             typed, _ = g.typed_list(sec[1:], _OBJECT)
             for o, t in typed:
+                unknown = [u for u in (t if isinstance(t, tuple) else (t,)) if u not in g.type_parent]
+                if unknown:
+                    raise g.err(f"object {o!r} has the type {unknown[0]!r}, which the domain does not declare "
+                                f"(its types: {', '.join(sorted(k for k in g.type_parent if k != _ENTITY))}); "
+                                f"fix the type or add it to the domain's (:types ...)", sec)
                 g.entities[o] = t  # type: ignore[assignment]
         elif key == ":facts-init":
             facts_init = sec
@@ -1445,7 +1475,9 @@ def _action_grounder(g: _Ground, at: _ActType, ev_refs, events, obs_node, agents
             return PlainEvents(slots, agents, pre, post, relations, des, name)
 
         return EventAction(name=name, build=build, conditions=conds, where=where, kind=tname,
-                           designated_pre=tuple([pre[d] for d in des]))
+                           designated_pre=tuple([pre[d] for d in des]),
+                           event_labels=tuple([f"{e[0]} (the action type's ?{slot})"
+                                               for e, slot in zip(evs, slots, strict=True)]))
     return ground
 
 

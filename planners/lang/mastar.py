@@ -304,10 +304,12 @@ class _Parser:
                     # EFP reads C statements of the initial state as holding in every world (S5 finitary)
                     pass
                 common.append((g.arg, where))
-            elif isinstance(g, Prop):
-                pointed[g.name] = True
-            elif isinstance(g, Not) and isinstance(g.arg, Prop):
-                pointed[g.arg.name] = False
+            elif isinstance(g, Prop) or (isinstance(g, Not) and isinstance(g.arg, Prop)):
+                name, value = (g.name, True) if isinstance(g, Prop) else (g.arg.name, False)  # type: ignore[union-attr]
+                if pointed.get(name, value) != value:  # `initially p; initially -p;`: no actual world
+                    raise self.err(f"the 'initially' literals contradict each other: fluent {name!r} is given "
+                                   f"both true and false; keep one of them", t)
+                pointed[name] = value
             else:
                 others.append((g, where))
 
@@ -322,8 +324,7 @@ class _Parser:
                         first = self.decl_at[n.text]
                         msg = (f"{self.source}:{n.line}: warning: {t.text} {n.text!r} is declared twice (first at "
                                f"line {first.line}); the duplicate is ignored (--strict makes this an error)")
-                        self.warnings.append(msg)
-                        _warn(msg)
+                        self.warnings.append(msg)  # printed once the file has been read without error
                         if self.accept(";"):
                             break
                         self.expect(",")
@@ -354,12 +355,18 @@ def parse_mastar(text: str, source: str = "<mA*>", *, strict: bool = False, dead
     A name declared twice in the same kind of list (``fluent p, q, p;``, as some published files do) is
     accepted with a one-line warning naming the file, line and duplicate; ``strict`` keeps it an error.
     ``deadline`` (``time.monotonic()``) bounds building the initial state."""
-    return _Parser(text, source, strict=strict, deadline=deadline).parse()
+    parser = _Parser(text, source, strict=strict, deadline=deadline)
+    task = parser.parse()
+    for msg in parser.warnings:  # after the parse: a file that fails is one error line, no warnings before it
+        _warn(msg)
+    return task
 
 
 def parse_mastar_formula(text: str, task: Task, *, source: str = "<formula>") -> Formula:
-    """One mA* formula over the fluents and agents of ``task``."""
-    p = _Parser(text, source)
+    """One mA* formula over the fluents and agents of ``task``. Outside mA* files (a property, a goal given on
+    the command line) ``~`` and ``!`` are read as mA*'s negation ``-`` too, as in delkit's own syntax, so a
+    formula may mix the two (``~B(a, p)``); the replacement keeps every column."""
+    p = _Parser(re.sub(r"[~!]", "-", text), source)
     p.fluents, p.agents = list(task.props), list(task.agents)
     p._fl, p._ag, p._ac = set(task.props), set(task.agents), {a.name for a in task.actions}
     f = p.formula()

@@ -120,6 +120,9 @@ def register(app: typer.Typer) -> None:
         out: Path = typer.Option(Path("explore-sweep"), "--out", help="Output directory (CSV, PNGs, JSON)."),
         snapshots_too: bool = typer.Option(True, "--snapshots/--no-snapshots",
                                            help="Also draw one epistemic mission per case (Figures 5/7)."),
+        timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="Wall-clock limit of the whole sweep in "
+                                      "seconds from the start of the process (0 or inf: none); reaching it "
+                                      "is exit status 3."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Run a sweep; write runs.csv, summary.json, box plots and snapshots into --out."""
@@ -145,7 +148,9 @@ def register(app: typer.Typer) -> None:
 
         require(4096.0 * total, f"a sweep of {total} missions (their configurations and result rows)",
                 "use fewer --maps, --robots, --methods or --case values")
-        with _progress(as_json) as bar:
+        from delkit.resources import deadline
+
+        with deadline(timeout, f"explore sweep of {total} missions"), _progress(as_json) as bar:
             task = bar.add_task("missions", total=total)
             rows = run_sweep(spec, workers=workers, dask=dask, progress=lambda d, _t: bar.update(task, completed=d))
         out.mkdir(parents=True, exist_ok=True)

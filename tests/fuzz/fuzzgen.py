@@ -763,6 +763,83 @@ def _mutate_sexp_or_bytes(draw, text: str) -> bytes:
     return out if isinstance(out, bytes) else out.encode()
 
 
+# ----------------------------------------------------------------------------- issue 22: limits and outputs
+
+HUGE = ["inf", "1e300", "100000000000000000000", "1e0", "5e-1", "0", "0.0", "-0", "nan", "-inf", "-1", "1e-300",
+        "2147483648", "9223372036854775808", "+inf", "INF", "1_0"]
+
+
+@st.composite
+def limits_cases(draw) -> Case:
+    """Issue 22's families: huge and non-finite numbers on every limit option, options given twice and in
+    the spellings that go through typer instead of the fast path, empty lists, outputs equal to inputs,
+    symbolic-size bombs."""
+    kind = draw(st.sampled_from(["timeout", "twice", "empty", "clobber", "bomb"]))
+    coin = (str(SPECS / "coin_in_the_box" / "domain.epddl"), str(SPECS / "coin_in_the_box" / "problem.epddl"))
+    plan = str(SPECS / "coin_in_the_box" / "problem.plan")
+    if kind in ("timeout", "twice"):
+        cmd = draw(st.sampled_from(["plan", "check", "prove", "muddy", "sum-product", "epico solve", "epico table",
+                                    "explore sweep", "model draw"]))
+        val = draw(st.sampled_from(HUGE))
+        opt = "--total-timeout" if cmd == "epico table" and draw(st.booleans()) else "--timeout"
+        spell = draw(st.sampled_from([[opt, val], [f"{opt}={val}"]]))
+        if kind == "twice":
+            spell = [*spell, opt, draw(st.sampled_from(HUGE))]
+        base = {"plan": ["plan", *coin, "--json"], "check": ["check", *coin, plan, "--json"],
+                "prove": ["prove", "K_a p -> p", "--worlds", "2"], "muddy": ["puzzle", "muddy", "-n", "3", "--json"],
+                "sum-product": ["puzzle", "sum-product", "--limit", "30", "--json"],
+                "epico solve": ["epico", "solve", "--goal", "alpha", "--colors", "1", "--json"],
+                "epico table": ["epico", "table", "--colors", "1", "--json"],
+                "explore sweep": ["explore", "sweep", "--maps", "1", "--robots", "2", "--methods", "ideal",
+                                  "--workers", "1", "--no-snapshots", "--out", "{d}/sweep", "--json"],
+                "model draw": ["model", "draw", "{d}/m.json", "-o", "{d}/m.svg", "--max-worlds",
+                               draw(st.sampled_from(INTS))]}[cmd]
+        files = (("m.json", _dump(_model_dict(draw))),) if cmd == "model draw" else ()
+        args = base + (spell if cmd != "model draw" else [])
+        oracle = "plan" if cmd == "plan" else ("json" if "--json" in base else None)
+        label = cmd if " " in cmd or cmd in ("plan", "check", "prove") else f"puzzle {cmd}"
+        return Case(label, tuple(args), files, oracle=oracle, budget=90.0, note=f"limits:{kind}")
+    if kind == "empty":
+        argv = draw(st.sampled_from([
+            ["model", "diff", "{d}/m.json", "{d}/m.json", "--props", draw(st.sampled_from(["", ",", " , "]))],
+            ["epico", "table", "--colors", draw(st.sampled_from(["", ",", " "]))],
+            ["explore", "sweep", "--methods", "", "--out", "{d}/o"],
+            ["explore", "sweep", "--robots", "", "--out", "{d}/o"],
+            ["explore", "sweep", "--case", "", "--out", "{d}/o"],
+            ["check", *coin, plan, "--property", ""], ["check", *coin, plan, "--properties", "{d}/empty.txt"],
+            ["plan", *coin, "--library", ""], ["convert", coin[0], coin[1], "--out", "{d}/o", "--name", ""],
+            ["epico", "solve", "--owner", ""], ["epico", "solve", "--known", ""],
+            ["model", "check", "{d}/m.json", ""], ["prove", ""]]))
+        label = " ".join(argv[:2]) if argv[0] in ("model", "epico", "explore") else argv[0]
+        return Case(label, tuple(argv), (("m.json", _dump(_model_dict(draw))), ("empty.txt", b"")), oracle="json"
+                    if "--json" in argv else None, budget=60.0, note="limits:empty")
+    if kind == "clobber":  # an output named like an input: refused (exit 2), the input unchanged
+        files_ = mastar_files()
+        which = draw(st.sampled_from(["convert", "convert-name", "contract", "dot", "draw"]))
+        if which.startswith("convert") and files_:
+            f = draw(st.sampled_from(files_))
+            name = ["--name", "spec"] if which == "convert-name" else []
+            return Case("convert", ("convert", "{d}/spec.txt", "--to", "mastar", "-o", "{d}", *name),
+                        (("spec.txt", f.read_bytes()),), oracle="inputs", note="limits:clobber")
+        out = {"contract": "{d}/m.json", "dot": "{d}/m.json", "draw": "{d}/m.json"}.get(which, "{d}/m.json")
+        sub = "contract" if which == "convert" else which
+        return Case(f"model {sub}", ("model", sub, "{d}/m.json", "-o", out), (("m.json", _dump(_model_dict(draw))),),
+                    oracle="inputs", note="limits:clobber")
+    bomb = draw(st.sampled_from([
+        ["puzzle", "sum-product", "--limit", draw(st.sampled_from(["20000", "100000", "4294967296"])), "--symbolic"],
+        ["puzzle", "muddy", "--children", draw(st.sampled_from(["20000", "100000"])), "--muddy", "2", "--symbolic"],
+        ["smcdel", "{d}/big.smcdel.txt"], ["model", "draw", "{d}/big.smcdel.txt", "-o", "{d}/b.svg", "--max-worlds",
+                                           "100000"],
+        ["model", "diff", "{d}/big.smcdel.txt", "{d}/big.smcdel.txt", "--engine", "explicit", "--max-worlds",
+         "5000000"],
+        ["model", "draw", "{d}/m.json", "-o", "{d}/m.png", "--layout", "kamada-kawai"]]))
+    n = draw(st.sampled_from([16, 24, 30, 40]))
+    smc = "VARS " + ",".join(str(i) for i in range(1, n + 1)) + "\nLAW Top\nOBS alice: 1\nbob: 2\nWHERE? Top\n"
+    label = " ".join(bomb[:2]) if bomb[0] in ("puzzle", "model") else bomb[0]
+    return Case(label, tuple(bomb), (("big.smcdel.txt", smc.encode()), ("m.json", _dump(_model_dict(draw)))),
+                budget=60.0, note=f"limits:bomb n={n}")
+
+
 #: command family ↦ strategy; weights = how many of each the big run draws
 FAMILIES = {
     "plan": (plan_cases, 20),
@@ -777,6 +854,7 @@ FAMILIES = {
     "convert": (convert_cases, 5),
     "smcdel": (smcdel_cases, 6),
     "epico": (epico_cases, 6),
+    "limits": (limits_cases, 12),
 }
 
 

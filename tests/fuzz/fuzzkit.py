@@ -132,6 +132,12 @@ def run_case(case: Case) -> Outcome:
             return Outcome("crash", rc, f"unexpected exit status {rc}; stderr {err.strip()[:200]!r}", secs)
         if "Traceback (most recent call last)" in err:
             return Outcome("crash", rc, "traceback on stderr of an answer", secs)
+        lost = _inputs_changed(case, d)
+        if lost:
+            return Outcome("wrong", rc, lost, secs)
+        if rc == 3 and not out.strip():  # a limit reached (exit 3, every command): one clean line on stderr
+            bad = classify_error_text(err)
+            return Outcome("crash" if bad else "ok", rc, bad or err.strip()[:240], secs)
         if case.oracle:
             try:
                 why = ORACLES[case.oracle](case, argv, rc, out, d)
@@ -292,7 +298,23 @@ def _oracle_arms(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
     return _oracle_json(case, argv, rc, out, d)
 
 
+def _oracle_inputs(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
+    """Outputs never clobber inputs: every input file still holds its bytes (checked for every case too)."""
+    return _inputs_changed(case, d)
+
+
+def _inputs_changed(case: Case, d: str) -> str:
+    if "--force" in case.argv:
+        return ""
+    for name, data in case.files:
+        p = Path(d) / name
+        if not p.exists() or p.read_bytes() != data:
+            return f"the input file {name} was {'deleted' if not p.exists() else 'overwritten'}"
+    return ""
+
+
 ORACLES = {
+    "inputs": _oracle_inputs,
     "plan": _oracle_plan,
     "model-diff": _oracle_model_diff,
     "model-roundtrip": _oracle_model_roundtrip,
