@@ -7,7 +7,7 @@ the same way (a file that is not a spec is the plan file closing a group).
 
 * Runs go through :func:`delkit.executors.executor`: ``N`` local worker processes (default: one per core),
   each reused for many tasks, or the Dask cluster at ``--scheduler``. Each task runs the command's own body
-  (:func:`planners.cli.plan_cmd.run_plan` with ``--json``), so its answer, its limits (``--timeout``,
+  (:func:`planners.commands.run_plan` with ``--json``), so its answer, its limits (``--timeout``,
   ``--max-nodes``, ``--max-memory`` hold per task) and its exit status are those of a single run.
 * One task's crash, hang past its limit or memory blow-up is reported as that task's result (status
   ``crash``) and the others go on: the worker is replaced (see :class:`delkit.executors.IsolatedPool`).
@@ -46,7 +46,7 @@ def plan_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: str
                **options: Any) -> int:
     """``delkit plan FILE...``: one task (the single command, :func:`run_plan`), or a batch (more tasks than
     one, or ``--scheduler``); returns the exit status."""
-    from planners.cli.plan_cmd import run_plan
+    from planners.commands import run_plan
 
     files = [Path(f) for f in files]
     _check_jobs(jobs, "delkit plan")
@@ -65,7 +65,7 @@ def plan_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: str
 def check_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: str | None = None,
                 **options: Any) -> int:
     """``delkit check``: one SPEC [PROBLEM] PLAN_FILE group (:func:`run_check`), or a batch of groups."""
-    from planners.cli.plan_cmd import run_check
+    from planners.commands import run_check
 
     files = [Path(f) for f in files]
     _check_jobs(jobs, "delkit check")
@@ -185,7 +185,7 @@ def _result(code: int, text: str, err: str, t0: float, c0: float) -> dict[str, A
 def plan_one(spec: str, problem: str | None, options: dict[str, Any]) -> dict[str, Any]:
     """One task of a plan batch, in a worker: :func:`run_plan` with ``--json``; its JSON object plus ``exit``,
     ``cpu`` and ``wall`` (the task's CPU and wall-clock seconds in this worker, reading included)."""
-    from planners.cli.plan_cmd import run_plan
+    from planners.commands import run_plan
 
     t0, c0 = time.monotonic(), time.process_time()
     code, text, err = _capture(lambda: run_plan(Path(spec), Path(problem) if problem else None,
@@ -195,7 +195,7 @@ def plan_one(spec: str, problem: str | None, options: dict[str, Any]) -> dict[st
 
 def check_one(files: list[str], options: dict[str, Any]) -> dict[str, Any]:
     """One group of a check batch, in a worker: :func:`run_check` with ``--json``."""
-    from planners.cli.plan_cmd import run_check
+    from planners.commands import run_check
 
     t0, c0 = time.monotonic(), time.process_time()
     code, text, err = _capture(lambda: run_check([Path(f) for f in files], as_json=True, **options))

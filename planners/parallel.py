@@ -158,7 +158,7 @@ def run_plan_parallel(spec: Path, problem: Path | None = None, *, jobs: int = 2,
     numpy backend run serially, as without ``--jobs``); returns the exit status."""
     import json
 
-    from planners.cli.plan_cmd import run_plan
+    from planners.commands import run_plan
 
     serial = dict(search=search, as_json=as_json, timeout=timeout, max_nodes=max_nodes, engine=engine,
                   allow_inconsistent=allow_inconsistent, library=library, strict=strict, **rest)

@@ -19,8 +19,6 @@ command bodies (:func:`run_plan`, :func:`run_check`) are shared by both paths.
 from __future__ import annotations
 
 import re
-import sys
-import time
 from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -35,127 +33,7 @@ else:
     json = lazy_module("json")  # only --json needs it (start-up)
 
 
-def _echo(text: str) -> None:
-    print(text, file=sys.stdout, flush=False)
-
-
-def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeout: float = 60.0,
-             max_nodes: int | None = None, max_memory: float = 8192.0, engine: str = "auto",
-             allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
-             strict: bool = False) -> int:
-    """The body of ``delkit plan``; returns the exit status."""
-    from delkit.errors import PlanningError
-    from planners.epistemic import Limits, SearchResult, best_first, bfs
-    from planners.lang import load_task
-    from planners.lang.initial import LoadTimeout
-
-    if search not in ("bfs", "gbfs", "astar"):
-        raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
-    from delkit.resources import TimeLimit, command_start, deadline, keep_alive, parse_timeout
-
-    limit = parse_timeout(timeout)  # 0 / inf: no limit; counted from the start of the process
-    Limits(timeout=limit, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
-    start = command_start()
-    reached = f"--timeout {timeout:g} s reached (counted from the start of the process)"
-
-    def limit_result(phase: str, expanded: int = 0, generated: int = 0) -> SearchResult:
-        return SearchResult("limit", None, expanded, generated, time.monotonic() - start, search,
-                            reason=f"no plan within limits: {reached} while {phase}")
-
-    # one deadline for every phase: the readers and the search check it themselves, the alarm (and, in the
-    # console script, a watchdog) stop any phase that does not
-    task = space = None
-    try:
-        with deadline(limit, "delkit plan"):
-            task = load_task(spec, problem, list(library or ()), deadline=None if limit is None else start + limit,
-                             strict=strict)
-            from planners.lang.epddl_run import space_for
-
-            left = None if limit is None else max(0.0, start + limit - time.monotonic())
-            limits = Limits(timeout=left, max_expanded=max_nodes, max_memory_mb=max_memory)
-            space = space_for(task, engine, allow_inconsistent)
-            res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
-    except (LoadTimeout, TimeLimit) as exc:
-        keep_alive(space, task, exc)  # console script: freeing the search space must not delay the exit
-        res = limit_result("reading, grounding and building the initial state" if task is None else
-                           "contracting the initial state" if space is None else "searching")
-    if res.status == "limit" and res.reason.endswith(" s reached") and "time limit" in res.reason:
-        res = limit_result("searching", res.expanded, res.generated)
-    if task is None:
-        if as_json:
-            _echo(json.dumps({**res.to_json(), "task": str(problem or spec)}))
-        else:
-            _echo(f"NO PLAN (timeout): {res.reason} — {res.seconds:.3f} s")
-        return 3
-    out = res.to_json()
-    out["task"] = task.name
-    if as_json:
-        _echo(json.dumps(out))
-    else:
-        if res.solved:
-            _echo(f"plan of length {res.length} ({search}, {res.expanded} expanded, {res.generated} "
-                  f"generated, {res.seconds:.3f} s):")
-            for i, a in enumerate(res.plan or (), 1):
-                _echo(f"  {i}. {a}")
-            if not res.plan:
-                _echo("  (empty: the goal holds in the initial state)")
-        else:
-            _echo(f"NO PLAN ({res.status}): {res.reason} — {res.expanded} expanded, {res.generated} "
-                  f"generated, {res.seconds:.3f} s")
-    return 0 if res.solved else (1 if res.status == "unsolvable" else 3)
-
-
-def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path | None = None,
-              allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
-              strict: bool = False, timeout: float = 0.0, trace: bool = False, trace_json: Path | None = None) -> int:
-    """The body of ``delkit check``; returns the exit status (``timeout`` 0: no limit). ``trace`` /
-    ``trace_json`` also print / write the states along the plan (:mod:`planners.trace`)."""
-    from delkit.resources import deadline, parse_timeout
-
-    with deadline(parse_timeout(timeout), "delkit check"):  # 0 / inf: no limit; from the start of the process
-        return _run_check(files, prop, props_file, allow_inconsistent, as_json, library, strict, trace, trace_json)
-
-
-def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | None, allow_inconsistent: bool,
-               as_json: bool, library: list[Path] | None, strict: bool, trace: bool = False,
-               trace_json: Path | None = None) -> int:
-    from delkit.errors import ParseError, io_reason
-    from planners.lang import load_task
-    from planners.validate import check_plan, parse_property, read_plan
-
-    if len(files) not in (2, 3):
-        raise ParseError(f"expected SPEC PLAN_FILE or DOMAIN PROBLEM PLAN_FILE, got {len(files)} file(s)",
-                         source="delkit check")
-    task = load_task(files[0], files[1] if len(files) == 3 else None, list(library or ()), strict=strict)
-    steps = read_plan(files[-1])
-    texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop or ()]   # (text, source, line)
-    if props_file is not None:
-        try:
-            lines = props_file.read_text().splitlines()
-        except (OSError, UnicodeDecodeError) as exc:
-            raise ParseError(f"cannot read: {io_reason(exc)}", source=str(props_file)) from None
-        texts += [(ln.strip(), str(props_file), i) for i, ln in enumerate(lines, 1)
-                  if ln.strip() and not ln.lstrip().startswith("#")]
-    properties = [parse_property(t, task, source=src, line=line) for t, src, line in texts]
-    # one checker; EPDDL (2026) tasks are replayed with EPDDL's semantics (see check_plan's ``epddl``)
-    res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent, plan_source=str(files[-1]))
-    for line in res.warnings():  # EPDDL kept a state where an agent believes ⊥ (also in the JSON)
-        print(f"delkit: warning: {line}", file=sys.stderr)
-    if trace or trace_json is not None:  # the states along the plan (issue 21)
-        from planners.trace import emit_trace
-
-        emit_trace(task, steps, text=trace, json_path=trace_json, allow_inconsistent=allow_inconsistent,
-                   plan_source=str(files[-1]), echo=_echo)
-    if as_json:
-        _echo(json.dumps(res.to_json()))
-    elif res.valid:
-        _echo(f"valid: {len(steps)} step(s), goal reached"
-              + (f", {len(properties)} propert{'y' if len(properties) == 1 else 'ies'} hold"
-                 if properties else ""))
-    else:
-        _echo(f"INVALID at step {res.step} ({res.action or 'initial state'}): {res.reason}")
-    return 0 if res.valid else 1
-
+from planners.commands import _echo, run_check, run_plan  # noqa: E402,F401  (the bodies; re-exported)
 
 _TIMEOUT_HELP = ("wall-clock limit in seconds, counted from the start of the process (0 or inf: no limit); "
                  "reaching it is exit status 3")
