@@ -25,14 +25,8 @@ from delkit.view.document import (
     register_viewer,
     viewers,
 )
+from delkit.view.notebook import Stepper
 
 __all__ = ["Document", "Frame", "Panel", "evaluate", "graph_json", "load_document", "possible", "register_viewer",
            "viewers", "Stepper"]
 
-
-def __getattr__(name: str):
-    if name == "Stepper":
-        from delkit.view.notebook import Stepper
-
-        return Stepper
-    raise AttributeError(name)
