@@ -135,8 +135,9 @@ def test_epico_table_needs_a_total_bound(capsys):
 
 
 def test_epico_solve_limit_is_exit_3(capsys):
-    rc, _, err = run_cli(capsys, ["epico", "solve", "--goal", "beta", "--colors", "4", "--symmetric", "--no-macros",
-                                  "--timeout", "0.05"])
+    # per-colour sensing, δ/4, no macros: ≈ 3 s of search (β/4 became faster than any tiny limit)
+    rc, _, err = run_cli(capsys, ["epico", "solve", "--goal", "delta", "--colors", "4", "--sensing", "color",
+                                  "--no-macros", "--timeout", "0.05"])
     assert rc == 3 and classify_error_text(err) is None, err
 
 
