@@ -19,7 +19,7 @@ from delkit.cli import _build_app, main
 
 #: keys whose values are measurements of time, not results of the seeded computation
 TIMING_KEYS = ("time_s", "cpu_s", "wall_time", "heuristic_s", "milp_s", "median_ms", "p95_ms", "mean_ms",
-               "us_per_iteration", "seconds", "wall_s")
+               "us_per_iteration", "seconds", "wall_s", "guard_cpu_s", "belief_cpu_s", "exec_cpu_s")
 _TIMING = re.compile(r'("(?:' + "|".join(TIMING_KEYS) + r')": )-?[0-9.eE+-]+')
 #: e-PICO's ``times`` object (seconds per phase) and its per-call lists of classical-call times
 _EPICO_TIMES = re.compile(r'("times": )\{[^{}]*\}')

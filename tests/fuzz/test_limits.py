@@ -161,11 +161,12 @@ def test_limit_wall_time_from_process_start_initial_state(tmp_path):
     ["puzzle", "sum-product", "--limit", "6000", "--timeout", "1.5"],
     ["puzzle", "muddy", "-n", "2000", "-m", "1000", "--symbolic", "--timeout", "1.5"],
     ["prove", "C{a,b} p -> K_a K_b K_a p", "--worlds", "12", "--timeout", "1.5"],
-    ["epico", "solve", "--goal", "beta", "--colors", "4", "--symmetric", "--no-macros", "--timeout", "0.3"],
+    ["epico", "solve", "--goal", "delta", "--colors", "4", "--sensing", "color", "--no-macros", "--timeout", "0.3"],
     ["epico", "table", "--repeat", "5", "--total-timeout", "1.5"],
     ["explore", "sweep", "--maps", "40", "--workers", "1", "--timeout", "1.5", "--out", "{tmp}/o"],
-    ["arms", "run", str(REPO / "arms" / "demo_plan.json"), "--no-video", "--timeout", "1.5"],
-    ["epico", "run", "--goal", "alpha", "--colors", "2", "--timeout", "1.5"],
+    # the demo plan and α/2 now run in < 1.5 s (analytic IK): longer runs
+    ["arms", "run", str(REPO / "tests" / "arms" / "long_plan.json"), "--no-video", "--timeout", "1.5"],
+    ["epico", "run", "--goal", "delta", "--colors", "4", "--timeout", "1.5"],
 ])
 def test_limit_wall_time_per_command(tmp_path, argv):
     """Every command with a --timeout exits within T + 0.5 s of its process start (plus the load margin)."""
