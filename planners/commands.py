@@ -76,19 +76,24 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
         return 3
     out = res.to_json()
     out["task"] = task.name
+    return report_search(res, out, search, as_json)
+
+
+def report_search(res, out: dict, how: str, as_json: bool) -> int:
+    """Print a search result (``out`` as JSON, or the plan / the reason as text; ``how`` names the search)
+    and return ``delkit plan``'s exit status: 0 a plan, 1 none exists, 3 a limit."""
     if as_json:
         _echo(json.dumps(out))
+    elif res.solved:
+        _echo(f"plan of length {res.length} ({how}, {res.expanded} expanded, {res.generated} "
+              f"generated, {res.seconds:.3f} s):")
+        for i, a in enumerate(res.plan or (), 1):
+            _echo(f"  {i}. {a}")
+        if not res.plan:
+            _echo("  (empty: the goal holds in the initial state)")
     else:
-        if res.solved:
-            _echo(f"plan of length {res.length} ({search}, {res.expanded} expanded, {res.generated} "
-                  f"generated, {res.seconds:.3f} s):")
-            for i, a in enumerate(res.plan or (), 1):
-                _echo(f"  {i}. {a}")
-            if not res.plan:
-                _echo("  (empty: the goal holds in the initial state)")
-        else:
-            _echo(f"NO PLAN ({res.status}): {res.reason} — {res.expanded} expanded, {res.generated} "
-                  f"generated, {res.seconds:.3f} s")
+        _echo(f"NO PLAN ({res.status}): {res.reason} — {res.expanded} expanded, {res.generated} "
+              f"generated, {res.seconds:.3f} s")
     return 0 if res.solved else (1 if res.status == "unsolvable" else 3)
 
 

@@ -156,9 +156,8 @@ def run_plan_parallel(spec: Path, problem: Path | None = None, *, jobs: int = 2,
                       strict: bool = False, **rest: Any) -> int:
     """``delkit plan FILE --jobs N`` for one task: :func:`parallel_bfs` (BFS only; other searches and the
     numpy backend run serially, as without ``--jobs``); returns the exit status."""
-    import json
 
-    from planners.commands import run_plan
+    from planners.commands import report_search, run_plan
 
     serial = dict(search=search, as_json=as_json, timeout=timeout, max_nodes=max_nodes, engine=engine,
                   allow_inconsistent=allow_inconsistent, library=library, strict=strict, **rest)
@@ -168,17 +167,5 @@ def run_plan_parallel(spec: Path, problem: Path | None = None, *, jobs: int = 2,
                              allow_inconsistent=allow_inconsistent, library=library, strict=strict)
     if res is None:
         return run_plan(spec, problem, **serial)
-    out = {**res.to_json(), "task": task.name, "jobs": jobs}
-    if as_json:
-        print(json.dumps(out))
-    elif res.solved:
-        print(f"plan of length {res.length} (parallel bfs, {jobs} workers, {res.expanded} expanded, "
-              f"{res.generated} generated, {res.seconds:.3f} s):")
-        for i, a in enumerate(res.plan or (), 1):
-            print(f"  {i}. {a}")
-        if not res.plan:
-            print("  (empty: the goal holds in the initial state)")
-    else:
-        print(f"NO PLAN ({res.status}): {res.reason} — {res.expanded} expanded, {res.generated} generated, "
-              f"{res.seconds:.3f} s")
-    return 0 if res.solved else (1 if res.status == "unsolvable" else 3)
+    return report_search(res, {**res.to_json(), "task": task.name, "jobs": jobs}, f"parallel bfs, {jobs} workers",
+                         as_json)
