@@ -299,6 +299,29 @@ def early_watchdog(argv: list[str]) -> None:
                      daemon=True).start()
 
 
+class _Watchdog:
+    """In the console script (:data:`HARD_EXIT`), a watchdog thread that ends the process at ``when`` unless the
+    body left first. It stays armed when the body left by :class:`TimeLimit`: unwinding and freeing what the
+    body built must not delay the exit either. (A class, not a generator: it is entered inside the generator of
+    :func:`deadline`, and must see the exception thrown into that generator as it is.)"""
+
+    __slots__ = ("when", "message", "token")
+
+    def __init__(self, when: float, message: str) -> None:
+        self.when, self.message, self.token = when, message, [False]
+
+    def __enter__(self) -> None:
+        if HARD_EXIT:
+            import threading
+
+            threading.Thread(target=_watchdog, args=(self.when, self.message, self.token), daemon=True).start()
+
+    def __exit__(self, kind, value, traceback) -> bool:
+        if kind is None or not issubclass(kind, TimeLimit):
+            self.token[0] = True
+        return False
+
+
 @contextmanager
 def deadline(seconds: float | str | None, what: str, option: str = "--timeout", *,
              alarm: bool = True) -> Iterator[None]:
@@ -327,18 +350,9 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
         return
     _DEADLINE, _MESSAGE[0] = when, message
     if not alarm or threading.current_thread() is not threading.main_thread():
-        token = [False]
-        if HARD_EXIT:
-            threading.Thread(target=_watchdog, args=(when + _GRACE, message, token), daemon=True).start()
         try:
-            yield
-        except TimeLimit:
-            raise
-        except BaseException:
-            token[0] = True
-            raise
-        else:
-            token[0] = True
+            with _Watchdog(when + _GRACE, message):
+                yield
         finally:
             _DEADLINE, _MESSAGE[0] = outer_deadline, outer_message
         return
@@ -357,9 +371,6 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
 
     t0 = time.monotonic()
     signal.signal(signal.SIGALRM, expired_)
-    token = [False]
-    if HARD_EXIT:
-        threading.Thread(target=_watchdog, args=(when + _GRACE, message, token), daemon=True).start()
     # the timer re-fires every 0.25 s after expiry: an exception raised where Python swallows it (a C
     # extension's finaliser, e.g. a BDD node freed by CUDD's wrapper, prints "Exception ignored") must not
     # leave the body running without a limit
@@ -367,15 +378,8 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
     # normally stops first and reports how far it got; the alarm stops everything else
     signal.setitimer(signal.ITIMER_REAL, max(left + ALARM_SLACK, 1e-3), 0.25)
     try:
-        yield
-    except TimeLimit:
-        # the watchdog stays: unwinding and freeing what the body built must not delay the exit either
-        raise
-    except BaseException:
-        token[0] = True
-        raise
-    else:
-        token[0] = True
+        with _Watchdog(when + _GRACE, message):
+            yield
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
