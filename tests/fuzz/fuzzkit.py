@@ -447,3 +447,15 @@ class Tally:
 
     def report_bad(self, limit: int = 50) -> str:
         return "\n".join(f"- {o.kind}: {o.case.describe()[:300]} -> {o.detail}" for o in self.bad[:limit])
+
+
+def many_free_fluents(tmp_path: Path, n: int = 22) -> list[str]:
+    """An E-PDDL task with no common knowledge about f1..f{n-1}: its initial state has 2^(n-1) worlds, built
+    before the search (slow to build for large n: the limit tests' task for the phases before the search)."""
+    preds = " ".join(f"(f{i})" for i in range(n))
+    (tmp_path / "d.epddl").write_text(f"(define (domain many) (:predicates {preds})\n"
+                                      "  (:action flip :parameters () :precondition (f0) :effect (f1) "
+                                      ":observers ()))")
+    (tmp_path / "p.epddl").write_text("(define (problem many1) (:domain many) (:agents a b)\n"
+                                      "  (:init (f0)) (:goal ([a](f1))))")
+    return [str(tmp_path / "d.epddl"), str(tmp_path / "p.epddl")]

@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
-from fuzzkit import classify_error_text  # noqa: E402
+from fuzzkit import classify_error_text, many_free_fluents  # noqa: E402
 
 from delkit.cli import main  # noqa: E402
 
@@ -42,17 +42,6 @@ def timed(argv: list[str], env: dict | None = None) -> tuple[int, str, str, floa
     t0 = time.monotonic()
     p = subprocess.run([str(DELKIT), *argv], capture_output=True, text=True, env=e, timeout=120)
     return p.returncode, p.stdout, p.stderr, time.monotonic() - t0
-
-
-def many_free_fluents(tmp_path: Path, n: int = 22) -> list[str]:
-    """An E-PDDL task whose initial state has 2^(n-1) worlds (slow to build)."""
-    preds = " ".join(f"(f{i})" for i in range(n))
-    (tmp_path / "d.epddl").write_text(f"(define (domain many) (:predicates {preds})\n"
-                                      "  (:action flip :parameters () :precondition (f0) :effect (f1) "
-                                      ":observers ()))")
-    (tmp_path / "p.epddl").write_text("(define (problem many1) (:domain many) (:agents a b)\n"
-                                      "  (:init (f0)) (:goal ([a](f1))))")
-    return [str(tmp_path / "d.epddl"), str(tmp_path / "p.epddl")]
 
 
 def slow_expansion(tmp_path: Path, n: int = 11, copies: int = 4) -> list[str]:

@@ -14,7 +14,7 @@ from pathlib import Path
 import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
-from fuzzkit import Case, classify_error_text, run_case  # noqa: E402
+from fuzzkit import Case, classify_error_text, many_free_fluents, run_case  # noqa: E402
 
 from delkit.cli import main  # noqa: E402
 
@@ -257,22 +257,11 @@ def test_arms_plan_is_checked_against_the_world_before_anything_moves(tmp_path, 
 
 # ----------------------------------------------------------------------------- time limits in every phase
 
-def _many_free_fluents(tmp_path: Path, n: int = 22) -> list[str]:
-    """No common knowledge about f1..f{n-1}: the initial state has 2^(n-1) worlds (built before searching)."""
-    preds = " ".join(f"(f{i})" for i in range(n))
-    (tmp_path / "d.epddl").write_text(f"(define (domain many) (:predicates {preds})\n"
-                                      "  (:action flip :parameters () :precondition (f0) :effect (f1) "
-                                      ":observers ()))")
-    (tmp_path / "p.epddl").write_text("(define (problem many1) (:domain many) (:agents a b)\n"
-                                      "  (:init (f0)) (:goal ([a](f1))))")
-    return [str(tmp_path / "d.epddl"), str(tmp_path / "p.epddl")]
-
-
 def test_plan_timeout_covers_initial_state_construction(tmp_path, capsys):
     """The limit overrun of issue 15: --timeout 1 ran 8 s building the initial state before the search."""
     import time
 
-    files = _many_free_fluents(tmp_path)
+    files = many_free_fluents(tmp_path)
     t0 = time.monotonic()
     rc = main(["plan", *files, "--timeout", "1", "--json"])
     took = time.monotonic() - t0
@@ -292,7 +281,7 @@ def test_plan_timeout_still_finds_plans_and_bad_limits_are_errors(capsys):
 
 
 def test_check_timeout_covers_the_replay(tmp_path, capsys):
-    files = _many_free_fluents(tmp_path)
+    files = many_free_fluents(tmp_path)
     plan = tmp_path / "x.plan"
     plan.write_text("flip\n")
     one_line_error(capsys, ["check", *files, str(plan), "--timeout", "0.5"], "no answer within --timeout 0.5 s",
