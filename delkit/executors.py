@@ -226,24 +226,33 @@ def _died(code: int | None) -> str:
 
 
 @contextmanager
+def dask_executor(address: str, timeout: float = 10.0, *, option: str = "--scheduler",
+                  error: type[DelkitError] = DelkitError) -> Iterator[Executor]:
+    """The executor of the Dask cluster at ``address`` (e.g. ``tcp://127.0.0.1:8786``), closed afterwards;
+    ``option`` names the command's option in the messages, ``error`` is the exception they are raised as."""
+    try:
+        from distributed import Client
+    except ImportError as exc:  # pragma: no cover - dask is a declared extra
+        raise error(f"{option} needs the 'distributed' package (pip install 'delkit[dask]')") from exc
+    try:
+        client = Client(address, timeout=timeout)
+    except (OSError, ValueError) as exc:  # unreachable, timed out, or not an address
+        raise error(f"cannot reach the Dask scheduler at {address!r} ({exc}); start one with "
+                    f"'dask scheduler' or leave {option} out to use local processes") from exc
+    try:
+        yield client.get_executor()
+    finally:
+        client.close()
+
+
+@contextmanager
 def executor(workers: int | None = None, dask: str | None = None, dask_timeout: float = 10.0, *,
              hard_timeout: float | None = None, memory_mb: float | None = None) -> Iterator[Executor]:
     """A local :class:`IsolatedPool`, or the executor of the Dask cluster at ``dask`` (e.g.
     ``tcp://127.0.0.1:8786``; its workers and their memory limits are the cluster's)."""
     if dask:
-        try:
-            from distributed import Client
-        except ImportError as exc:  # pragma: no cover - dask is a declared extra
-            raise DelkitError("--scheduler needs the 'distributed' package (pip install 'delkit[dask]')") from exc
-        try:
-            client = Client(dask, timeout=dask_timeout)
-        except (OSError, ValueError) as exc:  # unreachable, timed out, or not an address
-            raise DelkitError(f"cannot reach the Dask scheduler at {dask!r} ({exc}); start one with "
-                              "'dask scheduler' or leave the address out to use local processes") from exc
-        try:
-            yield client.get_executor()
-        finally:
-            client.close()
+        with dask_executor(dask, dask_timeout) as ex:
+            yield ex
     else:
         pool = IsolatedPool(workers, hard_timeout=hard_timeout, memory_mb=memory_mb)
         try:

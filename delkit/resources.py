@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import os
 import resource
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 
@@ -154,9 +155,19 @@ HARD_EXIT = False            # set by the console-script entry point: the proces
 _HUGE = 1e7                  # seconds (≈ 116 days): a longer limit is no limit (setitimer overflows ~1e9)
 ALARM_SLACK = 0.05           # seconds after the deadline before the alarm interrupts the body
 _GRACE = 0.2                 # seconds after the deadline before the watchdog ends the process
-_DEADLINE: float | None = None   # the innermost active deadline, a time.monotonic() instant
-_T0: float | None = None         # start of the current command (time.monotonic())
 _BEGUN_PID: int | None = None
+
+
+class _PerThread(threading.local):
+    """The limit state of the command running in this thread (a Dask worker runs tasks in several threads of
+    one process: each task's deadline and start are its own)."""
+
+    deadline: float | None = None   # the innermost active deadline, a time.monotonic() instant
+    message: str = "time limit reached"
+    t0: float | None = None         # start of the current command (time.monotonic())
+
+
+_LOCAL = _PerThread()
 
 
 class TimeLimit(ResourceError):
@@ -184,16 +195,19 @@ def begin_command() -> None:
     """Mark the start of a command: the process start for the first command of a process, else now."""
     import time
 
-    global _T0, _BEGUN_PID
+    global _BEGUN_PID
     pid = os.getpid()
-    _T0 = process_start() if _BEGUN_PID != pid else time.monotonic()
-    _BEGUN_PID = pid
+    first = _BEGUN_PID != pid and threading.current_thread() is threading.main_thread()
+    _LOCAL.t0 = process_start() if first else time.monotonic()
+    if first:
+        _BEGUN_PID = pid
 
 
 def command_start() -> float:
     import time
 
-    return time.monotonic() if _T0 is None else _T0
+    t0 = _LOCAL.t0
+    return time.monotonic() if t0 is None else t0
 
 
 def parse_timeout(value: float | str | None, option: str = "--timeout") -> float | None:
@@ -214,32 +228,33 @@ def remaining() -> float | None:
     """Seconds left before the innermost active deadline (None: no deadline; may be negative)."""
     import time
 
-    return None if _DEADLINE is None else _DEADLINE - time.monotonic()
+    when = _LOCAL.deadline
+    return None if when is None else when - time.monotonic()
 
 
 def expired() -> bool:
     import time
 
-    return _DEADLINE is not None and time.monotonic() > _DEADLINE
+    when = _LOCAL.deadline
+    return when is not None and time.monotonic() > when
 
 
 def check_time(slack: float = 0.0) -> None:
     """Raise :class:`TimeLimit` if the active deadline has passed by more than ``slack`` seconds (cheap: one
     clock read). A search passes a small slack inside an expansion so that its own per-expansion check,
     which reports how far it got, normally comes first."""
-    if _DEADLINE is not None:
+    when = _LOCAL.deadline
+    if when is not None:
         import time
 
-        if time.monotonic() > _DEADLINE + slack:
-            raise TimeLimit(_MESSAGE[0])
+        if time.monotonic() > when + slack:
+            raise TimeLimit(_LOCAL.message)
 
 
 def time_limit() -> TimeLimit:
     """The :class:`TimeLimit` of the active deadline (to raise where a library stopped at it, e.g. z3)."""
-    return TimeLimit(_MESSAGE[0])
+    return TimeLimit(_LOCAL.message)
 
-
-_MESSAGE = ["time limit reached"]
 _KEEP: list = []
 
 
@@ -337,24 +352,24 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
     import threading
     import time
 
-    global _DEADLINE
     limit = parse_timeout(seconds, option)
     if limit is None:
         yield
         return
     when = command_start() + limit
     message = f"{what}: no answer within {option} {limit:g} s; give it more time with {option}"
-    outer_deadline, outer_message = _DEADLINE, _MESSAGE[0]
+    local = _LOCAL
+    outer_deadline, outer_message = local.deadline, local.message
     if outer_deadline is not None and outer_deadline <= when:
         yield
         return
-    _DEADLINE, _MESSAGE[0] = when, message
+    local.deadline, local.message = when, message
     if not alarm or threading.current_thread() is not threading.main_thread():
         try:
             with _Watchdog(when + _GRACE, message):
                 yield
         finally:
-            _DEADLINE, _MESSAGE[0] = outer_deadline, outer_message
+            local.deadline, local.message = outer_deadline, outer_message
         return
     outer = signal.getitimer(signal.ITIMER_REAL)[0]
     left = when - time.monotonic()
@@ -362,7 +377,7 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
         try:
             yield
         finally:
-            _DEADLINE, _MESSAGE[0] = outer_deadline, outer_message
+            local.deadline, local.message = outer_deadline, outer_message
         return
     previous = signal.getsignal(signal.SIGALRM)
 
@@ -383,7 +398,7 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
-        _DEADLINE, _MESSAGE[0] = outer_deadline, outer_message
+        local.deadline, local.message = outer_deadline, outer_message
         if outer:
             signal.setitimer(signal.ITIMER_REAL, max(outer - (time.monotonic() - t0), 1e-3))
 

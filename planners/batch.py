@@ -150,11 +150,60 @@ def check_units(files: Sequence[Path]) -> list[list[Path]]:
     return units
 
 
+class _ThreadStdout:
+    """``sys.stdout`` for a process whose threads run tasks at once (a Dask worker with several threads): a
+    thread capturing its task's output writes to its own buffer, every other write goes to the real stream.
+    (``contextlib.redirect_stdout`` swaps the one ``sys.stdout`` of the process: two tasks in two threads
+    then write into each other's capture, and one task's JSON result was lost.)"""
+
+    def __init__(self, base) -> None:
+        import threading
+
+        self._base, self._local = base, threading.local()
+
+    def _target(self):
+        buf = getattr(self._local, "buf", None)
+        return self._base if buf is None else buf
+
+    def write(self, text: str) -> int:
+        return self._target().write(text)
+
+    def flush(self) -> None:
+        self._target().flush()
+
+    def __getattr__(self, name: str):
+        return getattr(self._target(), name)
+
+
+@contextlib.contextmanager
+def _thread_stdout(out: io.StringIO):
+    """Send this thread's writes to ``sys.stdout`` to ``out`` (other threads' writes are not captured)."""
+    proxy = sys.stdout
+    if not isinstance(proxy, _ThreadStdout):
+        proxy = sys.stdout = _ThreadStdout(sys.stdout)
+    proxy._local.buf = out
+    try:
+        yield
+    finally:
+        proxy._local.buf = None
+
+
+def _cpu_clock() -> Callable[[], float]:
+    """This task's CPU clock: the process's in a worker process's main thread (what a single run measures),
+    the thread's own where several threads of one process run tasks (a Dask worker's threads)."""
+    import threading
+
+    return time.process_time if threading.current_thread() is threading.main_thread() else time.thread_time
+
+
 def _capture(fn: Callable[[], int]) -> tuple[int, str, str]:
     """(exit status, stdout, one-line error) of a command body run in this process."""
+    import threading
+
     out = io.StringIO()
     err = ""
-    with contextlib.redirect_stdout(out):
+    main = threading.current_thread() is threading.main_thread()
+    with contextlib.redirect_stdout(out) if main else _thread_stdout(out):
         try:
             code = fn()
         except BaseException as exc:  # noqa: BLE001 - mapped like the CLI maps it
@@ -173,12 +222,12 @@ def _capture(fn: Callable[[], int]) -> tuple[int, str, str]:
     return code, out.getvalue(), err
 
 
-def _result(code: int, text: str, err: str, t0: float, c0: float) -> dict[str, Any]:
+def _result(code: int, text: str, err: str, t0: float, c0: float, cpu: Callable[[], float]) -> dict[str, Any]:
     lines = [ln for ln in text.splitlines() if ln.startswith("{")]
     res: dict[str, Any] = json.loads(lines[-1]) if lines else {}
     if err:
         res.update(status="error", reason=err)
-    res.update(exit=code, cpu=round(time.process_time() - c0, 4), wall=round(time.monotonic() - t0, 4))
+    res.update(exit=code, cpu=round(cpu() - c0, 4), wall=round(time.monotonic() - t0, 4))
     return res
 
 
@@ -187,19 +236,21 @@ def plan_one(spec: str, problem: str | None, options: dict[str, Any]) -> dict[st
     ``cpu`` and ``wall`` (the task's CPU and wall-clock seconds in this worker, reading included)."""
     from planners.commands import run_plan
 
-    t0, c0 = time.monotonic(), time.process_time()
+    cpu = _cpu_clock()
+    t0, c0 = time.monotonic(), cpu()
     code, text, err = _capture(lambda: run_plan(Path(spec), Path(problem) if problem else None,
                                                 as_json=True, **options))
-    return _result(code, text, err, t0, c0)
+    return _result(code, text, err, t0, c0, cpu)
 
 
 def check_one(files: list[str], options: dict[str, Any]) -> dict[str, Any]:
     """One group of a check batch, in a worker: :func:`run_check` with ``--json``."""
     from planners.commands import run_check
 
-    t0, c0 = time.monotonic(), time.process_time()
+    cpu = _cpu_clock()
+    t0, c0 = time.monotonic(), cpu()
     code, text, err = _capture(lambda: run_check([Path(f) for f in files], as_json=True, **options))
-    return _result(code, text, err, t0, c0)
+    return _result(code, text, err, t0, c0, cpu)
 
 
 _SEVERITY = {0: 0, 1: 1, 3: 2, 2: 3}

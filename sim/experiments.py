@@ -82,19 +82,10 @@ def run_one_diagnosed(cfg: MissionConfig) -> dict:
 def executor(workers: int | None = None, dask: str | None = None, dask_timeout: float = 10.0):
     """A local process pool, or the executor of the Dask cluster at ``dask`` (e.g. ``tcp://127.0.0.1:8786``)."""
     if dask:
-        try:
-            from distributed import Client
-        except ImportError as exc:  # pragma: no cover - dask is a declared extra
-            raise SimulationError("--dask needs the 'distributed' package (pip install 'delkit[dask]')") from exc
-        try:
-            client = Client(dask, timeout=dask_timeout)
-        except OSError as exc:
-            raise SimulationError(f"cannot reach the Dask scheduler at {dask!r} ({exc}); start one with "
-                                  "'dask scheduler' or leave --dask out to use local processes") from exc
-        try:
-            yield client.get_executor()
-        finally:
-            client.close()
+        from delkit.executors import dask_executor
+
+        with dask_executor(dask, dask_timeout, option="--dask", error=SimulationError) as ex:
+            yield ex
     else:
         with ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1) as pool:
             yield pool
