@@ -36,8 +36,10 @@ _TIMED = ("CPU seconds (time.process_time) of building the knowledge structure a
 
 def register(app: typer.Typer) -> None:
     """Attach the ``puzzle`` sub-app to the top-level app."""
-    sub = typer.Typer(help="Epistemic puzzles solved with DEL (literature answers).", no_args_is_help=True)
-    app.add_typer(sub, name="puzzle")
+    from delkit.cli.plugins import group
+
+    # a group, so that a layer above the core can add its own puzzles (planners: ``puzzle muddy-plan``)
+    sub = group(app, "puzzle", "Epistemic puzzles solved with DEL (literature answers).")
 
     @sub.callback(invoke_without_command=True)
     def puzzles(ctx: typer.Context,
@@ -46,10 +48,12 @@ def register(app: typer.Typer) -> None:
         """Epistemic puzzles solved with DEL (literature answers)."""
         if not list_:
             return
+        from delkit.cli.plugins import plugin_puzzles
         from delkit.puzzles import CATALOGUE
 
+        catalogue = CATALOGUE + plugin_puzzles()
         if as_json:
-            typer.echo(json.dumps({"puzzles": CATALOGUE}))
+            typer.echo(json.dumps({"puzzles": catalogue}))
         else:
             from rich.console import Console
             from rich.markup import escape
@@ -58,7 +62,7 @@ def register(app: typer.Typer) -> None:
             table = Table(title="delkit puzzle …")
             for col in ("command", "answer (literature)", "backends", "source", "docs"):
                 table.add_column(col)
-            for row in CATALOGUE:
+            for row in catalogue:
                 table.add_row(escape(row["command"]), escape(row["answer"]), escape(", ".join(row["backends"])),
                               escape(row["source"]), escape(row["docs"]))
             Console().print(table)
