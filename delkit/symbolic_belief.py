@@ -229,6 +229,50 @@ class BeliefStructure:
         voc = self.vocabulary + tuple(new_vars)
         return BeliefStructure(b, voc, primes, law, rels, actual), codes, copies
 
+    def transform_symbolic(self, event_vars: Sequence[str], law: Formula | str,
+                           observations: Mapping[str, Formula | str], designated: Formula | str = "true"
+                           ) -> BeliefStructure:
+        """The product with a *belief transformer* without factual change (SMCDEL's ``SMCDEL.Symbolic.K``
+        ``Trf``): fresh event variables X, an event law over V ∪ X whose modal parts speak of V only
+        (evaluated in this structure), per agent an observation relation over X ∪ X' (``"x' <-> x"``).
+
+        ``V^× = V ∪ X``, ``θ^× = θ ∧ ||law||``, ``Ω_i^× = Ω_i ∧ obs_i`` and the actual states those of
+        ``θ^× ∧ actual ∧ designated`` — the product update with the event model whose events are the
+        assignments of X (precondition: the law) and whose relations are the observations."""
+        b = self.bdd
+        xs = tuple(dict.fromkeys(event_vars))
+        clash = sorted(set(xs) & (set(b.vars) | set(self.primes.values())))
+        if clash:
+            raise ModelError(f"event variables {clash} are not fresh (declared in this manager already)")
+        missing = sorted(set(self.agents) - set(observations))
+        if missing:
+            raise ModelError(f"belief transformer: no observation relation for agent(s) {missing}")
+        new_primes = _declare_pairs(b, xs, set(b.vars))
+        primes = {**self.primes, **new_primes}
+        voc = self.vocabulary + xs
+        law_node = self.law & self._mixed(parse(law) if isinstance(law, str) else law, set(xs))
+        ext = BeliefStructure(b, tuple(xs), new_primes, b.true, {}, b.true)
+        rels = {a: self.relations[a] & ext._relational(observations[a]) for a in self.agents}
+        des = ext._relational(designated)
+        return BeliefStructure(b, voc, primes, law_node, rels, self.actual & law_node & des)
+
+    def _mixed(self, f: Formula, xs: set[str]) -> Any:
+        """BDD of a formula over V ∪ X whose subformulas mentioning X are Boolean combinations."""
+        if not (_props(f) & xs):
+            return self.evaluate(f)
+        if isinstance(f, Prop):
+            return self.bdd.var(f.name)
+        if isinstance(f, Not):
+            return ~self._mixed(f.arg, xs)
+        if isinstance(f, And | Or):
+            parts = [self._mixed(a, xs) for a in f.args]
+            return _fold_bdds(parts, operator.and_ if isinstance(f, And) else operator.or_)
+        if isinstance(f, Implies):
+            return ~self._mixed(f.left, xs) | self._mixed(f.right, xs)
+        if isinstance(f, Iff):
+            return self.bdd.apply("<=>", self._mixed(f.left, xs), self._mixed(f.right, xs))
+        raise ModelError(f"belief transformer law: a modality may not mention event variables, got {f}")
+
     def _eval_update(self, f: Update) -> Any:
         b = self.bdd
         new, codes, copies = self._product(f.model)

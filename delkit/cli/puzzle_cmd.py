@@ -206,18 +206,35 @@ def register(app: typer.Typer) -> None:
         _emit(data, as_json, "dining cryptographers")
 
     @sub.command("gossip")
-    def gossip(n: int = typer.Option(4, "--n", help="number of agents (2..4; 4 takes ~20 s CPU)"),
+    def gossip(n: int = typer.Option(4, "--n", help="number of agents (2..4; 4 takes ~20 s CPU, ~2 min with "
+                                     "--variant kw)"),
+               variant: str = typer.Option("s5", "--variant", help="s5: who has whose secret (SMCDEL's GossipS5); "
+                                           "kw: secrets as facts, experts know whether (SMCDEL's GossipKw)"),
+               symbolic: bool = typer.Option(True, "--symbolic/--explicit", help="with --variant kw: belief "
+                                             "structure or explicit model (explicit: n <= 3)"),
                as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Gossip: the least number of calls making everyone an expert (2n-4 for n >= 4); symbolic."""
         from delkit.errors import ModelError
-        from delkit.puzzles.gossip import solve_gossip
 
         if not 2 <= n <= 4:
             raise ModelError(f"puzzle gossip: --n must be 2..4 (the search is a depth-first search over call "
                              f"sequences), got {n}")
-        data = solve_gossip(n).as_dict() | {"timed": _TIMED.replace("running the protocol",
-                                                                    "searching the call sequences")}
-        _emit(data, as_json, f"gossip, {n} agents")
+        if variant not in ("s5", "kw"):
+            raise ModelError(f"puzzle gossip: --variant must be s5 or kw, got {variant!r}")
+        if not symbolic and (variant != "kw" or n > 3):
+            raise ModelError("puzzle gossip: --explicit needs --variant kw and --n <= 3 (16 x 6^k worlds after k "
+                             "calls for n = 4)")
+        timed = _TIMED.replace("running the protocol", "searching the call sequences")
+        if variant == "kw":
+            from delkit.puzzles.gossip import solve_gossip_kw
+
+            data = solve_gossip_kw(n, symbolic=symbolic).as_dict() | {
+                "timed": timed if symbolic else timed.replace("knowledge structure", "model")}
+        else:
+            from delkit.puzzles.gossip import solve_gossip
+
+            data = solve_gossip(n).as_dict() | {"timed": timed}
+        _emit(data, as_json, f"gossip ({variant}), {n} agents")
 
     @sub.command("what-sum")
     def what_sum(bound: int = typer.Option(50, "--bound", help="numbers 1..BOUND"),

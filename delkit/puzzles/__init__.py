@@ -61,6 +61,13 @@ CATALOGUE: list[dict] = [
      "SMCDEL's DoorMat", "docs": _DOC + "#door-mat"},
 ]
 
+# puzB23 (issue 23): SMCDEL's second gossip variant and the Hanabi-style card game
+CATALOGUE += [
+    {"command": "gossip --variant kw", "answer": "knowing-whether experts: least calls 1, 3, 4 for n = 2, 3, 4; "
+     "after 01 23 02 13 all are experts but not all know it", "backends": ["symbolic", "explicit (n <= 3)"],
+     "source": "Tijdeman 1971; SMCDEL's GossipKw", "docs": _DOC + "#gossip-knowing-whether"},
+]
+
 
 #: how many rows :func:`summary_table` has (for a progress display)
 N_PUZZLES = 6
