@@ -258,6 +258,23 @@ def register(app: typer.Typer) -> None:
 
         _emit(solve_door_mat().as_dict() | {"timed": _TIMED}, as_json, "door mat")
 
+    @sub.command("hanabi")
+    def hanabi(players: int = typer.Option(2, "--players", help="number of players"),
+               cards: int = typer.Option(5, "--cards", help="cards 0..CARDS-1 (the undealt ones are the deck)"),
+               hand: int = typer.Option(2, "--hand", help="cards per player"),
+               player: int = typer.Option(1, "--player", help="the player who gets the hints (1..players)"),
+               symbolic: bool = typer.Option(True, "--symbolic/--explicit", help="knowledge structure or explicit "
+                                             "model"),
+               as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
+        """Hanabi-style hints: which hints make playing card 0 safe (2 players, cards 0-4: hint 0, or 1 and 4)."""
+        from delkit.puzzles.hanabi import solve_hanabi
+
+        data = solve_hanabi(players, cards, hand, player=player, symbolic=symbolic).as_dict()
+        data["timed"] = _TIMED.replace("running the protocol", "checking every hint and pair of hints")
+        if not symbolic:
+            data["timed"] = data["timed"].replace("knowledge structure", "model")
+        _emit(data, as_json, "Hanabi-style hints")
+
     @sub.command("all")
     def all_puzzles(as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Run every puzzle and compare with the literature answers."""
