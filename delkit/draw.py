@@ -413,13 +413,12 @@ def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
 
 
 def _bdd_text(obj: Any, u: Any, limit: int = 90) -> str:
-    """A BDD as a formula text (dd's if-then-else expression), shortened to ``limit`` characters."""
-    b = obj.bdd
-    if u == b.true:
-        return "⊤"
-    if u == b.false:
-        return "⊥"
-    text = b.to_expr(u)
+    """A BDD as a readable formula (:func:`delkit.symbolic.form_of`, SMCDEL's ``formOf``), shortened to
+    ``limit`` characters."""
+    from delkit.formula import show
+    from delkit.symbolic import form_of
+
+    text = show(form_of(obj.bdd, u))
     return text if len(text) <= limit else text[:limit - 1] + "…"
 
 
