@@ -63,3 +63,24 @@ def test_cli(capsys) -> None:
         assert data["minimum_calls"] == literature(3) and data["variant"] == "kw"
     assert main(["puzzle", "gossip", "--variant", "kw", "--n", "4", "--explicit"]) == 2
     assert main(["puzzle", "gossip", "--variant", "xx"]) == 2
+
+
+def test_what_the_variants_know_about_experts() -> None:
+    """After 01 23 02 13 (docs/puzzles.md): knowing whether, agent 0 knows exactly that 0 and 2 are experts
+    (they exchanged everything in call 02; 0 cannot tell that call 13 happened); GossipS5, where a call
+    shows who called but not what was said, leaves no agent knowing that even she has every secret."""
+    from delkit.formula import conj
+    from delkit.puzzles.gossip import after_calls
+
+    seq = [(0, 1), (2, 3), (0, 2), (1, 3)]
+    kw, s5 = kw_after(4, seq), after_calls(4, seq)
+
+    def kw_expert(b: int):
+        return conj(K(str(b), Prop(f"s{j}")) for j in range(4))
+
+    def s5_expert(b: int):
+        return conj(Prop(f"h_{b}_{j}") for j in range(4) if j != b)
+
+    assert [b for b in range(4) if kw.holds(K("0", kw_expert(b)))] == [0, 2]
+    assert [b for b in range(4) if kw.holds(K("3", kw_expert(b)))] == [1, 3]
+    assert s5.holds(s5_expert(0)) and not any(s5.holds(K(str(a), s5_expert(a))) for a in range(4))
