@@ -206,7 +206,7 @@ def register(app: typer.Typer) -> None:
         _emit(data, as_json, "dining cryptographers")
 
     @sub.command("gossip")
-    def gossip(n: int = typer.Option(4, "--n", help="number of agents (2..4; 4 takes ~20 s CPU, ~2 min with "
+    def gossip(n: int = typer.Option(4, "--n", help="number of agents (2..4; 4 takes ~20 s CPU, ~1 min with "
                                      "--variant kw)"),
                variant: str = typer.Option("s5", "--variant", help="s5: who has whose secret (SMCDEL's GossipS5); "
                                            "kw: secrets as facts, experts know whether (SMCDEL's GossipKw)"),

@@ -249,9 +249,17 @@ def kw_minimum_calls(n: int, *, symbolic: bool = True, limit: int = 8
     """:func:`minimum_calls` for the knowing-whether variant (the same symmetry: the first call is 01 and no
     call repeats the one just made — after a call both callers know the same secrets, so repeating it adds
     nothing, and knowing a fact is never lost)."""
-    goal = kw_experts(n)
+    from delkit.formula import K
+
+    # the goal's conjuncts one by one, stopping at the first that fails (most sequences fail early)
+    parts = [K(str(i), Prop(_secret(j))) for i in range(n) for j in range(n) if i != j]
+    parts += [K(str(i), Prop(_secret(i))) for i in range(n)]  # true from the start; checked last
     start = kw_initial(n, symbolic=symbolic)
-    if start.holds(goal):
+
+    def done(st: Any) -> bool:
+        return all(st.holds(f) for f in parts)
+
+    if done(start):
         return (), True, 1
     checked = 1
     for length in range(1, limit + 1):
@@ -260,7 +268,7 @@ def kw_minimum_calls(n: int, *, symbolic: bool = True, limit: int = 8
             seq, st = stack.pop()
             if len(seq) == length:
                 checked += 1
-                if st.holds(goal):
+                if done(st):
                     return seq, True, checked
                 continue
             for c in reversed(_calls(n)):
