@@ -142,3 +142,19 @@ def test_structure_pictures_show_laws_as_formulas(m) -> None:
         assert "ite(" not in text
         if not text.endswith("…"):
             assert _propositional(bs.bdd, parse(text)) == node, (label, text)
+
+
+def test_viewer_notes_show_a_belief_structures_law_as_a_formula() -> None:
+    """``delkit view`` on a belief structure file: θ and Ω_a in the notes as form_of formulas."""
+    from delkit.formula import parse
+    from delkit.smcdel import parse_smcdel, structure
+    from delkit.symbolic_belief import _propositional
+    from delkit.view.document import load_document
+
+    path = Path(__file__).resolve().parents[2] / "specs" / "smcdel" / "muddy3-belief.smcdel.txt"
+    doc = load_document([path])
+    line = next(n for n in doc.notes if "θ = " in n)
+    assert "ite(" not in line and "belief structure" in line
+    bs = structure(parse_smcdel(path.read_text(encoding="utf-8")))
+    theta = next(part for part in line.split("; ") if part.startswith("θ = "))[4:]
+    assert _propositional(bs.bdd, parse(theta)) == bs.law
