@@ -420,12 +420,11 @@ def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
 
 
 def _bdd_text(obj: Any, u: Any, limit: int = 90) -> str:
-    """A BDD as a readable formula (:func:`delkit.symbolic.form_of`, SMCDEL's ``formOf``), shortened to
-    ``limit`` characters."""
+    """A BDD as a readable formula (the structure's ``form_of``: :func:`delkit.symbolic.form_of`, SMCDEL's
+    ``formOf``; this module imports no structure class), shortened to ``limit`` characters."""
     from delkit.formula import show
-    from delkit.symbolic import form_of
 
-    text = show(form_of(obj.bdd, u))
+    text = show(obj.form_of(u))
     return text if len(text) <= limit else text[:limit - 1] + "…"
 
 
