@@ -302,14 +302,36 @@ def symbolic_diff(a: Any, b: Any, *, props: Sequence[str] | None = None, max_pai
             pairs.append((len(names_a) - 1, len(names_b) - 1))
             if len(pairs) >= max_pairs:
                 break
-        return Diff(True, relation=tuple(pairs), names=(tuple(names_a), tuple(names_b)))
+        return Diff(True, relation=tuple(pairs), names=(tuple(names_a), tuple(names_b)),
+                    explanation=_explain(a, b, None, "A"))
     if missing_b != bdd.false:
         e = ex.pick(missing_b)
         f = _cover_designated(ex, da, e)
-        return Diff(False, formula=f, true_in="A", fails_at=0, names=((), (_name(su, e),)))
+        return Diff(False, formula=f, true_in="A", fails_at=0, names=((), (_name(su, e),)),
+                    explanation=_explain(a, b, f, "A"))
     d = ex.pick(missing_a)
     f = _cover_designated(ex, db, d)
-    return Diff(False, formula=f, true_in="B", fails_at=0, names=((_name(su, d),), ()))
+    return Diff(False, formula=f, true_in="B", fails_at=0, names=((_name(su, d),), ()),
+                explanation=_explain(a, b, f, "B"))
+
+
+def _explain(a: Any, b: Any, f: Formula | None, true_in: str) -> tuple[tuple[str, str], ...]:
+    """The sets of states behind a diff as readable formulas over each structure's own vocabulary
+    (:func:`delkit.symbolic.form_of`): the actual states of A and B and, when told apart, the states of each
+    where the distinguishing formula holds / the actual states where it fails."""
+    from delkit.formula import show
+    from delkit.symbolic import form_of
+
+    lines = [("actual states of A", show(form_of(a.bdd, a.actual))),
+             ("actual states of B", show(form_of(b.bdd, b.actual)))]
+    if f is not None:
+        yes, no = (a, b) if true_in == "A" else (b, a)
+        other = "B" if true_in == "A" else "A"
+        lines.append((f"states of {true_in} where the formula holds",
+                      show(form_of(yes.bdd, yes.law & yes.evaluate(f)))))
+        lines.append((f"actual states of {other} where it fails",
+                      show(form_of(no.bdd, no.actual & ~no.evaluate(f)))))
+    return tuple(lines)
 
 
 def _cover_designated(ex: _Explainer, keep: Any, avoid: dict[str, bool]) -> Formula:

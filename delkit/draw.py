@@ -36,7 +36,7 @@ from html import escape
 from pathlib import Path
 from typing import Any
 
-__all__ = ["Picture", "picture", "LAYOUTS", "label_size", "agent_color"]
+__all__ = ["Picture", "picture", "LAYOUTS", "label_size", "agent_color", "structure_header"]
 
 #: the layouts :func:`picture` takes (``auto``: layered by valuation when small, else by size)
 LAYOUTS = ("auto", "layered", "circle", "spring", "kamada-kawai")
@@ -380,14 +380,21 @@ def _refuse_huge(n: int, relations, layout: str) -> None:
 
 
 
-def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
+def structure_header(obj: Any, limit: int = 90) -> list[str]:
+    """The lines describing a knowledge or belief structure: its kind, V, the state law θ and the observed
+    variables O_a or relations Ω_a, laws and relations as readable formulas (``form_of``)."""
     belief = hasattr(obj, "relations") and not hasattr(obj, "observed")
     header = [f"{'belief' if belief else 'knowledge'} structure", "V = {" + ", ".join(obj.vocabulary) + "}",
-              "θ = " + _bdd_text(obj, obj.law)]
+              "θ = " + _bdd_text(obj, obj.law, limit)]
     if belief:
-        header += [f"Ω_{a} = " + _bdd_text(obj, r) for a, r in obj.relations.items()]
+        header += [f"Ω_{a} = " + _bdd_text(obj, r, limit) for a, r in obj.relations.items()]
     else:
         header += [f"O_{a} = {{" + ", ".join(vs) + "}" for a, vs in obj.observed.items()]
+    return header
+
+
+def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
+    header = structure_header(obj)
     n = obj.count_states()
     if n > max_worlds:
         pic = Picture([], [], header=header, caption=[f"{n} states: the Kripke model is not drawn (more than "
@@ -413,13 +420,11 @@ def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
 
 
 def _bdd_text(obj: Any, u: Any, limit: int = 90) -> str:
-    """A BDD as a formula text (dd's if-then-else expression), shortened to ``limit`` characters."""
-    b = obj.bdd
-    if u == b.true:
-        return "⊤"
-    if u == b.false:
-        return "⊥"
-    text = b.to_expr(u)
+    """A BDD as a readable formula (the structure's ``form_of``: :func:`delkit.symbolic.form_of`, SMCDEL's
+    ``formOf``; this module imports no structure class), shortened to ``limit`` characters."""
+    from delkit.formula import show
+
+    text = show(obj.form_of(u))
     return text if len(text) <= limit else text[:limit - 1] + "…"
 
 

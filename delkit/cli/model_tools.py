@@ -145,6 +145,8 @@ def run_diff(a_path: str, b_path: str, world_a: str | None, world_b: str | None,
         print(f"NOT bisimilar: {show(res.formula)}")
         print(f"  holds at every designated world of {yes}, fails at {out['fails_at']} of {no} "
               f"(modal depth {out['modal_depth']}, size {out['size']})")
+    for what, text in out.get("explanation", {}).items():
+        print(f"  {what}: {text}")
     if explicit:
         print(f"note: {out['note']}")
     return 0 if res.bisimilar else 1

@@ -11,6 +11,8 @@ The entry point names a *module* with
 
 * ``register(app)`` — attach its commands to the top-level typer app (use :func:`group` for a sub-app that
   more than one package adds to, e.g. ``delkit epico``);
+* optionally ``PUZZLES`` — rows for ``delkit puzzle --list`` (the keys of ``delkit.puzzles.CATALOGUE``)
+  for puzzle commands it adds to the ``puzzle`` group (planners: ``muddy-plan``);
 * optionally ``DEMO_SECTIONS`` — ``(order, title, function(out_dir) -> dict)`` run by ``delkit demo``;
 * optionally ``EXTRA`` and ``REQUIRES`` — the pip extra the layer needs and the modules it needs from it
   (:func:`delkit.errors.require_extra` turns a missing one into one line naming the extra).
@@ -31,7 +33,8 @@ from typing import Any
 
 from delkit.errors import require_extra  # re-exported: the plugins' way to name a missing extra
 
-__all__ = ["COMMANDS", "FAST", "plugin_modules", "group", "demo_sections", "fast_entry", "require_extra"]
+__all__ = ["COMMANDS", "FAST", "plugin_modules", "group", "demo_sections", "plugin_puzzles", "fast_entry",
+           "require_extra"]
 
 COMMANDS = "delkit.commands"
 FAST = "delkit.fast"
@@ -84,6 +87,14 @@ def demo_sections() -> list[tuple[float, str, Callable[..., dict]]]:
     for _, module in plugin_modules():
         sections += list(getattr(module, "DEMO_SECTIONS", ()))
     return sorted(sections, key=lambda s: s[0])
+
+
+def plugin_puzzles() -> list[dict]:
+    """Every installed plugin's ``PUZZLES`` rows (for ``delkit puzzle --list``)."""
+    rows: list[dict] = []
+    for _, module in plugin_modules():
+        rows += [dict(r) for r in getattr(module, "PUZZLES", ())]
+    return rows
 
 
 # ------------------------------------------------------------------------------------------ fast path

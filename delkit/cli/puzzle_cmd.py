@@ -36,8 +36,10 @@ _TIMED = ("CPU seconds (time.process_time) of building the knowledge structure a
 
 def register(app: typer.Typer) -> None:
     """Attach the ``puzzle`` sub-app to the top-level app."""
-    sub = typer.Typer(help="Epistemic puzzles solved with DEL (literature answers).", no_args_is_help=True)
-    app.add_typer(sub, name="puzzle")
+    from delkit.cli.plugins import group
+
+    # a group, so that a layer above the core can add its own puzzles (planners: ``puzzle muddy-plan``)
+    sub = group(app, "puzzle", "Epistemic puzzles solved with DEL (literature answers).")
 
     @sub.callback(invoke_without_command=True)
     def puzzles(ctx: typer.Context,
@@ -46,10 +48,12 @@ def register(app: typer.Typer) -> None:
         """Epistemic puzzles solved with DEL (literature answers)."""
         if not list_:
             return
+        from delkit.cli.plugins import plugin_puzzles
         from delkit.puzzles import CATALOGUE
 
+        catalogue = CATALOGUE + plugin_puzzles()
         if as_json:
-            typer.echo(json.dumps({"puzzles": CATALOGUE}))
+            typer.echo(json.dumps({"puzzles": catalogue}))
         else:
             from rich.console import Console
             from rich.markup import escape
@@ -58,7 +62,7 @@ def register(app: typer.Typer) -> None:
             table = Table(title="delkit puzzle …")
             for col in ("command", "answer (literature)", "backends", "source", "docs"):
                 table.add_column(col)
-            for row in CATALOGUE:
+            for row in catalogue:
                 table.add_row(escape(row["command"]), escape(row["answer"]), escape(", ".join(row["backends"])),
                               escape(row["source"]), escape(row["docs"]))
             Console().print(table)
@@ -202,18 +206,35 @@ def register(app: typer.Typer) -> None:
         _emit(data, as_json, "dining cryptographers")
 
     @sub.command("gossip")
-    def gossip(n: int = typer.Option(4, "--n", help="number of agents (2..4; 4 takes ~20 s CPU)"),
+    def gossip(n: int = typer.Option(4, "--n", help="number of agents (2..4; 4 takes ~20 s CPU, ~1 min with "
+                                     "--variant kw)"),
+               variant: str = typer.Option("s5", "--variant", help="s5: who has whose secret (SMCDEL's GossipS5); "
+                                           "kw: secrets as facts, experts know whether (SMCDEL's GossipKw)"),
+               symbolic: bool = typer.Option(True, "--symbolic/--explicit", help="with --variant kw: belief "
+                                             "structure or explicit model (explicit: n <= 3)"),
                as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Gossip: the least number of calls making everyone an expert (2n-4 for n >= 4); symbolic."""
         from delkit.errors import ModelError
-        from delkit.puzzles.gossip import solve_gossip
 
         if not 2 <= n <= 4:
             raise ModelError(f"puzzle gossip: --n must be 2..4 (the search is a depth-first search over call "
                              f"sequences), got {n}")
-        data = solve_gossip(n).as_dict() | {"timed": _TIMED.replace("running the protocol",
-                                                                    "searching the call sequences")}
-        _emit(data, as_json, f"gossip, {n} agents")
+        if variant not in ("s5", "kw"):
+            raise ModelError(f"puzzle gossip: --variant must be s5 or kw, got {variant!r}")
+        if not symbolic and (variant != "kw" or n > 3):
+            raise ModelError("puzzle gossip: --explicit needs --variant kw and --n <= 3 (16 x 6^k worlds after k "
+                             "calls for n = 4)")
+        timed = _TIMED.replace("running the protocol", "searching the call sequences")
+        if variant == "kw":
+            from delkit.puzzles.gossip import solve_gossip_kw
+
+            data = solve_gossip_kw(n, symbolic=symbolic).as_dict() | {
+                "timed": timed if symbolic else timed.replace("knowledge structure", "model")}
+        else:
+            from delkit.puzzles.gossip import solve_gossip
+
+            data = solve_gossip(n).as_dict() | {"timed": timed}
+        _emit(data, as_json, f"gossip ({variant}), {n} agents")
 
     @sub.command("what-sum")
     def what_sum(bound: int = typer.Option(50, "--bound", help="numbers 1..BOUND"),
@@ -236,6 +257,23 @@ def register(app: typer.Typer) -> None:
         from delkit.puzzles.door_mat import solve_door_mat
 
         _emit(solve_door_mat().as_dict() | {"timed": _TIMED}, as_json, "door mat")
+
+    @sub.command("hanabi")
+    def hanabi(players: int = typer.Option(2, "--players", help="number of players"),
+               cards: int = typer.Option(5, "--cards", help="cards 0..CARDS-1 (the undealt ones are the deck)"),
+               hand: int = typer.Option(2, "--hand", help="cards per player"),
+               player: int = typer.Option(1, "--player", help="the player who gets the hints (1..players)"),
+               symbolic: bool = typer.Option(True, "--symbolic/--explicit", help="knowledge structure or explicit "
+                                             "model"),
+               as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
+        """Hanabi-style hints: which hints make playing card 0 safe (2 players, cards 0-4: hint 0, or 1 and 4)."""
+        from delkit.puzzles.hanabi import solve_hanabi
+
+        data = solve_hanabi(players, cards, hand, player=player, symbolic=symbolic).as_dict()
+        data["timed"] = _TIMED.replace("running the protocol", "checking every hint and pair of hints")
+        if not symbolic:
+            data["timed"] = data["timed"].replace("knowledge structure", "model")
+        _emit(data, as_json, "Hanabi-style hints")
 
     @sub.command("all")
     def all_puzzles(as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:

@@ -8,7 +8,8 @@
 * :mod:`~delkit.puzzles.dining` — dining cryptographers;
 * :mod:`~delkit.puzzles.gossip` — the gossip problem (2n − 4 calls), with knowledge transformers;
 * :mod:`~delkit.puzzles.door_mat` — the door mat (factual change, knowledge transformers);
-* :mod:`~delkit.puzzles.what_sum` — What Sum (SMCDEL's encoding; see docs/puzzles.md for what is checked).
+* :mod:`~delkit.puzzles.what_sum` — What Sum (SMCDEL's encoding; see docs/puzzles.md for what is checked);
+* :mod:`~delkit.puzzles.hanabi` — Hanabi-style hints (which hints make a play safe).
 
 :data:`CATALOGUE` lists them for ``delkit puzzle --list`` (command, literature answer, backends, source).
 
@@ -59,6 +60,16 @@ CATALOGUE: list[dict] = [
     {"command": "door-mat", "answer": "tryTake gets Bob the key; he knows it will only after Anne announces "
      "where it is", "backends": ["symbolic", "explicit (via the event model)"], "source": "Gattinger 2018; "
      "SMCDEL's DoorMat", "docs": _DOC + "#door-mat"},
+]
+
+# puzB23 (issue 23): SMCDEL's second gossip variant and the Hanabi-style card game
+CATALOGUE += [
+    {"command": "gossip --variant kw", "answer": "knowing-whether experts: least calls 1, 3, 4 for n = 2, 3, 4; "
+     "after 01 23 02 13 all are experts but not all know it", "backends": ["symbolic", "explicit (n <= 3)"],
+     "source": "Tijdeman 1971; SMCDEL's GossipKw", "docs": _DOC + "#gossip-knowing-whether"},
+    {"command": "hanabi", "answer": "2 players, cards 0-4, hands 0 1 | 2 3: playing 0 is safe for player 1 after "
+     "the hint '0', or after '1' and 'no 4' together (derived by hand)", "backends": ["symbolic", "explicit"],
+     "source": "Bauza's Hanabi (2010); SMCDEL's Toynabi", "docs": _DOC + "#hanabi-style-hints"},
 ]
 
 

@@ -159,6 +159,9 @@ def core_viewer(paths: Sequence[Path], options: dict) -> Document:
         model = structure_model(obj, str(path), limit)
         notes.append(f"the structure's Kripke model, drawn explicitly ({n} states; limit {limit}, --max-worlds); "
                      f"each world is named by its true variables")
+        from delkit.draw import structure_header
+
+        notes.append("; ".join(structure_header(obj, limit=300)))  # θ and Ω_a as formulas (form_of)
         kind = "structure"
         parse = _smcdel_parser(path, model)
     else:

@@ -9,15 +9,24 @@ from typing import Any
 
 from planners.cli.plan_cmd import fast_args
 
-__all__ = ["register", "fast_args", "DEMO_SECTIONS", "VIEWERS"]
+__all__ = ["register", "fast_args", "DEMO_SECTIONS", "VIEWERS", "PUZZLES"]
 
 
 def register(app: Any) -> None:
     """Attach the planning layer's commands to the top-level app."""
-    from planners.cli import epico_cmd, plan_cmd
+    from planners.cli import epico_cmd, plan_cmd, puzzle_cmd
 
     plan_cmd.register(app)
     epico_cmd.register(app)
+    puzzle_cmd.register(app)
+
+
+#: rows of ``delkit puzzle --list`` for the puzzles this layer adds (delkit.cli.plugins.plugin_puzzles)
+PUZZLES = [
+    {"command": "muddy-plan", "answer": "the planner's shortest plan: father, then M-1 rounds of 'nobody knows'",
+     "backends": ["explicit (planner)"], "source": "Fagin, Halpern, Moses, Vardi 1995, sec. 1.1; SMCDEL's "
+     "MuddyPlanning", "docs": "docs/puzzles.md#muddy-children-planning"},
+]
 
 
 def _planner(out: Path) -> dict[str, Any]:

@@ -82,3 +82,26 @@ def test_back_condition_matters():
     for first, second in ((a, b), (b, a)):
         res = symbolic_diff(belief_from_kripke(first)[0], belief_from_kripke(second)[0], props=["p"])
         assert not res.bisimilar and modal_depth(res.formula) == 1
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.sampled_from(["S5", "K"]).flatmap(
+    lambda fr: st.tuples(st.just(fr), kripke_models(PROPS, AGENTS, 3, frame=fr, designated="some"),
+                         kripke_models(PROPS, AGENTS, 3, frame=fr, designated="some"))))
+def test_diff_explanation_formulas_denote_the_sets(case):
+    """The explanation's readable formulas (form_of) denote exactly the sets they name, in each structure."""
+    from delkit.formula import parse
+
+    frame, m1, m2 = case
+    a, b = _encode(m1, frame), _encode(m2, frame)
+    res = symbolic_diff(a, b, props=PROPS)
+    lines = dict(res.explanation)
+    want = {"actual states of A": (a, a.actual), "actual states of B": (b, b.actual)}
+    if not res.bisimilar:
+        yes, no = (a, b) if res.true_in == "A" else (b, a)
+        other = "B" if res.true_in == "A" else "A"
+        want[f"states of {res.true_in} where the formula holds"] = (yes, yes.law & yes.evaluate(res.formula))
+        want[f"actual states of {other} where it fails"] = (no, no.actual & ~no.evaluate(res.formula))
+    assert set(lines) == set(want)
+    for what, (s, node) in want.items():
+        assert s.evaluate(parse(lines[what])) == node, (what, lines[what])

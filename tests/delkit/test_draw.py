@@ -7,6 +7,7 @@ import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import pytest
+from hypothesis import given, settings
 
 from delkit import KripkeModel, public_announcement
 from delkit.cli import main
@@ -15,6 +16,7 @@ from delkit.formula import Prop
 from delkit.io import dumps
 from delkit.symbolic import KnowledgeStructure
 from delkit.symbolic_belief import BeliefStructure
+from delkit.testing import kripke_models
 
 SVG = "{http://www.w3.org/2000/svg}"
 SPECS = Path(__file__).resolve().parents[2] / "specs" / "smcdel"
@@ -120,3 +122,39 @@ def test_large_models_fall_back_to_text_in_jupyter():
     n = 201
     m = KripkeModel(("p",), ("a",), np.zeros((n, 1), dtype=bool), {"a": Relation.identity(n)}, (0,))
     assert m._repr_svg_() is None
+
+
+# --------------------------------------------------------------- readable laws (form_of, issue 23)
+@settings(max_examples=25, deadline=None)
+@given(kripke_models(("p", "q"), ("a", "b"), max_worlds=4, frame="K"))
+def test_structure_pictures_show_laws_as_formulas(m) -> None:
+    """A belief structure's picture writes θ and every Ω_a as a formula (form_of, not dd's ite(...) text)
+    that denotes exactly that BDD: parsed back and rebuilt, it is the same node."""
+    from delkit.draw import picture
+    from delkit.formula import parse
+    from delkit.symbolic_belief import _propositional, belief_from_kripke
+
+    bs, _ = belief_from_kripke(m)
+    header = picture(bs, max_worlds=0).header
+    shown = {line.split(" = ", 1)[0]: line.split(" = ", 1)[1] for line in header if " = " in line}
+    for label, node in [("θ", bs.law)] + [(f"Ω_{a}", r) for a, r in bs.relations.items()]:
+        text = shown[label]
+        assert "ite(" not in text
+        if not text.endswith("…"):
+            assert _propositional(bs.bdd, parse(text)) == node, (label, text)
+
+
+def test_viewer_notes_show_a_belief_structures_law_as_a_formula() -> None:
+    """``delkit view`` on a belief structure file: θ and Ω_a in the notes as form_of formulas."""
+    from delkit.formula import parse
+    from delkit.smcdel import parse_smcdel, structure
+    from delkit.symbolic_belief import _propositional
+    from delkit.view.document import load_document
+
+    path = Path(__file__).resolve().parents[2] / "specs" / "smcdel" / "muddy3-belief.smcdel.txt"
+    doc = load_document([path])
+    line = next(n for n in doc.notes if "θ = " in n)
+    assert "ite(" not in line and "belief structure" in line
+    bs = structure(parse_smcdel(path.read_text(encoding="utf-8")))
+    theta = next(part for part in line.split("; ") if part.startswith("θ = "))[4:]
+    assert _propositional(bs.bdd, parse(theta)) == bs.law
