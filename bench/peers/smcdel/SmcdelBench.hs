@@ -2,13 +2,14 @@
 
 One puzzle per process:
 
->  smcdel-bench [--warm] (muddy N | drinking N | dining N | dining-impl-outside N | sap | manager)
+>  smcdel-bench [--warm | --twice] (muddy N | drinking N | dining N | dining-impl-outside N | sap | manager)
 
 prints one JSON line {"puzzle", "n", "cpu", "ok", "answer"}.  "cpu" is System.CPUTime.getCPUTime
 (process CPU time, user + system, GC included) around building SMCDEL's structure, building the formula
 and evaluating it with SMCDEL.Symbolic.S5 (CacBDD); the first BDD call (CacBDD's manager set-up) falls
 inside; with --warm a first BDD operation creates the manager before the clock starts, and `manager`
-times that operation alone.  "ok" compares the result with the literature answer after the clock has stopped.
+times that operation alone; with --twice the puzzle runs once before the clock and the second run is
+timed (the in-process protocol: manager, code and CacBDD's tables warm).  "ok" compares the result with the literature answer after the clock has stopped.
 
 The structures and formulas are SMCDEL's own (its example modules); this file only sequences them the way
 bench/symbolic.py sequences delkit's calls:
@@ -25,6 +26,8 @@ bench/symbolic.py sequences delkit's calls:
 * sap: SMCDEL.Examples.SumAndProduct.sapSolutions (structure and formula are top-level constants,
   first forced inside the clock).
 -}
+{-# OPTIONS_GHC -fno-cse -fno-full-laziness #-}
+-- (no sharing of a puzzle's result between the untimed and the timed run of --twice)
 module Main (main) where
 
 import Control.Exception (evaluate)
@@ -84,8 +87,8 @@ report name n cpu ok answer =
 
 usage :: String -> IO a
 usage why = do
-  hPutStrLn stderr $ "smcdel-bench: " ++ why
-    ++ "; usage: smcdel-bench [--warm] (muddy N | drinking N | dining N | dining-impl-outside N | sap | manager), N a whole number >= 2"
+  hPutStrLn stderr $ "smcdel-bench: " ++ why ++ "; usage: smcdel-bench [--warm | --twice] (muddy N | drinking N"
+    ++ " | dining N | dining-impl-outside N | sap | manager), N a whole number >= 2"
   exitWith (ExitFailure 2)
 
 -- | Force CacBDD's manager (HasCacBDD creates it on the first BDD operation): one comparison of two
@@ -93,33 +96,45 @@ usage why = do
 touchManager :: IO Bool
 touchManager = evaluate (boolBddOf Top == boolBddOf Top)
 
+-- | The run of one puzzle: the IO action does the work (forces it) and returns whether the answer is the
+-- literature's and its text, both computed lazily, so after the clock.
+puzzle :: [String] -> Either String (String, Int, IO (Bool, String))
+puzzle ["manager"] = Right ("manager", 0, do
+  ok <- touchManager
+  return (ok, "CacBDD manager created (first BDD operation)"))
+puzzle ["sap"] = Right ("sap", 100, do
+  let sols = sapSolutions
+  _ <- evaluate (length (concat sols))
+  let answer = unwords (map sapExplainState sols)
+  return (length sols == 1 && "x = 4, y = 13," `isPrefixOf` answer, answer))
+puzzle [name, arg] = case readMaybe arg of
+  Nothing -> Left ("N must be a whole number, got " ++ show arg)
+  Just n
+    | n < 2 -> Left ("N must be at least 2, got " ++ show n)
+    | name == "muddy" -> Right (name, n, do
+        let (nobody, known) = muddy n
+        _ <- evaluate nobody
+        _ <- evaluate known
+        return (nobody == n - 1 && known == n,
+                printf "nobody knows in %d rounds, all know in round %d" nobody known))
+    | name == "drinking" -> Right (name, n, do
+        ok <- evaluate (thirstyCheck n)
+        return (ok, if ok then "thirstyF holds" else "thirstyF fails"))
+    | name `elem` ["dining", "dining-impl-outside"] -> Right (name, n, do
+        ok <- evaluate (validViaBdd (genDcKnsInit n) (diningForm (name /= "dining") n))
+        return (ok, if ok then "valid" else "not valid"))
+    | otherwise -> Left ("unknown puzzle " ++ show name)
+puzzle _ = Left "expected a puzzle and N"
+
 main :: IO ()
 main = do
   argv <- getArgs
-  args <- case argv of
-    ("--warm" : rest) -> touchManager >> return rest
-    _ -> return argv
-  case args of
-    ["manager"] -> do
-      (cpu, ok) <- timed touchManager
-      report "manager" 0 cpu ok "CacBDD manager created (first BDD operation)"
-    ["sap"] -> do
-      (cpu, sols) <- timed (let s = sapSolutions in evaluate (length (concat s)) >> return s)
-      let answer = unwords (map sapExplainState sols)
-      report "sap" 100 cpu (length sols == 1 && "x = 4, y = 13," `isPrefixOf` answer) answer
-    [name, arg] -> do
-      n <- maybe (usage $ "N must be a whole number, got " ++ show arg) return (readMaybe arg)
-      if n < 2 then usage ("N must be at least 2, got " ++ show n) else return ()
-      case name of
-        "muddy" -> do
-          (cpu, (nobody, known)) <- timed (let r@(a, b) = muddy n in evaluate a >> evaluate b >> return r)
-          report name n cpu (nobody == n - 1 && known == n)
-            (printf "nobody knows in %d rounds, all know in round %d" nobody known)
-        "drinking" -> do
-          (cpu, ok) <- timed (evaluate (thirstyCheck n))
-          report name n cpu ok (if ok then "thirstyF holds" else "thirstyF fails")
-        _ | name `elem` ["dining", "dining-impl-outside"] -> do
-          (cpu, ok) <- timed (evaluate (validViaBdd (genDcKnsInit n) (diningForm (name /= "dining") n)))
-          report name n cpu ok (if ok then "valid" else "not valid")
-        _ -> usage ("unknown puzzle " ++ show name)
-    _ -> usage "expected a puzzle and N"
+  let (flags, args) = span (`elem` ["--warm", "--twice"]) argv
+  (name, n, run) <- either usage return (puzzle args)
+  if "--twice" `elem` flags && name `elem` ["sap", "manager"]
+    then usage (name ++ " is a constant: a second run in the process costs nothing; --twice needs a puzzle with N")
+    else return ()
+  if "--warm" `elem` flags then () <$ touchManager else return ()
+  if "--twice" `elem` flags then () <$ (run >>= evaluate . fst) else return ()
+  (cpu, (ok, answer)) <- timed run
+  report name n cpu ok answer
