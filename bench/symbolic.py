@@ -204,6 +204,8 @@ def main(argv: list[str] | None = None) -> int:
                     "CacBDD manager created before the clock (--warm) and report that column too")
     ap.add_argument("--one", nargs=2, metavar=("PUZZLE", "N"), help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if (args.smcdel_bin or args.smcdel_warm) and not (args.fresh_process and args.smcdel_bin):
+        ap.error("--smcdel-bin runs with --fresh-process only, and --smcdel-warm needs --smcdel-bin")
 
     if args.one:
         import json
@@ -273,10 +275,15 @@ def _spawn_smcdel(binary: str, name: str, n: int, timeout: float, warm: bool) ->
         return None
     if proc.returncode < 0:  # SIGXCPU/SIGKILL at the CPU limit
         return None
-    if proc.returncode != 0:
-        raise RuntimeError(f"{' '.join(cmd)} failed: {proc.stderr.strip()[-400:]}")
-    data = json.loads(proc.stdout.strip().splitlines()[-1])
-    return data["cpu"], data["ok"]
+    try:
+        if proc.returncode != 0:
+            raise ValueError(f"exit status {proc.returncode}: {proc.stderr.strip()[-300:]}")
+        data = json.loads(proc.stdout.strip().splitlines()[-1])
+        return float(data["cpu"]), bool(data["ok"])
+    except (ValueError, KeyError, IndexError, TypeError) as e:
+        print(f"bench/symbolic.py: --smcdel-bin {binary}: `{' '.join(cmd)}` did not print SMCDEL's JSON line "
+              f"({e}); build bench/peers/smcdel/SmcdelBench.hs as its README says", file=sys.stderr)
+        raise SystemExit(2) from None
 
 
 def fresh_rows_peer(jobs: list[tuple[str, int]], repeat: int, cli: bool, timeout: float, binary: str,
@@ -312,6 +319,10 @@ def fresh_rows_peer(jobs: list[tuple[str, int]], repeat: int, cli: bool, timeout
 
 def _main_fresh_peer(args, jobs: list[tuple[str, int]]) -> int:
     """The --fresh-process table with a same-run SMCDEL column (--smcdel-bin)."""
+    if not (os.path.isfile(args.smcdel_bin) and os.access(args.smcdel_bin, os.X_OK)):
+        print(f"bench/symbolic.py: --smcdel-bin {args.smcdel_bin}: no such executable; build it with "
+              "bench/peers/smcdel/build.sh (see bench/peers/smcdel/README.md)", file=sys.stderr)
+        return 2
     where = "the CLI's own reported seconds" if args.cli else "the API call"
     cols = ["puzzle", "N", "right answer (both)", "delkit s (min)", "delkit s (median)", "SMCDEL s (min)",
             "SMCDEL s (median)", "ratio (min)", "ratio (median)"]
