@@ -19,14 +19,21 @@ process is the ``delkit puzzle … --symbolic --json`` command line and the figu
 reports itself. Without ``--fresh-process``: every row ``--repeat`` times in this process after the rows
 before it (warm), minimum.
 
-The SMCDEL column holds issue 23's figures (SMCDEL v1.3.0, CacBDD, built on this machine and run side by
-side with delkit by the lead; in-process CPU); ``ratio`` = delkit / SMCDEL (below 1: delkit is faster).
+With ``--smcdel-bin PATH`` (``--fresh-process`` only) SMCDEL runs in the same sitting: for every row and
+round one delkit process and one SMCDEL process (bench/peers/smcdel/SmcdelBench.hs: SMCDEL's own example
+modules, ``getCPUTime`` around structure + formula + evaluation, CacBDD manager creation inside), the order
+alternating from round to round, and the SMCDEL columns are that run's min and median (``--smcdel-warm``
+adds SMCDEL with its manager created before the clock). Without it the SMCDEL column holds issue 23's
+figures (SMCDEL v1.3.0, CacBDD, measured by the lead on another day; in-process CPU), labelled so.
+``ratio`` = delkit / SMCDEL (below 1: delkit is faster).
 ``load`` is the machine's 1-minute load average when the row finished. The growth lines fit t ∝ N^k by
 least squares on log-log over N = 100…200 (SMCDEL's exponent beside) and over all muddy rows measured.
 
     .venv/bin/python bench/symbolic.py --fresh-process --repeat 7 --muddy 10,20,40,60,80,100,150,200
     .venv/bin/python bench/symbolic.py --fresh-process --cli --repeat 7
     .venv/bin/python bench/symbolic.py --fresh-process --repeat 1 --muddy 300,400 --drinking "" --dining ""
+    .venv/bin/python bench/symbolic.py --fresh-process --repeat 7 --muddy 10,20,40,60,80,100,150,200 \
+        --smcdel-bin /work/peers/smcdel/bin/smcdel-bench --smcdel-warm   # SMCDEL in the same run
     .venv/bin/python bench/symbolic.py --repeat 5                  # in-process repeats
 """
 
@@ -190,8 +197,15 @@ def main(argv: list[str] | None = None) -> int:
                     "line and read its own reported seconds")
     ap.add_argument("--timeout", type=float, default=60.0, help="CPU seconds per fresh process (RLIMIT_CPU; "
                     "then the row says '> T s')")
+    ap.add_argument("--smcdel-bin", metavar="PATH", help="with --fresh-process: SMCDEL's side "
+                    "(bench/peers/smcdel/SmcdelBench.hs, built as its README says) run alternately with delkit, "
+                    "fresh process each, same repeats; the SMCDEL column is then this run's min and median")
+    ap.add_argument("--smcdel-warm", action="store_true", help="with --smcdel-bin: also run SMCDEL with its "
+                    "CacBDD manager created before the clock (--warm) and report that column too")
     ap.add_argument("--one", nargs=2, metavar=("PUZZLE", "N"), help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
+    if (args.smcdel_bin or args.smcdel_warm) and not (args.fresh_process and args.smcdel_bin):
+        ap.error("--smcdel-bin runs with --fresh-process only, and --smcdel-warm needs --smcdel-bin")
 
     if args.one:
         import json
@@ -211,9 +225,11 @@ def main(argv: list[str] | None = None) -> int:
 def _main_fresh(args, ints) -> int:
     jobs = [("muddy", n) for n in ints(args.muddy)] + [("drinking", n) for n in ints(args.drinking)]
     jobs += [("dining", n) for n in ints(args.dining)] + [("sum-product (SMCDEL formula)", 100)]
+    if args.smcdel_bin:
+        return _main_fresh_peer(args, jobs)
     where = "the CLI's own reported seconds" if args.cli else "the API call"
-    cols = ("puzzle", "N", "right answer", "delkit CPU s (min)", "delkit CPU s (median)", "SMCDEL CPU s",
-            "ratio (min)", "ratio (median)", "processes", "load")
+    cols = ("puzzle", "N", "right answer", "delkit CPU s (min)", "delkit CPU s (median)",
+            "SMCDEL CPU s (issue 23's figures, not this run)", "ratio (min)", "ratio (median)", "processes", "load")
     md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     table = Table(title=f"delkit symbolic vs SMCDEL: fresh process per run, {where} (CPU seconds)")
     for col in cols:
@@ -237,6 +253,116 @@ def _main_fresh(args, ints) -> int:
     else:
         Console().print(table)
     _growth(mine)
+    return 0
+
+
+_SMCDEL_ARGS = {"muddy": lambda n: ["muddy", str(n)], "drinking": lambda n: ["drinking", str(n)],
+                "dining": lambda n: ["dining", str(n)], "sum-product (SMCDEL formula)": lambda n: ["sap"]}
+
+
+def _spawn_smcdel(binary: str, name: str, n: int, timeout: float, warm: bool) -> tuple[float, bool] | None:
+    """One fresh SMCDEL process (bench/peers/smcdel/SmcdelBench.hs): its getCPUTime seconds around structure +
+    formula + evaluation and whether its answer was right; None when it ran out of ``timeout`` CPU seconds."""
+    import json
+    import resource
+    import subprocess
+
+    cmd = [binary, *(["--warm"] if warm else []), *_SMCDEL_ARGS[name](n)]
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=20 * timeout, preexec_fn=lambda: (
+            resource.setrlimit(resource.RLIMIT_CPU, (int(timeout), int(timeout) + 1))))
+    except subprocess.TimeoutExpired:
+        return None
+    if proc.returncode < 0:  # SIGXCPU/SIGKILL at the CPU limit
+        return None
+    try:
+        if proc.returncode != 0:
+            raise ValueError(f"exit status {proc.returncode}: {proc.stderr.strip()[-300:]}")
+        data = json.loads(proc.stdout.strip().splitlines()[-1])
+        return float(data["cpu"]), bool(data["ok"])
+    except (ValueError, KeyError, IndexError, TypeError) as e:
+        print(f"bench/symbolic.py: --smcdel-bin {binary}: `{' '.join(cmd)}` did not print SMCDEL's JSON line "
+              f"({e}); build bench/peers/smcdel/SmcdelBench.hs as its README says", file=sys.stderr)
+        raise SystemExit(2) from None
+
+
+def fresh_rows_peer(jobs: list[tuple[str, int]], repeat: int, cli: bool, timeout: float, binary: str,
+                    warm: bool):
+    """Like :func:`fresh_rows`, with SMCDEL beside delkit: round r runs, for every row, one delkit process and
+    one SMCDEL process (and with ``warm`` one SMCDEL process whose manager exists before its clock), which
+    goes first alternating from round to round. Yields name, N, {side: (min, median, runs)}, ok, load range."""
+    import statistics
+
+    sides = ["delkit", "smcdel"] + (["smcdel-warm"] if warm else [])
+    times = {(j, side): [] for j in jobs for side in sides}
+    oks = dict.fromkeys(jobs, True)
+    dead: set = set()
+    loads: dict[tuple[str, int], list[float]] = {j: [] for j in jobs}
+    for rnd in range(repeat):
+        for job in jobs:
+            for side in sides if rnd % 2 == 0 else sides[::-1]:
+                if (job, side) in dead:
+                    continue
+                got = (_spawn(*job, cli=cli, timeout=timeout) if side == "delkit" else
+                       _spawn_smcdel(binary, *job, timeout=timeout, warm=side == "smcdel-warm"))
+                loads[job].append(os.getloadavg()[0])
+                if got is None:
+                    dead.add((job, side))
+                    continue
+                times[job, side].append(got[0])
+                oks[job] = oks[job] and bool(got[1])
+    for job in jobs:
+        stats = {side: (min(ts), statistics.median(ts), len(ts)) if (ts := times[job, side]) else None
+                 for side in sides}
+        yield (*job, stats, oks[job] and all(stats.values()), (min(loads[job]), max(loads[job])))
+
+
+def _main_fresh_peer(args, jobs: list[tuple[str, int]]) -> int:
+    """The --fresh-process table with a same-run SMCDEL column (--smcdel-bin)."""
+    if not (os.path.isfile(args.smcdel_bin) and os.access(args.smcdel_bin, os.X_OK)):
+        print(f"bench/symbolic.py: --smcdel-bin {args.smcdel_bin}: no such executable; build it with "
+              "bench/peers/smcdel/build.sh (see bench/peers/smcdel/README.md)", file=sys.stderr)
+        return 2
+    where = "the CLI's own reported seconds" if args.cli else "the API call"
+    cols = ["puzzle", "N", "right answer (both)", "delkit s (min)", "delkit s (median)", "SMCDEL s (min)",
+            "SMCDEL s (median)", "ratio (min)", "ratio (median)"]
+    cols += ["SMCDEL s, manager before clock (min)"] if args.smcdel_warm else []
+    cols += ["SMCDEL s (issue 23's figures, another day)", "processes each", "load (1-min, range)"]
+    title = f"delkit symbolic vs SMCDEL, same run: fresh process each, alternating, {where} (CPU seconds)"
+    out: list[list[str]] = []
+    over = f"> {args.timeout:.0f} s"
+    curves: dict[str, list[tuple[int, float]]] = {"delkit": [], "SMCDEL": []}
+    for name, n, stats, ok, (lo_load, hi_load) in fresh_rows_peer(jobs, args.repeat, args.cli, args.timeout,
+                                                                   args.smcdel_bin, args.smcdel_warm):
+        mine, peer = stats["delkit"], stats["smcdel"]
+        ref = SMCDEL.get((name, n))
+        cells = [name, str(n), "yes" if ok else "NO",
+                 f"{mine[0]:.4f}" if mine else over, f"{mine[1]:.4f}" if mine else "—",
+                 f"{peer[0]:.4f}" if peer else over, f"{peer[1]:.4f}" if peer else "—",
+                 f"{mine[0] / peer[0]:.2f}" if mine and peer else "—",
+                 f"{mine[1] / peer[1]:.2f}" if mine and peer else "—"]
+        if args.smcdel_warm:
+            cells.append(f"{stats['smcdel-warm'][0]:.4f}" if stats["smcdel-warm"] else over)
+        cells += [f"{ref:.4g}" if ref else "—", "/".join(str(s[2]) if s else "0" for s in stats.values()),
+                  f"{lo_load:.1f}–{hi_load:.1f}"]
+        if name == "muddy":
+            for side, got in (("delkit", mine), ("SMCDEL", peer)):
+                if got:
+                    curves[side].append((n, got[0]))
+        out.append(cells)
+    if args.markdown:
+        print("\n".join("| " + " | ".join(row) + " |" for row in [cols, ["---"] * len(cols), *out]))
+    else:
+        table = Table(*cols, title=title)
+        for row in out:
+            table.add_row(*row)
+        Console().print(table)
+    both = {n for n, _ in curves["delkit"]} & {n for n, _ in curves["SMCDEL"]}
+    for lo, hi in ((100, 200), (0, math.inf)):
+        fits = {side: [(n, t) for n, t in pts if lo <= n <= hi and n in both] for side, pts in curves.items()}
+        if len(fits["delkit"]) >= 2:
+            print(f"muddy growth (min) on N = {', '.join(str(n) for n, _ in fits['delkit'])}: "
+                  + ", ".join(f"{side} N^{_fit(pts):.2f}" for side, pts in fits.items()))
     return 0
 
 
