@@ -343,7 +343,8 @@ def test_prisoners_explicit_equals_symbolic(n: int, raw: list[int]) -> None:
     sched = [1 + r % n for r in raw]
     exp = run_schedule(n, sched, "explicit", stop=False)
     sym = run_schedule(n, sched, "symbolic", stop=False)
-    assert exp[:2] == sym[:2]
+    img = run_schedule(n, sched, "image", stop=False)
+    assert exp[:2] == sym[:2] == img[:2]
     announce, _ = protocol_run(n, sched)
     if n >= 3:
         assert (exp[0].index(True) + 1 if any(exp[0]) else None) == announce
@@ -363,6 +364,41 @@ def test_prisoners_reduction_is_bisimilar() -> None:
         assert set(red.vocabulary) <= set(keep)
         assert full.holds(counter_knows(n)) == red.holds(counter_knows(n))
         assert bisimilar(full.generated().to_kripke(props=keep), red.to_kripke(props=keep))
+
+
+def test_prisoners_image_is_the_reduced_structure() -> None:
+    """The direct image (interleaved variables) holds, day by day, exactly the states of the reduced product
+    of the transformers."""
+    from delkit.puzzles.prisoners import ImageStructure, day_transformer, prisoners_start, reduce_structure
+
+    n, sched = 4, [3, 1, 2, 2, 4, 1, 1, 3, 2, 1, 4, 1]
+    red, img = prisoners_start(n), ImageStructure(n)
+    keep = red.vocabulary
+    for d, who in enumerate(sched):
+        red = reduce_structure(red.transform(day_transformer(n, who, f"{d}")), keep)
+        img.day(who)
+        key = sorted(tuple(s[v] for v in keep) for s in red.states())
+        assert key == sorted(tuple(s[v] for v in keep) for s in img.states()), d
+
+
+@pytest.mark.parametrize("n", [12, 30])
+def test_prisoners_many_until_the_counter_knows(n: int) -> None:
+    """More prisoners on the image engine: the counter knows on the day his count reaches n − 1, not before,
+    and everyone has been interviewed by then."""
+    from delkit.puzzles.prisoners import solve_prisoners
+
+    r = solve_prisoners(n, 5000, 7, engine="image")
+    assert r.knows_day is not None and r.knows_day == r.announce_day and r.sound
+    assert r.visited_day <= r.knows_day
+
+
+@pytest.mark.slow
+def test_prisoners_one_hundred() -> None:
+    """The title case: 100 prisoners, a random schedule, until the counter knows (about 12,000 days)."""
+    from delkit.puzzles.prisoners import solve_prisoners
+
+    r = solve_prisoners(100, 20_000, 1, engine="image")
+    assert r.knows_day is not None and r.knows_day == r.announce_day and r.sound
 
 
 def test_prisoners_expected_days() -> None:
@@ -393,6 +429,8 @@ def test_cli_prisoners(capsys) -> None:
     data = _json(capsys, ["puzzle", "prisoners", "-n", "4", "--seed", "3", "--symbolic", "--json"])
     assert data["knows_exactly_when_count_reaches_n_minus_1"] and data["engine"] == "symbolic"
     assert main(["puzzle", "prisoners", "-n", "30"]) == 2
+    data = _json(capsys, ["puzzle", "prisoners", "-n", "20", "--symbolic", "--days", "3000", "--json"])
+    assert data["engine"] == "image" and data["counter_knows_day"] == data["counter_announces_day"]
     assert main(["puzzle", "prisoners", "--schedule", "1,x"]) == 2
 
 
