@@ -437,3 +437,18 @@ def test_cli_prisoners(capsys) -> None:
 def test_cli_list_has_the_new_puzzles(capsys) -> None:
     names = {p["command"] for p in _json(capsys, ["puzzle", "--list", "--json"])["puzzles"]}
     assert {"prisoners", "letter-passing", "coin-flip", "number-triangle"} <= names
+
+
+def test_catalogue_docs_anchors_exist() -> None:
+    """Every catalogue entry's docs link points at a heading of docs/puzzles.md (GitHub's anchor rule)."""
+    import re
+    from pathlib import Path
+
+    from delkit.puzzles import CATALOGUE
+
+    text = (Path(__file__).resolve().parents[2] / "docs" / "puzzles.md").read_text(encoding="utf-8")
+    anchors = {re.sub(r"[^\w\- ]", "", h.strip().lower()).replace(" ", "-")
+               for h in re.findall(r"^#+ (.+)$", text, flags=re.M)}
+    for row in CATALOGUE:
+        if row["command"] in ("prisoners", "letter-passing", "coin-flip", "number-triangle"):
+            assert row["docs"].split("#", 1)[1] in anchors, row["docs"]
