@@ -62,8 +62,9 @@ CATALOGUE: list[dict] = [
     # ---- issue 23, part A: prisoners, letter passing, coin flip, number triangle
     {"command": "prisoners", "answer": "the counter knows everyone has been interviewed exactly when his count "
      "reaches n-1 (n >= 3); expected n(n-1) + n H_{n-1} days (10,417.7 for 100)",
-     "backends": ["explicit", "symbolic (transformers; image beyond 7)"], "source": "Dehaye, Ford & Segerman 2003; van Ditmarsch, van Eijck & "
-     "Wu 2010; SMCDEL's Prisoners", "docs": _DOC + "#100-prisoners-and-a-light-bulb-bounded"},
+     "backends": ["explicit", "symbolic (transformers; image beyond 7)"],
+     "source": "Dehaye, Ford & Segerman 2003; van Ditmarsch, van Eijck & Wu 2010; SMCDEL's Prisoners",
+     "docs": _DOC + "#100-prisoners-and-a-light-bulb-bounded"},
     {"command": "letter-passing", "answer": "1->2->...->n delivers the letter in n-1 passes; each agent learns "
      "the address when the letter reaches it; then the goal is common knowledge",
      "backends": ["explicit", "symbolic"], "source": "Engesser, Bolander, Mattmüller & Nebel 2017; SMCDEL's "
