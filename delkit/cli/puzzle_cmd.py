@@ -354,5 +354,5 @@ def register(app: typer.Typer) -> None:
         if engine == "triangle" and 1 <= children <= MAX_CHILDREN:
             require(64.0 * (children + 1), f"puzzle number-triangle -n {children}", "use fewer --children")
         data = solve_number_triangle(children, muddy, quantifier, engine=engine).as_dict()
-        data["timed"] = _TIMED.replace("knowledge structure", "model").replace("the protocol", "the protocol")
+        data["timed"] = _TIMED.replace("knowledge structure", "knowledge structure" if symbolic else "model")
         _emit(data, as_json, f"number triangle N={children}, M={muddy}, Q={quantifier}")

@@ -8,15 +8,18 @@ n + 1 *factual* states (one row of Pascal's triangle) and n *observational* ones
 the 2^n worlds of the classical model (:mod:`delkit.puzzles.muddy`).
 
 The father announces a generalised quantifier Q ("some of you", "at least k", "an even number", …): the
-factual states (n − m, m) with Q(m) remain. Then the children answer, by kind, whether they know their state;
-the answers are announced publicly ("all muddy children know / none does", "all clean children know / none
-does", vacuously true of a kind nobody is of, as in the paper's language), until everyone knows or nothing
-changes any more.
+factual states (n − m, m) with Q(m) remain. Then "nobody knows" — no muddy child and no clean child could
+tell its state, vacuously true of a kind nobody is of, as in the paper's language — is announced as long
+as it is true (SMCDEL's ``findNumberTriangle`` protocol); the run ends with the first round in which some
+child knows (or when the announcement no longer changes the model: then nobody ever will).
 
-Literature answer: with Q = "at least one" (the classical puzzle) the announcement "nobody knows" is made
-M − 1 times, the muddy children know in round M and the clean ones in round M + 1 — on a model with 2n + 1
-points; for Q = "at least k" the muddy children know in round M − k + 1. The paper's Theorem 1 (as its review
-in Computing Reviews, #139441, states it): the children can solve the puzzle iff some L < M has ¬Q(L).
+Literature answer: with Q = "at least one" (the classical puzzle) "nobody knows" is announced M − 1 times,
+then the muddy children know — on a model with 2n + 1 points. Beyond it (derived here, and tested on every
+quantifier of up to 7 children against the classical model): with L < M < U the nearest counts where Q
+fails, the muddy children are the first to know after M − L − 1 rounds when L is at least as near as U,
+the clean ones after U − M − 1 when U is ("at least k": M − k rounds); for increasing quantifiers (no U)
+this agrees with the paper's Theorem 1 as its review states it (Computing Reviews #139441): the muddy
+children come to know iff some L < M has ¬Q(L).
 
 The module also runs the same anonymous protocol on the classical explicit model (2^n worlds) and on a
 knowledge structure, for the differential tests: every round's answers are the same on all three.
