@@ -15,7 +15,7 @@ child knows (or when the announcement no longer changes the model: then nobody e
 
 Literature answer: with Q = "at least one" (the classical puzzle) "nobody knows" is announced M − 1 times,
 then the muddy children know — on a model with 2n + 1 points. Beyond it (derived here, and tested on every
-quantifier of up to 7 children against the classical model): with L < M < U the nearest counts where Q
+quantifier of up to 9 children against the classical model): with L < M < U the nearest counts where Q
 fails, the muddy children are the first to know after M − L − 1 rounds when L is at least as near as U,
 the clean ones after U − M − 1 when U is ("at least k": M − k rounds); for increasing quantifiers (no U)
 this agrees with the paper's Theorem 1 as its review states it (Computing Reviews #139441): the muddy

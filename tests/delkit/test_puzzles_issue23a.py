@@ -74,8 +74,7 @@ def test_triangle_equals_classical_model_and_structure_for_every_quantifier(n: i
                 (spec, m)
 
 
-@pytest.mark.slow
-@pytest.mark.parametrize("n", [5, 6, 7])
+@pytest.mark.parametrize("n", [5, 6, 7, pytest.param(9, marks=pytest.mark.slow)])
 def test_triangle_equals_classical_model_every_quantifier_larger(n: int) -> None:
     from delkit.puzzles.number_triangle import classic_run, triangle_run
 
