@@ -60,6 +60,22 @@ CATALOGUE: list[dict] = [
     {"command": "door-mat", "answer": "tryTake gets Bob the key; he knows it will only after Anne announces "
      "where it is", "backends": ["symbolic", "explicit (via the event model)"], "source": "Gattinger 2018; "
      "SMCDEL's DoorMat", "docs": _DOC + "#door-mat"},
+    # ---- issue 23, part A: prisoners, letter passing, coin flip, number triangle
+    {"command": "prisoners", "answer": "the counter knows everyone has been interviewed exactly when his count "
+     "reaches n-1 (n >= 3); expected n(n-1) + n H_{n-1} days (10,417.7 for 100)",
+     "backends": ["explicit", "symbolic (transformers; image beyond 7)"],
+     "source": "Dehaye, Ford & Segerman 2003; van Ditmarsch, van Eijck & Wu 2010; SMCDEL's Prisoners",
+     "docs": _DOC + "#100-prisoners-and-a-light-bulb-bounded"},
+    {"command": "letter-passing", "answer": "1->2->...->n delivers the letter in n-1 passes; each agent learns "
+     "the address when the letter reaches it; then the goal is common knowledge",
+     "backends": ["explicit", "symbolic"], "source": "Engesser, Bolander, Mattmüller & Nebel 2017; SMCDEL's "
+     "LetterPassing", "docs": _DOC + "#letter-passing"},
+    {"command": "coin-flip", "answer": "Bob knows the outcome; Anne knows that he does (partial) or still "
+     "believes heads (oblivious: KD45)", "backends": ["explicit", "symbolic (S5)", "belief structures"],
+     "source": "Gattinger 2018, ch. 3; SMCDEL's CoinFlip", "docs": _DOC + "#coin-flip"},
+    {"command": "number-triangle", "answer": "'some': M-1 rounds of 'nobody knows', then the muddy children "
+     "know, on 2n+1 points instead of 2^n worlds", "backends": ["triangle", "explicit", "symbolic"],
+     "source": "Gierasimczuk & Szymanik 2011; SMCDEL's MCTRIANGLE", "docs": _DOC + "#number-triangle"},
 ]
 
 # puzB23 (issue 23): SMCDEL's second gossip variant and the Hanabi-style card game

@@ -36,6 +36,8 @@ CASES = {
     "epico generate": ["epico", "generate", "--goal", "delta", "--colors", "4", "--out", "{tmp}", "--json"],
     # physics (two arms in MuJoCo): slow, so its case runs in `make test-slow`
     "epico run": ["epico", "run", "--goal", "alpha", "--colors", "1", "--json"],
+    # issue 23 (part A): the random interview schedule
+    "puzzle prisoners": ["puzzle", "prisoners", "-n", "4", "--days", "200", "--json"],
 }
 SLOW = {"epico run"}
 SWEEP = ["explore", "sweep", "--maps", "1", "--robots", "2", "--methods", "flock", "--case", "1",
