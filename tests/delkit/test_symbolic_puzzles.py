@@ -87,3 +87,21 @@ def test_muddy_answer_does_not_depend_on_the_memory_estimate(estimate) -> None:
     _, nobody, muddy_round, clean_round, _ = run_rounds(f.announce(at_least_one(n)), n, m,
                                                         size=KnowledgeStructure.node_size)
     assert (nobody, muddy_round, clean_round) == (m - 1, m, m + 1)
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 3, 5, 9])
+def test_exactly_one_is_smcdels_pairwise_law(n: int) -> None:
+    """The dining structure's law (:func:`exactly_one`, O(n) shared subformulas) is SMCDEL's
+    ``⋁ P_i ∧ ⋀_{i<j} ¬(P_i ∧ P_j)``: the same BDD, and the truth table agrees with a count of the true parts."""
+    from delkit.formula import conj, disj
+    from delkit.puzzles.dining import exactly_one
+    from delkit.symbolic import KnowledgeStructure
+
+    ps = [Prop(f"P{i}") for i in range(n + 1)]
+    pairwise = conj([disj(ps)] + [Not(ps[i] & ps[j]) for i in range(n + 1) for j in range(i + 1, n + 1)])
+    ks = KnowledgeStructure.create([p.name for p in ps])
+    assert ks.evaluate(exactly_one(ps)) == ks.evaluate(pairwise)
+    if n <= 5:
+        for bits in itertools.product([False, True], repeat=n + 1):
+            state = {p.name: b for p, b in zip(ps, bits, strict=True)}
+            assert ks.truth(exactly_one(ps), state) == (sum(bits) == 1)
