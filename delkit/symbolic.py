@@ -72,24 +72,30 @@ from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
 __all__ = ["KnowledgeStructure", "Transformer", "from_kripke", "transformer_from_event_model", "new_manager",
-           "prepare", "declare", "form_of",
+           "prepare", "declare", "form_of", "puzzle_memory",
            "event_model_from_transformer",
            "muddy_symbolic", "SymbolicMuddyResult"]
 
 _FRESH = itertools.count()
 
 
-def new_manager(*, reordering: bool = False) -> Any:
+def new_manager(*, reordering: bool = False, memory_estimate: int | None = None) -> Any:
     """A fresh ``dd.cudd.BDD`` manager. Dynamic reordering is off by default: variables keep the order in
     which they are declared (the vocabulary order), which keeps runs deterministic and, on the puzzles,
     is several times faster than CUDD's sifting (muddy children N = 80: 1.4 s vs 12 s).
 
-    Creating dd's default manager costs 5-15 ms of CPU (most of the muddy-children puzzle at N = 10): its
-    computed table starts at 2^18 entries and CUDD zeroes a "death row" (for delayed dereferencing, which
-    dd never uses) in proportion to the memory estimate (dd passes 1 GiB; CUDD's start-up is ~4.5 ms per
-    GiB, page faults mostly). Here the table starts at 2^14 entries (CUDD grows it while its hit rate is
-    high) and the estimate is 80 MiB (see ``_MEMORY_ESTIMATE``): creation ≈ 0.4 ms. The estimate is no
-    limit: past 90 % of it CUDD only collects garbage more eagerly.
+    ``memory_estimate`` (bytes; default 80 MiB) is CUDD's estimate of the memory the problem will use, for
+    callers that know their problem's size (the puzzles, :func:`puzzle_memory`). It sets two things only,
+    since the cache limit and the fast-growth bound are set here afterwards: the threshold past which CUDD
+    collects garbage eagerly (90 % of it: a problem that outgrows it runs slower — muddy children N = 100
+    up to 1.6x with 16–40 MiB), and the size of a "death row" (for delayed dereferencing, which dd never
+    uses) of 2^⌊log2(estimate / 640)⌋ pointers that CUDD zeroes at creation — page faults that were most
+    of a small puzzle (80 MiB: 512 KiB, 128 pages, 0.2–0.3 ms; 2 MiB: 16 KiB). It is no limit.
+
+    The computed table starts at 2^11 entries (32 B each): CUDD doubles it while its hit rate is high and
+    the unique table is large enough (up to 4 entries per unique-table slot), so a large problem gets
+    the large table it had before, and a small one does not fault in 512 KiB it never fills (dd's
+    default is 2^18, the previous setting here 2^14).
 
     The unique table grows fast (doubling, collecting garbage rarely) only up to 50,000 slots; beyond that
     CUDD collects dead nodes before it grows the table. Dead nodes pile up quickly in the puzzles (every
@@ -98,16 +104,24 @@ def new_manager(*, reordering: bool = False) -> Any:
     (bench/RESULTS-symbolic.md)."""
     import dd.cudd
 
-    mgr = dd.cudd.BDD(memory_estimate=_MEMORY_ESTIMATE, initial_cache_size=_INITIAL_CACHE)
+    estimate = _MEMORY_ESTIMATE if memory_estimate is None else int(memory_estimate)
+    estimate = min(max(estimate, _MIN_ESTIMATE), _MAX_ESTIMATE)
+    mgr = dd.cudd.BDD(memory_estimate=estimate, initial_cache_size=_INITIAL_CACHE)
     mgr.configure(reordering=reordering, loose_up_to=_LOOSE_UP_TO)
     return mgr
 
 
-_INITIAL_CACHE = 1 << 14  # computed-table entries at start; CUDD grows the table while its hit rate is high
-# CUDD zeroes a "death row" of 2^⌊log2(estimate / 640)⌋ pointers at start-up (dd never uses it) and garbage
-# collects eagerly once its nodes exceed 90 % of the estimate: 80 MiB − 1 keeps the row at 2^16 entries
-# (512 KiB) and muddy children N = 200 (≈ 60 MiB of nodes) clear of the eager collection.
-_MEMORY_ESTIMATE = 80 * (1 << 20) - 1
+def puzzle_memory(nodes: float) -> int:
+    """A memory estimate for :func:`new_manager` from the number of BDD nodes a problem is expected to
+    reach (live and dead, 32 bytes each in CUDD, with room for the unique and computed tables): four times
+    the nodes' bytes, at least 2 MiB."""
+    return max(_MIN_ESTIMATE, int(128 * nodes))
+
+
+_INITIAL_CACHE = 1 << 11  # computed-table entries at start; CUDD grows the table while its hit rate is high
+_MEMORY_ESTIMATE = 80 * (1 << 20) - 1  # the default: muddy children N = 200 (≈ 60 MiB) clear of eager GC
+_MIN_ESTIMATE = 2 * (1 << 20) - 1
+_MAX_ESTIMATE = 1 << 30  # dd's default; dd refuses estimates above the machine's memory
 _LOOSE_UP_TO = 50_000  # unique-table slots
 
 _PREPARED: list[bool] = []
@@ -896,9 +910,11 @@ def muddy_symbolic(children: int, muddy: int, *, max_rounds: int | None = None) 
     props = [f"m{i}" for i in range(children)]
     agents = [f"c{i}" for i in range(children)]
     actual = conj(Prop(p) if i < muddy else Not(Prop(p)) for i, p in enumerate(props))
+    # a manager sized to the puzzle: peak nodes grow ~N^3/4 (muddy 100: 229 k, 150: 692 k)
+    mgr = new_manager(memory_estimate=puzzle_memory(children ** 3 / 2))
     f = KnowledgeStructure.create(props, TOP, {a: [q for q in props if q != p] for a, p in zip(agents, props,
                                                                                                 strict=True)},
-                                  actual=actual)
+                                  actual=actual, bdd=mgr)
     f, nobody, muddy_round, clean_round, sizes = run_rounds(f.announce(at_least_one(children)), children, muddy,
                                                         max_rounds=max_rounds, size=KnowledgeStructure.node_size)
     return SymbolicMuddyResult(children, muddy, nobody, muddy_round, clean_round, max([f.node_size(), *sizes]),

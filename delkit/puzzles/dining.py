@@ -23,13 +23,13 @@ from typing import Any
 
 import numpy as np
 
-from delkit.formula import Announce, C, Formula, Iff, Implies, K, Kw, Not, Prop, conj, disj
+from delkit.formula import BOT, TOP, Announce, C, Formula, Iff, Implies, K, Kw, Not, Prop, conj, disj
 from delkit.kripke import KripkeModel
 from delkit.relation import Relation
 
 __all__ = ["DiningResult", "anonymity_formula", "dining_model", "dining_structure", "xor", "xor_all", "said",
            "solve_dining", "announce_whether", "smcdel_dining_structure", "smcdel_dining_formula",
-           "smcdel_dining_check"]
+           "smcdel_dining_check", "exactly_one"]
 
 
 @dataclass(frozen=True)
@@ -143,13 +143,26 @@ def smcdel_dining_structure(n: int) -> Any:
     """SMCDEL's ``genDcKnsInit n``: P0 (the NSA paid), P1…Pn (cryptographer i paid) and a shared bit for
     every pair of cryptographers (complete graph, n(n−1)/2 bits); θ = exactly one of P0…Pn; agent ``i``
     observes P_i and its n−1 shared bits. Variable order as SMCDEL's: payers, then bits pair by pair."""
-    from delkit.symbolic import KnowledgeStructure
+    from delkit.symbolic import KnowledgeStructure, new_manager, puzzle_memory
 
     bits = _smcdel_bits(n)
     props = [f"P{i}" for i in range(n + 1)] + list(bits.values())
-    payers = [Prop(f"P{i}") for i in range(n + 1)]
-    law = conj([disj(payers)] + [Not(payers[i] & payers[j]) for i in range(n + 1) for j in range(i + 1, n + 1)])
-    return KnowledgeStructure.create(props, law, _smcdel_observed(n, bits))
+    law = exactly_one([Prop(f"P{i}") for i in range(n + 1)])
+    # few nodes per variable (n = 80: 3,241 variables, 23.5 k nodes at the peak): a manager sized to that
+    mgr = new_manager(memory_estimate=puzzle_memory(64 * len(props)))
+    return KnowledgeStructure.create(props, law, _smcdel_observed(n, bits), bdd=mgr)
+
+
+def exactly_one(parts: list[Formula]) -> Formula:
+    """Exactly one of ``parts`` holds — SMCDEL's ``⋁ P_i ∧ ⋀_{i<j} ¬(P_i ∧ P_j)`` as the same Boolean function
+    written with O(n) shared subformulas instead of n(n+1)/2: ``one_k = (p_k ∧ none_{k+1}) ∨ (¬p_k ∧
+    one_{k+1})``, ``none_k = ¬p_k ∧ none_{k+1}`` (the evaluator computes a shared subformula once; n = 80:
+    244 BDD operations instead of 3,241)."""
+    one: Formula = BOT
+    none: Formula = TOP
+    for p in reversed(parts):
+        one, none = (p & none) | (Not(p) & one), Not(p) & none
+    return one
 
 
 def _smcdel_observed(n: int, bits: dict[tuple[int, int], str]) -> dict[str, list[str]]:

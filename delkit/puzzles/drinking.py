@@ -60,12 +60,15 @@ def drinking_model(wants: tuple[bool, ...]) -> KripkeModel:
 
 def drinking_structure(wants: tuple[bool, ...]) -> Any:
     """The knowledge structure: V = {w_i}, θ = ⊤, logician ``l<i>`` observes w_i; actual state ``wants``."""
-    from delkit.symbolic import KnowledgeStructure
+    from delkit.symbolic import KnowledgeStructure, new_manager, puzzle_memory
 
     props = [f"w{i}" for i in range(len(wants))]
+    # a manager sized to the puzzle (peak nodes ~1.2 n^2: n = 400, 187 k)
+    mgr = new_manager(memory_estimate=puzzle_memory(2 * len(props) ** 2))
     return KnowledgeStructure.create(props, observed={f"l{i}": [p] for i, p in enumerate(props)},
                                      actual=conj(Prop(p) if w else Not(Prop(p)) for p, w in zip(props, wants,
-                                                                                                 strict=True)))
+                                                                                                 strict=True)),
+                                     bdd=mgr)
 
 
 def solve_drinking(wants: tuple[bool, ...], *, symbolic: bool = False) -> DrinkingResult:

@@ -68,3 +68,40 @@ def test_cli_symbolic_puzzles_beyond_the_explicit_caps(capsys) -> None:
 def test_not_all_thirsty_formula_is_false_at_actual() -> None:
     ks = drinking_structure((True, False))
     assert ks.holds(Not(Prop("w1")))
+
+
+@pytest.mark.parametrize("estimate", [1, None, 1 << 40])
+def test_muddy_answer_does_not_depend_on_the_memory_estimate(estimate) -> None:
+    """The puzzles size their managers (``new_manager(memory_estimate=…)``): the estimate only moves CUDD's
+    eager-collection threshold (clamped to 2 MiB … 1 GiB), never the answer — below the threshold CUDD
+    collects garbage in the middle of the rounds."""
+    from delkit.puzzles.muddy import at_least_one, run_rounds
+    from delkit.symbolic import KnowledgeStructure, new_manager
+
+    n, m = 24, 17
+    props = [f"m{i}" for i in range(n)]
+    mgr = new_manager(memory_estimate=estimate)
+    f = KnowledgeStructure.create(props, observed={f"c{i}": [q for q in props if q != p] for i, p in
+                                                   enumerate(props)},
+                                  actual=" & ".join(props[:m] + [f"~{p}" for p in props[m:]]), bdd=mgr)
+    _, nobody, muddy_round, clean_round, _ = run_rounds(f.announce(at_least_one(n)), n, m,
+                                                        size=KnowledgeStructure.node_size)
+    assert (nobody, muddy_round, clean_round) == (m - 1, m, m + 1)
+
+
+@pytest.mark.parametrize("n", [0, 1, 2, 3, 5, 9])
+def test_exactly_one_is_smcdels_pairwise_law(n: int) -> None:
+    """The dining structure's law (:func:`exactly_one`, O(n) shared subformulas) is SMCDEL's
+    ``⋁ P_i ∧ ⋀_{i<j} ¬(P_i ∧ P_j)``: the same BDD, and the truth table agrees with a count of the true parts."""
+    from delkit.formula import conj, disj
+    from delkit.puzzles.dining import exactly_one
+    from delkit.symbolic import KnowledgeStructure
+
+    ps = [Prop(f"P{i}") for i in range(n + 1)]
+    pairwise = conj([disj(ps)] + [Not(ps[i] & ps[j]) for i in range(n + 1) for j in range(i + 1, n + 1)])
+    ks = KnowledgeStructure.create([p.name for p in ps])
+    assert ks.evaluate(exactly_one(ps)) == ks.evaluate(pairwise)
+    if n <= 5:
+        for bits in itertools.product([False, True], repeat=n + 1):
+            state = {p.name: b for p, b in zip(ps, bits, strict=True)}
+            assert ks.truth(exactly_one(ps), state) == (sum(bits) == 1)
