@@ -16,6 +16,10 @@ many runs (start-up is paid once per process, not per run), where
 
 :class:`concurrent.futures.ProcessPoolExecutor` does none of this: one dead worker breaks the whole pool.
 Workers are started with ``spawn`` (no fork of a threaded parent).
+
+:func:`actors` yields *stateful* workers for one computation split across processes (the parallel search of
+one task): N objects of a class, each in its own spawned process or as an actor of a Dask cluster, called by
+method name; a call returns at once and its reply is read later, so the caller can keep working meanwhile.
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ from typing import Any
 
 from delkit.errors import DelkitError
 
-__all__ = ["IsolatedPool", "RunKilled", "WorkerDied", "executor"]
+__all__ = ["IsolatedPool", "RunKilled", "WorkerDied", "executor", "actors", "Actor"]
 
 
 class RunKilled(RuntimeError):
@@ -250,3 +254,120 @@ def executor(workers: int | None = None, dask: str | None = None, dask_timeout: 
             yield pool
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
+
+
+# ---------------------------------------------------------------------------------------------- actors
+def _actor_main(conn: Any, cls: Callable, args: tuple) -> None:
+    """An actor's process: build ``cls(*args)`` (lazily: its failure is the first call's reply), then answer
+    (method, args) requests with (True, result) or (False, exception) until None or end of file."""
+    import gc
+
+    gc.disable()  # the actors of a search keep many long-lived objects and make no reference cycles per call
+    obj: Any = None
+    while True:
+        try:
+            job = conn.recv()
+        except (EOFError, OSError):
+            return
+        if job is None:
+            return
+        name, cargs = job
+        try:
+            if obj is None:
+                obj = cls(*args)
+            out: tuple = (True, getattr(obj, name)(*cargs))
+        except BaseException as exc:  # noqa: BLE001 - the failure is the caller's to report
+            out = (False, exc)
+        conn.send(out)
+
+
+class _Reply:
+    __slots__ = ("_conn", "_proc")
+
+    def __init__(self, conn: Any, proc: Any) -> None:
+        self._conn, self._proc = conn, proc
+
+    def result(self) -> Any:
+        try:
+            ok, value = self._conn.recv()
+        except (EOFError, OSError):
+            self._proc.join(1.0)
+            raise WorkerDied(_died(self._proc.exitcode)) from None
+        if not ok:
+            raise value
+        return value
+
+
+class Actor:
+    """A stateful worker: ``call(method, *args)`` starts ``obj.method(*args)`` in the worker and returns an
+    object whose ``result()`` waits for the reply (raising the worker's exception, or :class:`WorkerDied`).
+    One call at a time per actor: read a reply before the next call."""
+
+    def __init__(self, call: Callable[..., Any], close: Callable[[], None]) -> None:
+        self.call, self.close = call, close
+
+
+def _local_actor(ctx: Any, cls: Callable, args: tuple) -> Actor:
+    parent, child = ctx.Pipe()
+    proc = ctx.Process(target=_actor_main, args=(child, cls, args), daemon=True)
+    proc.start()
+    child.close()
+
+    def call(name: str, *cargs: Any) -> _Reply:
+        parent.send((name, cargs))
+        return _Reply(parent, proc)
+
+    def close() -> None:
+        try:
+            parent.send(None)
+        except OSError:
+            pass
+        proc.join(1.0)  # an idle actor ends at once; one still busy (a search stopped by a limit) is killed
+        if proc.is_alive():
+            proc.kill()
+            proc.join(1.0)
+        parent.close()
+
+    return Actor(call, close)
+
+
+@contextmanager
+def actors(cls: Callable, inits: list[tuple], dask: str | None = None,
+           dask_timeout: float = 10.0) -> Iterator[list[Actor]]:
+    """One :class:`Actor` per argument tuple of ``inits`` (``cls(*args)``): each in its own spawned local
+    process, or an actor of the Dask cluster at ``dask`` (spread over its workers in turn; the class must be
+    importable there). Closed (processes ended) on exit."""
+    if dask:
+        try:
+            from distributed import Client
+        except ImportError as exc:  # pragma: no cover - dask is a declared extra
+            raise DelkitError("--scheduler needs the 'distributed' package (pip install 'delkit[dask]')") from exc
+        try:
+            client = Client(dask, timeout=dask_timeout)
+        except (OSError, ValueError) as exc:
+            raise DelkitError(f"cannot reach the Dask scheduler at {dask!r} ({exc}); start one with "
+                              "'dask scheduler' or leave the address out to use local processes") from exc
+        try:
+            workers = sorted(client.scheduler_info().get("workers", {})) or [None]
+            futs = [client.submit(cls, *args, actor=True, pure=False,
+                                  workers=None if workers[i % len(workers)] is None else [workers[i % len(workers)]])
+                    for i, args in enumerate(inits)]
+            out = []
+            for fut in futs:
+                proxy = fut.result()
+                out.append(Actor(lambda name, *a, _p=proxy: getattr(_p, name)(*a), lambda: None))
+            yield out
+        finally:
+            client.close()
+        return
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("spawn")
+    made: list[Actor] = []
+    try:
+        for args in inits:
+            made.append(_local_actor(ctx, cls, args))
+        yield made
+    finally:
+        for a in made:
+            a.close()

@@ -1,159 +1,304 @@
 """Parallel breadth-first search of one task: ``delkit plan FILE --jobs N`` (N ≥ 2) on a single task.
 
-Layer-synchronous BFS on the compact backend. The parent keeps the visited set and the frontier; each layer
-is cut into chunks that N worker processes expand (each worker reads the task once and keeps its own compact
-engine). A state travels as its canonical record (valuations, successor masks, designated worlds) — the
-engine's frame numbers are per process, the record is the same in every process — and a worker returns,
-per state of its chunk and in the successor order of the serial search, (action, record, goal?) with the
-duplicates of its chunk removed. The parent merges the chunks in frontier order, drops the states seen
-before and stops at the first goal in that order: the plan is the one serial :func:`planners.epistemic.bfs`
-finds (same generation order, same duplicate detection, goal test at generation, the same dead-end pruning),
-so lengths are optimal and equal. Chunks are merged in order as they arrive and the search stops at the chunk
-with the first goal (``expanded`` counts the states of the merged chunks; chunks of the last layer already in
-the workers' hands are wasted work).
+Hash-distributed, layer-synchronous BFS on the compact backend, in N *parts*: the calling process is part 0
+and N-1 actors (:func:`delkit.executors.actors`: spawned local processes, or actors of a Dask cluster with
+``scheduler``) are the others; each reads the task once and keeps its own compact engine. A state belongs to
+the part its canonical record hashes to (``hash((valuations, hash(frame))) % N`` — ints and tuples of ints
+hash alike in every process); each part keeps the visited set of its own states, expands its own frontier
+and deduplicates what it is sent, so expansion *and* duplicate detection run in parallel and the caller only
+coordinates the layers and forwards the bytes between parts.
 
-What limits the speed-up: the parent's merge (hashing and deduplicating every successor record) is serial;
-records are pickled both ways; layers end with a barrier (the slowest chunk); workers pay their own task
-reading. It pays when an expansion is expensive (states with many worlds) and layers are wide.
+A successor owned by another part travels as (valuations, frame number, the parent's path, step) with the
+frames (successor masks, designated worlds) that part has not been sent before — a frame is shared by many
+states — and a part never sends a state twice (it expands in path order, so the first copy it sent had the
+smaller path). Keys are the serial search's own ``(valuations, frame)``, so duplicate detection is exact.
+
+Same plan as serial :func:`planners.epistemic.bfs`: serial BFS gives each state the first (parent's rank,
+successor position) that generates it and stops at the first goal generated, i.e. the lexicographically
+least sequence of successor positions among shortest paths (through non-pruned states). Every state here
+carries that sequence (its *path*: position × number of actions + action index, so the plan is read off
+it); a part keeps the least path of every new state, the next frontier is sorted by it, and the frontier is
+expanded in rounds (contiguous slices in path order). When a round's merge finds goals, every part also
+expands its remaining states whose path is at most the best goal's parent's, and the least goal path after
+that is serial BFS's plan. Goal test at generation, the same dead-end pruning (h_epi's dead ends are seen
+but not expanded) and the same believes-⊥ rule, as the parts run the serial search's state space.
+
+What limits the speed-up: a barrier per round (the slowest part), each part's own start-up (reading the
+task: overlapped with the caller's), the states the parts send each other (every generated successor owned
+elsewhere, ~(N-1)/N of them, is pickled once and unpickled once — its frame only the first time), the work
+past the goal in the last round, and the commutation memo of the serial space (a sensing's successor
+predicted from two known transitions), which sees only the transitions its own part computed.
 """
 
 from __future__ import annotations
 
+import gc
+import pickle
 import time
+from operator import itemgetter
 from pathlib import Path
 from typing import Any
 
 __all__ = ["run_plan_parallel", "parallel_bfs"]
 
-_SPACE: Any = None
-_DEAD: Any = None
+#: at most this many rounds per layer (the work past the goal is at most about one round of the last layer)
+ROUNDS = 12
+#: at least this many states per part in a round (fewer rounds on small layers: a round costs a barrier)
+MIN_ROUND = 24
+#: states with more worlds than this belong to the part their frame hashes to (all states of a frame in one
+#: part: the compact engine caches a product's shape per frame); smaller ones by valuations and frame
+FRAME_WORLDS = 16
 
 
-def _record(s: Any) -> tuple:
-    return (s.val, s.masks, s.points)
+class _Part:
+    """One part of the search (module docstring): its visited set, its frontier, the layer being built."""
+
+    def __init__(self, me: int, n: int, spec: str, problem: str | None, library: list[str], strict: bool,
+                 engine: str, allow_inconsistent: bool, built: tuple | None = None) -> None:
+        from planners.heuristics import dead_end_test
+
+        if built is None:
+            from planners.lang import load_task
+            from planners.lang.epddl_run import space_for
+
+            task = load_task(Path(spec), Path(problem) if problem else None, [Path(p) for p in library],
+                             strict=strict)
+            space = space_for(task, engine, allow_inconsistent)
+        else:
+            task, space = built
+        self.me, self.n, self.space = me, n, space
+        self.dead = dead_end_test(space)  # as serial BFS: proven dead ends are seen but not expanded
+        self.nact = len(task.actions)
+        self.aindex = {a.name: i for i, a in enumerate(task.actions)}
+        self.seen: set = set()
+        self.cur: dict = {}  # key -> [least path, state (None: a goal or a pruned dead end)] of this layer
+        self.goals: list = []  # keys of this layer's goal states
+        self.fhash: dict[int, int] = {}  # local frame number -> hash of the frame
+        self.sent: list[set] = [set() for _ in range(n)]  # keys sent to each part
+        self.fsent: list[set] = [set() for _ in range(n)]  # frame numbers each part has been sent
+        self.fmap: list[dict] = [{} for _ in range(n)]  # per sending part: its frame number -> ours
+        self.expanded = self.generated = self.pruned = 0
+        s0, k0 = space.initial()
+        self.fast_key = k0 == (s0.val, s0.fid)  # the key is (valuations, frame number): built without a state
+        self.seen.add(k0)
+        self.frontier: list = [((), s0)] if self._owner(s0) == me else []
+        self.pos = 0
+
+    def _owner(self, s: Any) -> int:
+        fh = self.fhash.get(s.fid)
+        if fh is None:
+            fh = self.fhash[s.fid] = hash((s.masks, s.points))
+        return (fh if len(s.val) > FRAME_WORLDS else hash((s.val, fh))) % self.n
+
+    def _new(self, key: Any, path: tuple, s: Any) -> None:
+        if self.space.is_goal(s):
+            self.cur[key] = [path, None]
+            self.goals.append(key)
+        elif self.dead is not None and self.dead(s):
+            self.cur[key] = [path, None]
+            self.pruned += 1
+        else:
+            self.cur[key] = [path, s]
+
+    def size(self) -> int:
+        return len(self.frontier) - self.pos
+
+    def expand(self, count: int | None, upto: tuple | None, deadline: float) -> tuple[list, int, int, bool]:
+        """Expand the next ``count`` states of the frontier (or, ``upto``: those whose path is ≤ it), in path
+        order, until the wall-clock ``deadline`` (``time.time()``); the successors owned here are merged at once.
+        Returns (per part the pickled successors it owns, or None), states expanded, states left, deadline hit."""
+        me, n, nact, aindex, big = self.me, self.n, self.nact, self.aindex, FRAME_WORLDS
+        seen, cur, fhash, sent, fsent = self.seen, self.cur, self.fhash, self.sent, self.fsent
+        new, succ, front = self._new, self.space.successors, self.frontier
+        out: list[list] = [[] for _ in range(n)]
+        frames: list[list] = [[] for _ in range(n)]
+        i, end = self.pos, len(front) if count is None else min(len(front), self.pos + count)
+        late = False
+        gen = 0
+        while i < end:
+            path, s = front[i]
+            if upto is not None and path > upto:
+                break
+            if time.time() > deadline:
+                late = True
+                break
+            front[i] = None  # the state is not needed any more
+            i += 1
+            j = 0
+            for name, nxt, key in succ(s):
+                elem = j * nact + aindex[name]
+                j += 1
+                fid = nxt.fid
+                fh = fhash.get(fid)
+                if fh is None:
+                    fh = fhash[fid] = hash((nxt.masks, nxt.points))
+                o = (fh if len(nxt.val) > big else hash((nxt.val, fh))) % n
+                if o == me:
+                    if key in seen:
+                        e = cur.get(key)
+                        if e is not None:
+                            p = path + (elem,)
+                            if p < e[0]:
+                                e[0] = p
+                        continue
+                    seen.add(key)
+                    new(key, path + (elem,), nxt)
+                    continue
+                so = sent[o]
+                if key in so:  # sent before, with a smaller path (this part expands in path order)
+                    continue
+                so.add(key)
+                if fid not in fsent[o]:
+                    fsent[o].add(fid)
+                    frames[o].append((fid, nxt.masks, nxt.points))
+                out[o].append((nxt.val, fid, path, elem))
+            gen += j
+        done = i - self.pos
+        self.expanded += done
+        self.generated += gen
+        self.pos = i
+        blobs = [None if o == me or not out[o] else pickle.dumps((frames[o], out[o]), pickle.HIGHEST_PROTOCOL)
+                 for o in range(n)]
+        return blobs, done, len(front) - i, late
+
+    def merge(self, blobs: list[tuple[int, bytes]]) -> tuple | None:
+        """Merge the successors other parts sent (``(sender, bytes)``); the least path of this layer's goals."""
+        from delkit.compact import CompactState, frame_id
+
+        seen, cur, new, fast = self.seen, self.cur, self._new, self.fast_key
+        for src, blob in blobs:
+            frames, recs = pickle.loads(blob)
+            fm = self.fmap[src]
+            for rfid, masks, points in frames:
+                fm[rfid] = (frame_id(masks, points), masks, points)
+            for val, rfid, ppath, elem in recs:
+                lf, masks, points = fm[rfid]
+                s = None
+                if fast:
+                    key = (val, lf)
+                else:
+                    s = CompactState(val, masks, points, lf)
+                    key = s.key
+                if key in seen:
+                    e = cur.get(key)
+                    if e is not None:
+                        p = ppath + (elem,)
+                        if p < e[0]:
+                            e[0] = p
+                    continue
+                seen.add(key)
+                new(key, ppath + (elem,), s if s is not None else CompactState(val, masks, points, lf))
+        return min((cur[k][0] for k in self.goals), default=None)
+
+    def next_layer(self) -> int:
+        """The new states (not goals, not dead ends) become the frontier, in path order; its size."""
+        self.frontier = sorted(((e[0], e[1]) for e in self.cur.values() if e[1] is not None), key=itemgetter(0))
+        self.cur = {}
+        self.pos = 0
+        return len(self.frontier)
+
+    def stats(self) -> tuple[int, int, int, int]:
+        """(expanded, generated, dead ends: believes ⊥ + pruned, distinct states seen)."""
+        return self.expanded, self.generated, self.space.dead_ends + self.pruned, len(self.seen)
 
 
-def _init(spec: str, problem: str | None, library: list[str], strict: bool, engine: str,
-          allow_inconsistent: bool) -> None:
-    global _SPACE, _DEAD
-    from planners.heuristics import dead_end_test
-    from planners.lang import load_task
-    from planners.lang.epddl_run import space_for
-
-    task = load_task(Path(spec), Path(problem) if problem else None, [Path(p) for p in library], strict=strict)
-    _SPACE = space_for(task, engine, allow_inconsistent)
-    _DEAD = dead_end_test(_SPACE)  # as serial BFS: proven dead ends are seen but not expanded
-
-
-def _expand(chunk: list[tuple]) -> tuple[list[list[tuple]], int]:
-    """Expand the states of a chunk: per state its new successors (action, record, is goal); dead ends."""
-    from delkit.compact import CompactState, frame_id
-
-    space = _SPACE
-    before = space.dead_ends
-    out = []
-    seen: set = set()
-    for val, masks, points in chunk:
-        s = CompactState(val, masks, points, frame_id(masks, points))
-        succ = []
-        for name, nxt, _key in space.successors(s):
-            rec = _record(nxt)
-            if rec in seen:
-                continue
-            seen.add(rec)
-            goal = space.is_goal(nxt)
-            succ.append((name, rec, goal, not goal and _DEAD is not None and _DEAD(nxt)))
-        out.append(succ)
-    return out, space.dead_ends - before
-
-
-def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float = 60.0,
+def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float | None = 60.0,
                  max_nodes: int | None = None, engine: str = "auto", allow_inconsistent: bool = False,
-                 library: list[Path] | None = None, strict: bool = False):
-    """Layer-synchronous BFS in ``jobs`` worker processes; a :class:`planners.epistemic.SearchResult`
-    (``search`` = ``"bfs"``), and the task."""
-    import multiprocessing
-
+                 library: list[Path] | None = None, strict: bool = False, scheduler: str | None = None):
+    """BFS of one task in ``jobs`` parts (this process and ``jobs - 1`` local processes, or actors of the Dask
+    cluster at ``scheduler``); a :class:`planners.epistemic.SearchResult` (``search`` = ``"bfs"``) and the
+    task, or (None, task) when the task runs on the numpy backend (the caller then searches serially)."""
+    from delkit.executors import actors
     from planners.epistemic import SearchResult
     from planners.lang import load_task
     from planners.lang.epddl_run import space_for
     from planners.spaces import CompactSpace
 
     t0 = time.perf_counter()
-    lib = [str(p) for p in library or ()]
-    task = load_task(spec, problem, list(library or ()), strict=strict, deadline=time.monotonic() + timeout)
-    space = space_for(task, engine, allow_inconsistent)
-    if not isinstance(space, CompactSpace):
-        return None, task  # the numpy backend's states are not records: the caller searches serially
-    s0, _k0 = space.initial()
-    if space.is_goal(s0):
-        return SearchResult("solved", (), 0, 1, time.perf_counter() - t0, "bfs", "the goal holds initially",
-                            distinct_states=1), task
-    r0 = _record(s0)
-    parent: dict[tuple, Any] = {r0: None}
-    frontier = [r0]
-    expanded = generated = dead = 0
-    ctx = multiprocessing.get_context("spawn")
-    pool = ctx.Pool(jobs, initializer=_init, initargs=(str(spec), str(problem) if problem else None, lib, strict,
-                                                       engine, space.allow_inconsistent))
-
-    def done(status: str, plan: tuple | None, reason: str) -> tuple[SearchResult, Any]:
-        return SearchResult(status, plan, expanded, generated, time.perf_counter() - t0, "bfs", reason, dead,
-                            len(parent)), task
-
+    limit = float("inf") if timeout is None else timeout
+    wall_end = time.time() + limit
+    jobs = max(1, int(jobs))
+    args = (str(spec), str(problem) if problem else None, [str(p) for p in library or ()], strict, engine,
+            allow_inconsistent)
+    was = gc.isenabled()
+    gc.disable()  # as serial BFS (planners.epistemic._gc_paused): many long-lived objects, no cycles per node
     try:
-        while frontier:
-            left = timeout - (time.perf_counter() - t0)
-            if left <= 0:
-                return done("limit", None, f"no plan within limits: time limit {timeout:g} s reached")
+        with actors(_Part, [(i, jobs, *args) for i in range(1, jobs)], dask=scheduler) as helpers:
+            warm = [h.call("size") for h in helpers]  # the helpers read the task while this process does
+            task = load_task(spec, problem, list(library or ()), strict=strict,
+                             deadline=None if timeout is None else time.monotonic() + timeout)
+            space = space_for(task, engine, allow_inconsistent)
+            if not isinstance(space, CompactSpace):
+                return None, task  # the numpy backend's states are not records: the caller searches serially
+            s0, _k0 = space.initial()
+            if space.is_goal(s0):
+                return SearchResult("solved", (), 0, 1, time.perf_counter() - t0, "bfs",
+                                    "the goal holds initially", distinct_states=1), task
+            me = _Part(0, jobs, *args, built=(task, space))
+            sizes = [me.size()] + [w.result() for w in warm]
+            return _coordinate(me, helpers, sizes, task, t0, limit, wall_end, max_nodes), task
+    finally:
+        if was:
+            gc.enable()
+
+
+def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float, limit: float, wall_end: float,
+                max_nodes: int | None):
+    from planners.epistemic import SearchResult
+
+    n = 1 + len(helpers)
+    expanded = 0
+
+    def run_all(method: str, per_part: list[tuple]) -> list:
+        pending = [h.call(method, *per_part[i + 1]) for i, h in enumerate(helpers)]
+        first = getattr(me, method)(*per_part[0])
+        return [first] + [p.result() for p in pending]
+
+    def expand_merge(per_part: list[tuple]) -> tuple[tuple | None, list[int], bool]:
+        nonlocal expanded
+        res = run_all("expand", per_part)
+        expanded += sum(r[1] for r in res)
+        goals = run_all("merge", [([(src, res[src][0][d]) for src in range(n) if res[src][0][d] is not None],)
+                                  for d in range(n)])
+        return min((g for g in goals if g is not None), default=None), [r[2] for r in res], any(r[3] for r in res)
+
+    def done(status: str, plan: tuple | None, reason: str) -> SearchResult:
+        st = run_all("stats", [()] * n)
+        return SearchResult(status, plan, expanded, sum(s[1] for s in st), time.perf_counter() - t0, "bfs", reason,
+                            sum(s[2] for s in st), sum(s[3] for s in st) - (n - 1))  # the initial state: once
+
+    time_out = f"no plan within limits: time limit {limit:g} s reached"
+    names = [a.name for a in task.actions]
+    while sum(sizes):
+        rounds = max(1, min(ROUNDS, sum(sizes) // (MIN_ROUND * n)))
+        chunk = [-(-sz // rounds) for sz in sizes]
+        while True:
+            if time.perf_counter() - t0 > limit:
+                return done("limit", None, time_out)
             if max_nodes is not None and expanded >= max_nodes:
                 return done("limit", None, f"no plan within limits: expanded-node limit {max_nodes} reached")
-            size = max(1, min(256, -(-len(frontier) // (4 * jobs))))
-            chunks = [frontier[i:i + size] for i in range(0, len(frontier), size)]
-            results = pool.imap(_expand, chunks)  # in order: merged as they come, stopped at the first goal
-            nxt = []
-            goal = None
-            for chunk in chunks:
-                try:
-                    succs, d = results.next(timeout=max(0.0, timeout - (time.perf_counter() - t0)))
-                except multiprocessing.TimeoutError:
-                    return done("limit", None, f"no plan within limits: time limit {timeout:g} s reached")
-                dead += d
-                expanded += len(chunk)
-                for rec, succ in zip(chunk, succs, strict=True):
-                    for name, new, is_goal, is_dead in succ:
-                        generated += 1
-                        if new in parent:
-                            continue
-                        parent[new] = (rec, name)
-                        if is_goal and goal is None:
-                            goal = new
-                        if is_dead:
-                            dead += 1
-                        else:
-                            nxt.append(new)
-                    if goal is not None:
-                        break
-                if goal is not None:
-                    break
+            step = chunk if max_nodes is None else [min(c, -(-(max_nodes - expanded) // n)) for c in chunk]
+            goal, left, late = expand_merge([(c, None, wall_end) for c in step])
+            if late:
+                return done("limit", None, time_out)
             if goal is not None:
-                plan = []
-                key = goal
-                while parent[key] is not None:
-                    key, act = parent[key]
-                    plan.append(act)
-                return done("solved", tuple(reversed(plan)), "")
-            frontier = nxt
-        return done("unsolvable", None, "the reachable state space is exhausted: no plan exists")
-    finally:
-        pool.terminate()
-        pool.join()
+                # serial BFS's first goal: also expand every state that comes before the best goal's parent
+                more, _left, late = expand_merge([(None, goal[:-1], wall_end)] * n)
+                if late:
+                    return done("limit", None, time_out)
+                goal = more if more is not None else goal  # the least goal path: ≤ the one found first
+                nact = len(names)
+                return done("solved", tuple(names[e % nact] for e in goal), "")
+            if not any(left):
+                break
+        sizes = run_all("next_layer", [()] * n)
+    return done("unsolvable", None, "the reachable state space is exhausted: no plan exists")
 
 
 def run_plan_parallel(spec: Path, problem: Path | None = None, *, jobs: int = 2, search: str = "bfs",
                       as_json: bool = False, timeout: float = 60.0, max_nodes: int | None = None,
                       engine: str = "auto", allow_inconsistent: bool = False, library: list[Path] | None = None,
-                      strict: bool = False, **rest: Any) -> int:
+                      strict: bool = False, scheduler: str | None = None, **rest: Any) -> int:
     """``delkit plan FILE --jobs N`` for one task: :func:`parallel_bfs` (BFS only; other searches and the
     numpy backend run serially, as without ``--jobs``); returns the exit status."""
 
@@ -163,9 +308,13 @@ def run_plan_parallel(spec: Path, problem: Path | None = None, *, jobs: int = 2,
                   allow_inconsistent=allow_inconsistent, library=library, strict=strict, **rest)
     if search != "bfs":
         return run_plan(spec, problem, **serial)
-    res, task = parallel_bfs(spec, problem, jobs, timeout=timeout, max_nodes=max_nodes, engine=engine,
-                             allow_inconsistent=allow_inconsistent, library=library, strict=strict)
+    from delkit.resources import parse_timeout
+
+    res, task = parallel_bfs(spec, problem, jobs, timeout=parse_timeout(timeout), max_nodes=max_nodes, engine=engine,
+                             allow_inconsistent=allow_inconsistent, library=library, strict=strict,
+                             scheduler=scheduler)
     if res is None:
         return run_plan(spec, problem, **serial)
-    return report_search(res, {**res.to_json(), "task": task.name, "jobs": jobs}, f"parallel bfs, {jobs} workers",
+    where = f"dask {scheduler}" if scheduler else f"{jobs} workers"
+    return report_search(res, {**res.to_json(), "task": task.name, "jobs": jobs}, f"parallel bfs, {where}",
                          as_json)
