@@ -115,8 +115,8 @@ def main() -> None:
                           f"{r['load'][0]:5.2f} → {r['load'][1]:5.2f}  {js.get('status')} length {js.get('length')} "
                           f"expanded {js.get('expanded')}", flush=True)
         print()
-        print("| instance | serial wall s | serial CPU s | --jobs %d wall s | --jobs %d CPU s | speed-up (wall) | "
-              "CPU ratio | same plan | load (min–max) |" % (a.jobs, a.jobs))
+        print(f"| instance | serial wall s | serial CPU s | --jobs {a.jobs} wall s | --jobs {a.jobs} CPU s | "
+              "speed-up (wall) | CPU ratio | same plan | load (min–max) |")
         print("|---|---|---|---|---|---|---|---|---|")
         for name, kinds in runs.items():
             s, p = kinds["serial"], kinds["parallel"]

@@ -50,6 +50,12 @@ MIN_ROUND = 24
 FRAME_WORLDS = 16
 
 
+def _mix(h: int) -> int:
+    """The high bits of a multiplicative hash of ``h``: Python's tuple hashes are not uniform modulo small
+    numbers (their low bits follow the tuples' structure), which would give one part most of a kind of state."""
+    return ((h * 0x9E3779B97F4A7C15) & 0xFFFFFFFFFFFFFFFF) >> 32
+
+
 class _Part:
     """One part of the search (module docstring): its visited set, its frontier, the layer being built."""
 
@@ -87,8 +93,8 @@ class _Part:
     def _owner(self, s: Any) -> int:
         fh = self.fhash.get(s.fid)
         if fh is None:
-            fh = self.fhash[s.fid] = hash((s.masks, s.points))
-        return (fh if len(s.val) > FRAME_WORLDS else hash((s.val, fh))) % self.n
+            fh = self.fhash[s.fid] = _mix(hash((s.masks, s.points)))
+        return (fh if len(s.val) > FRAME_WORLDS else _mix(hash((s.val, fh)))) % self.n
 
     def _new(self, key: Any, path: tuple, s: Any) -> None:
         if self.space.is_goal(s):
@@ -107,7 +113,7 @@ class _Part:
         """Expand the next ``count`` states of the frontier (or, ``upto``: those whose path is ≤ it), in path
         order, until the wall-clock ``deadline`` (``time.time()``); the successors owned here are merged at once.
         Returns (per part the pickled successors it owns, or None), states expanded, states left, deadline hit."""
-        me, n, nact, aindex, big = self.me, self.n, self.nact, self.aindex, FRAME_WORLDS
+        me, n, nact, aindex, big, mix = self.me, self.n, self.nact, self.aindex, FRAME_WORLDS, _mix
         seen, cur, fhash, sent, fsent = self.seen, self.cur, self.fhash, self.sent, self.fsent
         new, succ, front = self._new, self.space.successors, self.frontier
         out: list[list] = [[] for _ in range(n)]
@@ -131,8 +137,8 @@ class _Part:
                 fid = nxt.fid
                 fh = fhash.get(fid)
                 if fh is None:
-                    fh = fhash[fid] = hash((nxt.masks, nxt.points))
-                o = (fh if len(nxt.val) > big else hash((nxt.val, fh))) % n
+                    fh = fhash[fid] = mix(hash((nxt.masks, nxt.points)))
+                o = (fh if len(nxt.val) > big else mix(hash((nxt.val, fh)))) % n
                 if o == me:
                     if key in seen:
                         e = cur.get(key)
