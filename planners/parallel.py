@@ -50,10 +50,13 @@ MIN_ROUND = 24
 FRAME_WORLDS = 16
 
 
+_MUL, _LOW64 = 0x9E3779B97F4A7C15, 0xFFFFFFFFFFFFFFFF
+
+
 def _mix(h: int) -> int:
     """The high bits of a multiplicative hash of ``h``: Python's tuple hashes are not uniform modulo small
     numbers (their low bits follow the tuples' structure), which would give one part most of a kind of state."""
-    return ((h * 0x9E3779B97F4A7C15) & 0xFFFFFFFFFFFFFFFF) >> 32
+    return ((h * _MUL) & _LOW64) >> 32
 
 
 class _Part:
@@ -94,7 +97,7 @@ class _Part:
         fh = self.fhash.get(s.fid)
         if fh is None:
             fh = self.fhash[s.fid] = _mix(hash((s.masks, s.points)))
-        return (fh if len(s.val) > FRAME_WORLDS else _mix(hash((s.val, fh)))) % self.n
+        return (fh if len(s.val) > FRAME_WORLDS else _mix(hash(s.val) ^ fh)) % self.n
 
     def _new(self, key: Any, path: tuple, s: Any) -> None:
         if self.space.is_goal(s):
@@ -109,11 +112,14 @@ class _Part:
     def size(self) -> int:
         return len(self.frontier) - self.pos
 
-    def expand(self, count: int | None, upto: tuple | None, deadline: float) -> tuple[list, int, int, bool]:
+    def expand(self, count: int | None, upto: tuple | None, deadline: float) -> tuple[list, int, int, bool, float]:
         """Expand the next ``count`` states of the frontier (or, ``upto``: those whose path is ≤ it), in path
         order, until the wall-clock ``deadline`` (``time.time()``); the successors owned here are merged at once.
-        Returns (per part the pickled successors it owns, or None), states expanded, states left, deadline hit."""
+        Returns (per part the pickled successors it owns, or None), states expanded, states left, deadline hit,
+        CPU seconds."""
+        c0 = time.process_time()
         me, n, nact, aindex, big, mix = self.me, self.n, self.nact, self.aindex, FRAME_WORLDS, _mix
+        mul, low = _MUL, _LOW64
         seen, cur, fhash, sent, fsent = self.seen, self.cur, self.fhash, self.sent, self.fsent
         new, succ, front = self._new, self.space.successors, self.frontier
         out: list[list] = [[] for _ in range(n)]
@@ -138,7 +144,7 @@ class _Part:
                 fh = fhash.get(fid)
                 if fh is None:
                     fh = fhash[fid] = mix(hash((nxt.masks, nxt.points)))
-                o = (fh if len(nxt.val) > big else mix(hash((nxt.val, fh)))) % n
+                o = (fh if len(nxt.val) > big else (((hash(nxt.val) ^ fh) * mul) & low) >> 32) % n  # _owner
                 if o == me:
                     if key in seen:
                         e = cur.get(key)
@@ -165,10 +171,12 @@ class _Part:
         self.pos = i
         blobs = [None if o == me or not out[o] else pickle.dumps((frames[o], out[o]), pickle.HIGHEST_PROTOCOL)
                  for o in range(n)]
-        return blobs, done, len(front) - i, late
+        return blobs, done, len(front) - i, late, time.process_time() - c0
 
-    def merge(self, blobs: list[tuple[int, bytes]]) -> tuple | None:
-        """Merge the successors other parts sent (``(sender, bytes)``); the least path of this layer's goals."""
+    def merge(self, blobs: list[tuple[int, bytes]]) -> tuple[tuple | None, float]:
+        """Merge the successors other parts sent (``(sender, bytes)``); the least path of this layer's goals
+        and the CPU seconds."""
+        c0 = time.process_time()
         from delkit.compact import CompactState, frame_id
 
         seen, cur, new, fast = self.seen, self.cur, self._new, self.fast_key
@@ -194,7 +202,7 @@ class _Part:
                     continue
                 seen.add(key)
                 new(key, ppath + (elem,), s if s is not None else CompactState(val, masks, points, lf))
-        return min((cur[k][0] for k in self.goals), default=None)
+        return min((cur[k][0] for k in self.goals), default=None), time.process_time() - c0
 
     def next_layer(self) -> int:
         """The new states (not goals, not dead ends) become the frontier, in path order; its size."""
@@ -210,10 +218,16 @@ class _Part:
 
 def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float | None = 60.0,
                  max_nodes: int | None = None, engine: str = "auto", allow_inconsistent: bool = False,
-                 library: list[Path] | None = None, strict: bool = False, scheduler: str | None = None):
+                 library: list[Path] | None = None, strict: bool = False, scheduler: str | None = None,
+                 stats: dict | None = None):
     """BFS of one task in ``jobs`` parts (this process and ``jobs - 1`` local processes, or actors of the Dask
     cluster at ``scheduler``); a :class:`planners.epistemic.SearchResult` (``search`` = ``"bfs"``) and the
-    task, or (None, task) when the task runs on the numpy backend (the caller then searches serially)."""
+    task, or (None, task) when the task runs on the numpy backend (the caller then searches serially).
+
+    ``stats`` (a dict) receives ``parts_cpu`` (each part's CPU seconds in the search's rounds), ``phases``
+    (expand and merge phases, each a barrier) and ``critical_cpu``: the sum over phases of the slowest part's
+    CPU — the search's length on idle cores, whatever the machine's load (the caller's own coordination and
+    the start-up are outside it)."""
     from delkit.executors import actors
     from planners.epistemic import SearchResult
     from planners.lang import load_task
@@ -242,14 +256,15 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
                                     "the goal holds initially", distinct_states=1), task
             me = _Part(0, jobs, *args, built=(task, space))
             sizes = [me.size()] + [w.result() for w in warm]
-            return _coordinate(me, helpers, sizes, task, t0, limit, wall_end, max_nodes), task
+            return _coordinate(me, helpers, sizes, task, t0, limit, wall_end, max_nodes,
+                               {} if stats is None else stats), task
     finally:
         if was:
             gc.enable()
 
 
 def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float, limit: float, wall_end: float,
-                max_nodes: int | None):
+                max_nodes: int | None, stats: dict):
     from planners.epistemic import SearchResult
 
     n = 1 + len(helpers)
@@ -260,16 +275,31 @@ def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float
         first = getattr(me, method)(*per_part[0])
         return [first] + [p.result() for p in pending]
 
+    def phase(cpus: list[float]) -> None:
+        # a phase lasts as long as its slowest part: the rest of the parts' CPU ran alongside it
+        for i, c in enumerate(cpus):
+            busy[i] += c
+        stats["critical_cpu"] += max(cpus)
+        stats["phases"] += 1
+
     def expand_merge(per_part: list[tuple]) -> tuple[tuple | None, list[int], bool]:
         nonlocal expanded
         res = run_all("expand", per_part)
+        phase([r[4] for r in res])
         expanded += sum(r[1] for r in res)
         goals = run_all("merge", [([(src, res[src][0][d]) for src in range(n) if res[src][0][d] is not None],)
                                   for d in range(n)])
-        return min((g for g in goals if g is not None), default=None), [r[2] for r in res], any(r[3] for r in res)
+        phase([g[1] for g in goals])
+        best = min((g[0] for g in goals if g[0] is not None), default=None)
+        return best, [r[2] for r in res], any(r[3] for r in res)
+
+    busy = [0.0] * n
+    stats.update(critical_cpu=0.0, phases=0, parts_cpu=busy)
 
     def done(status: str, plan: tuple | None, reason: str) -> SearchResult:
         st = run_all("stats", [()] * n)
+        stats["parts_cpu"] = [round(b, 3) for b in busy]
+        stats["critical_cpu"] = round(stats["critical_cpu"], 3)
         return SearchResult(status, plan, expanded, sum(s[1] for s in st), time.perf_counter() - t0, "bfs", reason,
                             sum(s[2] for s in st), sum(s[3] for s in st) - (n - 1))  # the initial state: once
 
@@ -316,11 +346,12 @@ def run_plan_parallel(spec: Path, problem: Path | None = None, *, jobs: int = 2,
         return run_plan(spec, problem, **serial)
     from delkit.resources import parse_timeout
 
+    stats: dict = {}
     res, task = parallel_bfs(spec, problem, jobs, timeout=parse_timeout(timeout), max_nodes=max_nodes, engine=engine,
                              allow_inconsistent=allow_inconsistent, library=library, strict=strict,
-                             scheduler=scheduler)
+                             scheduler=scheduler, stats=stats)
     if res is None:
         return run_plan(spec, problem, **serial)
     where = f"dask {scheduler}" if scheduler else f"{jobs} workers"
-    return report_search(res, {**res.to_json(), "task": task.name, "jobs": jobs}, f"parallel bfs, {where}",
-                         as_json)
+    return report_search(res, {**res.to_json(), "task": task.name, "jobs": jobs, "parallel": stats},
+                         f"parallel bfs, {where}", as_json)
