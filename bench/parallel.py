@@ -89,13 +89,15 @@ def measured(files: list[str], jobs: int | None, timeout: float) -> dict:
 
 
 def critical(r: dict) -> float:
-    """A parallel run's CPU on its critical path: its whole CPU (all processes) less the part of the search's
-    CPU that ran alongside the slowest part of each phase (``parallel.parts_cpu`` and ``critical_cpu`` of its
-    JSON) — what its wall time would be on idle cores; the workers' start-up counts as if not overlapped."""
+    """A parallel run's CPU on its critical path: its whole CPU (all processes) less what ran alongside —
+    the search's CPU beside the slowest part of each phase (``parallel.parts_cpu``, ``critical_cpu`` of its
+    JSON) and each worker's start-up beside the caller's (``start_cpu``: the shorter of the two) — what its
+    wall time would be on idle cores."""
     st = r["json"].get("parallel") or {}
     if not st:
         return float("nan")
-    return r["cpu"] - (sum(st["parts_cpu"]) - st["critical_cpu"])
+    start = st.get("start_cpu") or [0.0]
+    return r["cpu"] - (sum(st["parts_cpu"]) - st["critical_cpu"]) - sum(min(start[0], h) for h in start[1:])
 
 
 def main() -> None:

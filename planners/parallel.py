@@ -23,11 +23,15 @@ expands its remaining states whose path is at most the best goal's parent's, and
 that is serial BFS's plan. Goal test at generation, the same dead-end pruning (h_epi's dead ends are seen
 but not expanded) and the same believes-⊥ rule, as the parts run the serial search's state space.
 
-What limits the speed-up: a barrier per round (the slowest part), each part's own start-up (reading the
-task: overlapped with the caller's), the states the parts send each other (every generated successor owned
-elsewhere, ~(N-1)/N of them, is pickled once and unpickled once — its frame only the first time), the work
-past the goal in the last round, and the commutation memo of the serial space (a sensing's successor
-predicted from two known transitions), which sees only the transitions its own part computed.
+What limits the speed-up (measured in ``bench/RESULTS-planner.md`` §10): the caches of the state space and
+the compact engine are per process, so each part fills its own — the candidate actions per designated
+valuation, the transition tables, and above all the product *shapes* per frame, whose look-ups the engine
+turns off for an event model while fewer than a quarter of them hit: split between parts, the states of a
+task hit at different rates and one part may lose its hits (Grapevine_5 pl6: +20 % product refinements in
+all); each part's own start-up (reading the task, overlapped with the caller's); a barrier per phase (the
+slowest part); the successors sent between parts (pickled once, unpickled once, a frame only the first time
+a part sends it); the work past the goal in the last round; and the commutation memo of the serial space (a
+sensing's successor predicted from two known transitions), which sees only its own part's transitions.
 """
 
 from __future__ import annotations
@@ -99,6 +103,7 @@ class _Part:
         self.seen.add(k0)
         self.frontier: list = [((), s0)] if self._owner(s0) == me else []
         self.pos = 0
+        self.start_cpu = time.process_time()  # this process's CPU until the part is ready (its start-up)
 
     def _owner(self, s: Any) -> int:
         fh = self.fhash.get(s.fid)
@@ -118,6 +123,10 @@ class _Part:
 
     def size(self) -> int:
         return len(self.frontier) - self.pos
+
+    def started(self) -> tuple[int, float]:
+        """(frontier size, the process's CPU seconds until the part was ready)."""
+        return self.size(), self.start_cpu
 
     def expand(self, count: int | None, upto: tuple | None, deadline: float) -> tuple[list, int, int, bool, float]:
         """Expand the next ``count`` states of the frontier (or, ``upto``: those whose path is ≤ it), in path
@@ -230,10 +239,11 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
     cluster at ``scheduler``); a :class:`planners.epistemic.SearchResult` (``search`` = ``"bfs"``) and the
     task, or (None, task) when the task runs on the numpy backend (the caller then searches serially).
 
-    ``stats`` (a dict) receives ``parts_cpu`` (each part's CPU seconds in the search's rounds), ``phases``
-    (expand and merge phases, each a barrier) and ``critical_cpu``: the sum over phases of the slowest part's
-    CPU — the search's length on idle cores, whatever the machine's load (the caller's own coordination and
-    the start-up are outside it)."""
+    ``stats`` (a dict) receives ``start_cpu`` (each part's process CPU seconds until it was ready: its
+    start-up; the helpers' runs alongside the caller's), ``parts_cpu`` (each part's CPU seconds in the
+    search's phases), ``phases`` (expand and merge phases, each a barrier) and ``critical_cpu``: the sum over
+    phases of the slowest part's CPU — the search's length on idle cores, whatever the machine's load (the
+    caller's own coordination and the start-up are outside it)."""
     from delkit.executors import actors
     from planners.epistemic import SearchResult
     from planners.lang import load_task
@@ -250,7 +260,7 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
     gc.disable()  # as serial BFS (planners.epistemic._gc_paused): many long-lived objects, no cycles per node
     try:
         with actors(_Part, [(i, jobs, *args) for i in range(1, jobs)], dask=scheduler) as helpers:
-            warm = [h.call("size") for h in helpers]  # the helpers read the task while this process does
+            warm = [h.call("started") for h in helpers]  # the helpers read the task while this process does
             task = load_task(spec, problem, list(library or ()), strict=strict,
                              deadline=None if timeout is None else time.monotonic() + timeout)
             space = space_for(task, engine, allow_inconsistent)
@@ -261,7 +271,10 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
                 return SearchResult("solved", (), 0, 1, time.perf_counter() - t0, "bfs",
                                     "the goal holds initially", distinct_states=1), task
             me = _Part(0, jobs, *args, built=(task, space))
-            sizes = [me.size()] + [w.result() for w in warm]
+            ready = [me.started()] + [w.result() for w in warm]
+            sizes = [r[0] for r in ready]
+            if stats is not None:
+                stats["start_cpu"] = [round(r[1], 3) for r in ready]
             return _coordinate(me, helpers, sizes, task, t0, limit, wall_end, max_nodes,
                                {} if stats is None else stats), task
     finally:
@@ -300,7 +313,7 @@ def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float
         return best, [r[2] for r in res], any(r[3] for r in res)
 
     busy = [0.0] * n
-    stats.update(critical_cpu=0.0, phases=0, parts_cpu=busy)
+    stats.update(critical_cpu=0.0, phases=0, parts_cpu=busy)  # (start_cpu: set by parallel_bfs)
 
     def done(status: str, plan: tuple | None, reason: str) -> SearchResult:
         st = run_all("stats", [()] * n)
