@@ -229,21 +229,26 @@ def _died(code: int | None) -> str:
     return f"the worker process exited with status {code}"
 
 
+def _dask_client(dask: str, timeout: float) -> Any:
+    """A ``distributed.Client`` of the scheduler at ``dask``; a :class:`DelkitError` saying how to fix it."""
+    try:
+        from distributed import Client
+    except ImportError as exc:  # pragma: no cover - dask is a declared extra
+        raise DelkitError("--scheduler needs the 'distributed' package (pip install 'delkit[dask]')") from exc
+    try:
+        return Client(dask, timeout=timeout)
+    except (OSError, ValueError) as exc:  # unreachable, timed out, or not an address
+        raise DelkitError(f"cannot reach the Dask scheduler at {dask!r} ({exc}); start one with "
+                          "'dask scheduler' or leave the address out to use local processes") from exc
+
+
 @contextmanager
 def executor(workers: int | None = None, dask: str | None = None, dask_timeout: float = 10.0, *,
              hard_timeout: float | None = None, memory_mb: float | None = None) -> Iterator[Executor]:
     """A local :class:`IsolatedPool`, or the executor of the Dask cluster at ``dask`` (e.g.
     ``tcp://127.0.0.1:8786``; its workers and their memory limits are the cluster's)."""
     if dask:
-        try:
-            from distributed import Client
-        except ImportError as exc:  # pragma: no cover - dask is a declared extra
-            raise DelkitError("--scheduler needs the 'distributed' package (pip install 'delkit[dask]')") from exc
-        try:
-            client = Client(dask, timeout=dask_timeout)
-        except (OSError, ValueError) as exc:  # unreachable, timed out, or not an address
-            raise DelkitError(f"cannot reach the Dask scheduler at {dask!r} ({exc}); start one with "
-                              "'dask scheduler' or leave the address out to use local processes") from exc
+        client = _dask_client(dask, dask_timeout)
         try:
             yield client.get_executor()
         finally:
@@ -338,15 +343,7 @@ def actors(cls: Callable, inits: list[tuple], dask: str | None = None,
     process, or an actor of the Dask cluster at ``dask`` (spread over its workers in turn; the class must be
     importable there). Closed (processes ended) on exit."""
     if dask:
-        try:
-            from distributed import Client
-        except ImportError as exc:  # pragma: no cover - dask is a declared extra
-            raise DelkitError("--scheduler needs the 'distributed' package (pip install 'delkit[dask]')") from exc
-        try:
-            client = Client(dask, timeout=dask_timeout)
-        except (OSError, ValueError) as exc:
-            raise DelkitError(f"cannot reach the Dask scheduler at {dask!r} ({exc}); start one with "
-                              "'dask scheduler' or leave the address out to use local processes") from exc
+        client = _dask_client(dask, dask_timeout)
         try:
             workers = sorted(client.scheduler_info().get("workers", {})) or [None]
             futs = [client.submit(cls, *args, actor=True, pure=False,
