@@ -283,21 +283,28 @@ def _actor_main(conn: Any, cls: Callable, args: tuple) -> None:
             out: tuple = (True, getattr(obj, name)(*cargs))
         except BaseException as exc:  # noqa: BLE001 - the failure is the caller's to report
             out = (False, exc)
-        conn.send(out)
+        try:
+            conn.send(out)
+        except OSError:  # the caller has gone (it stopped at a limit and exited): nobody to answer
+            return
 
 
 class _Reply:
-    __slots__ = ("_conn", "_proc")
+    __slots__ = ("_conn", "_proc", "_pending")
 
-    def __init__(self, conn: Any, proc: Any) -> None:
-        self._conn, self._proc = conn, proc
+    def __init__(self, conn: Any, proc: Any, pending: list) -> None:
+        self._conn, self._proc, self._pending = conn, proc, pending
 
-    def result(self) -> Any:
+    def result(self, timeout: float | None = None) -> Any:
+        """The call's value (or its exception); :class:`TimeoutError` if none came within ``timeout`` s."""
         try:
+            if timeout is not None and not self._conn.poll(max(0.0, timeout)):
+                raise TimeoutError(f"no reply within {timeout:g} s")
             ok, value = self._conn.recv()
         except (EOFError, OSError):
             self._proc.join(1.0)
             raise WorkerDied(_died(self._proc.exitcode)) from None
+        self._pending[0] = False
         if not ok:
             raise value
         return value
@@ -305,8 +312,9 @@ class _Reply:
 
 class Actor:
     """A stateful worker: ``call(method, *args)`` starts ``obj.method(*args)`` in the worker and returns an
-    object whose ``result()`` waits for the reply (raising the worker's exception, or :class:`WorkerDied`).
-    One call at a time per actor: read a reply before the next call."""
+    object whose ``result(timeout=None)`` waits for the reply (raising the worker's exception,
+    :class:`WorkerDied`, or :class:`TimeoutError`). One call at a time per actor: read a reply before the
+    next call."""
 
     def __init__(self, call: Callable[..., Any], close: Callable[[], None]) -> None:
         self.call, self.close = call, close
@@ -318,16 +326,21 @@ def _local_actor(ctx: Any, cls: Callable, args: tuple) -> Actor:
     proc.start()
     child.close()
 
+    pending = [False]  # a call whose reply was not read: the actor is (or may be) still working
+
     def call(name: str, *cargs: Any) -> _Reply:
         parent.send((name, cargs))
-        return _Reply(parent, proc)
+        pending[0] = True
+        return _Reply(parent, proc, pending)
 
     def close() -> None:
         try:
             parent.send(None)
         except OSError:
             pass
-        proc.join(1.0)  # an idle actor ends at once; one still busy (a search stopped by a limit) is killed
+        # an idle actor ends by itself; it is killed if it is busy (a limit) or slow to free its memory (a search
+        # leaves millions of objects: ~1 s of deallocation that nothing needs)
+        proc.join(0.0 if pending[0] else 0.05)
         if proc.is_alive():
             proc.kill()
             proc.join(1.0)

@@ -245,6 +245,7 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
     phases of the slowest part's CPU — the search's length on idle cores, whatever the machine's load (the
     caller's own coordination and the start-up are outside it)."""
     from delkit.executors import actors
+    from delkit.resources import keep_alive
     from planners.epistemic import SearchResult
     from planners.lang import load_task
     from planners.lang.epddl_run import space_for
@@ -271,7 +272,12 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
                 return SearchResult("solved", (), 0, 1, time.perf_counter() - t0, "bfs",
                                     "the goal holds initially", distinct_states=1), task
             me = _Part(0, jobs, *args, built=(task, space))
-            ready = [me.started()] + [w.result() for w in warm]
+            keep_alive(me)  # console script: freeing the search's states must not delay the exit
+            try:
+                ready = [me.started()] + [w.result(max(0.0, wall_end - time.time())) for w in warm]
+            except TimeoutError:  # a worker still starting (a loaded machine) when the time is up
+                return SearchResult("limit", None, 0, 1, time.perf_counter() - t0, "bfs",
+                                    f"no plan within limits: time limit {limit:g} s reached", 0, 1), task
             sizes = [r[0] for r in ready]
             if stats is not None:
                 stats["start_cpu"] = [round(r[1], 3) for r in ready]
@@ -284,6 +290,7 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
 
 def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float, limit: float, wall_end: float,
                 max_nodes: int | None, stats: dict):
+    from delkit.resources import TimeLimit
     from planners.epistemic import SearchResult
 
     n = 1 + len(helpers)
@@ -292,7 +299,8 @@ def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float
     def run_all(method: str, per_part: list[tuple]) -> list:
         pending = [h.call(method, *per_part[i + 1]) for i, h in enumerate(helpers)]
         first = getattr(me, method)(*per_part[0])
-        return [first] + [p.result() for p in pending]
+        # a part checks the deadline between states: its reply comes at most one expansion after it
+        return [first] + [p.result(max(1.0, wall_end - time.time() + 1.0)) for p in pending]
 
     def phase(cpus: list[float]) -> None:
         # a phase lasts as long as its slowest part: the rest of the parts' CPU ran alongside it
@@ -306,6 +314,8 @@ def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float
         res = run_all("expand", per_part)
         phase([r[4] for r in res])
         expanded += sum(r[1] for r in res)
+        if any(r[3] for r in res):  # the time is up: no merge
+            return None, [r[2] for r in res], True
         goals = run_all("merge", [([(src, res[src][0][d]) for src in range(n) if res[src][0][d] is not None],)
                                   for d in range(n)])
         phase([g[1] for g in goals])
@@ -323,6 +333,18 @@ def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float
                             sum(s[2] for s in st), sum(s[3] for s in st) - (n - 1))  # the initial state: once
 
     time_out = f"no plan within limits: time limit {limit:g} s reached"
+    try:
+        return _layers(me, sizes, task, t0, limit, wall_end, max_nodes, run_all, expand_merge, done, time_out,
+                       lambda: expanded)
+    except TimeLimit:  # the caller's alarm stopped an expansion of part 0: the workers may be mid-call
+        _e, gen, dead, seen = me.stats()
+        return SearchResult("limit", None, expanded, gen, time.perf_counter() - t0, "bfs", time_out, dead, seen)
+
+
+def _layers(me: _Part, sizes: list[int], task: Any, t0: float, limit: float, wall_end: float,
+            max_nodes: int | None, run_all: Any, expand_merge: Any, done: Any, time_out: str, count: Any):
+    """The layers and rounds of :func:`_coordinate` (``count()``: the states expanded so far)."""
+    n = len(sizes)
     names = [a.name for a in task.actions]
     while sum(sizes):
         rounds = max(1, min(ROUNDS, sum(sizes) // (MIN_ROUND * n)))
@@ -330,6 +352,7 @@ def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float
         while True:
             if time.perf_counter() - t0 > limit:
                 return done("limit", None, time_out)
+            expanded = count()
             if max_nodes is not None and expanded >= max_nodes:
                 return done("limit", None, f"no plan within limits: expanded-node limit {max_nodes} reached")
             step = chunk if max_nodes is None else [min(c, -(-(max_nodes - expanded) // n)) for c in chunk]
@@ -363,14 +386,23 @@ def run_plan_parallel(spec: Path, problem: Path | None = None, *, jobs: int = 2,
                   allow_inconsistent=allow_inconsistent, library=library, strict=strict, **rest)
     if search != "bfs":
         return run_plan(spec, problem, **serial)
-    from delkit.resources import parse_timeout
+    from delkit.resources import command_start, parse_timeout
 
+    limit = parse_timeout(timeout)  # counted from the start of the process, as serial plan's (and its watchdog's)
+    left = None if limit is None else max(0.0, command_start() + limit - time.monotonic())
     stats: dict = {}
-    res, task = parallel_bfs(spec, problem, jobs, timeout=parse_timeout(timeout), max_nodes=max_nodes, engine=engine,
+    # the workers and part 0 check the deadline between states (not inside an expansion, as serial plan's alarm
+    # does: an alarm would also fire inside the worker pipes' clean-up); the console's watchdog is the backstop
+    res, task = parallel_bfs(spec, problem, jobs, timeout=left, max_nodes=max_nodes, engine=engine,
                              allow_inconsistent=allow_inconsistent, library=library, strict=strict,
                              scheduler=scheduler, stats=stats)
     if res is None:
         return run_plan(spec, problem, **serial)
-    where = f"dask {scheduler}" if scheduler else f"{jobs} workers"
+    if res.status == "limit" and "time limit" in res.reason:
+        import dataclasses
+
+        res = dataclasses.replace(res, reason=f"no plan within limits: --timeout {timeout:g} s reached (counted "
+                                              "from the start of the process) while searching")
+    where = f"{jobs} parts on dask {scheduler}" if scheduler else f"{jobs} processes"
     return report_search(res, {**res.to_json(), "task": task.name, "jobs": jobs, "parallel": stats},
                          f"parallel bfs, {where}", as_json)
