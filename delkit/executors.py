@@ -16,6 +16,10 @@ many runs (start-up is paid once per process, not per run), where
 
 :class:`concurrent.futures.ProcessPoolExecutor` does none of this: one dead worker breaks the whole pool.
 Workers are started with ``spawn`` (no fork of a threaded parent).
+
+:func:`actors` yields *stateful* workers for one computation split across processes (the parallel search of
+one task): N objects of a class, each in its own spawned process or as an actor of a Dask cluster, called by
+method name; a call returns at once and its reply is read later, so the caller can keep working meanwhile.
 """
 
 from __future__ import annotations
@@ -31,7 +35,7 @@ from typing import Any
 
 from delkit.errors import DelkitError
 
-__all__ = ["IsolatedPool", "RunKilled", "WorkerDied", "executor"]
+__all__ = ["IsolatedPool", "RunKilled", "WorkerDied", "executor", "actors", "Actor"]
 
 
 class RunKilled(RuntimeError):
@@ -225,20 +229,27 @@ def _died(code: int | None) -> str:
     return f"the worker process exited with status {code}"
 
 
-@contextmanager
-def dask_executor(address: str, timeout: float = 10.0, *, option: str = "--scheduler",
-                  error: type[DelkitError] = DelkitError) -> Iterator[Executor]:
-    """The executor of the Dask cluster at ``address`` (e.g. ``tcp://127.0.0.1:8786``), closed afterwards;
-    ``option`` names the command's option in the messages, ``error`` is the exception they are raised as."""
+def _dask_client(address: str, timeout: float, option: str = "--scheduler",
+                 error: type[DelkitError] = DelkitError) -> Any:
+    """A ``distributed.Client`` of the scheduler at ``address``; else ``error`` saying how to fix it
+    (``option`` names the command's option in the message)."""
     try:
         from distributed import Client
     except ImportError as exc:  # pragma: no cover - dask is a declared extra
         raise error(f"{option} needs the 'distributed' package (pip install 'delkit[dask]')") from exc
     try:
-        client = Client(address, timeout=timeout)
+        return Client(address, timeout=timeout)
     except (OSError, ValueError) as exc:  # unreachable, timed out, or not an address
         raise error(f"cannot reach the Dask scheduler at {address!r} ({exc}); start one with "
                     f"'dask scheduler' or leave {option} out to use local processes") from exc
+
+
+@contextmanager
+def dask_executor(address: str, timeout: float = 10.0, *, option: str = "--scheduler",
+                  error: type[DelkitError] = DelkitError) -> Iterator[Executor]:
+    """The executor of the Dask cluster at ``address`` (e.g. ``tcp://127.0.0.1:8786``), closed afterwards;
+    ``option`` names the command's option in the messages, ``error`` is the exception they are raised as."""
+    client = _dask_client(address, timeout, option, error)
     try:
         yield client.get_executor()
     finally:
@@ -259,3 +270,125 @@ def executor(workers: int | None = None, dask: str | None = None, dask_timeout: 
             yield pool
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
+
+
+# ---------------------------------------------------------------------------------------------- actors
+def _actor_main(conn: Any, cls: Callable, args: tuple) -> None:
+    """An actor's process: build ``cls(*args)`` (lazily: its failure is the first call's reply), then answer
+    (method, args) requests with (True, result) or (False, exception) until None or end of file."""
+    import gc
+
+    gc.disable()  # the actors of a search keep many long-lived objects and make no reference cycles per call
+    obj: Any = None
+    while True:
+        try:
+            job = conn.recv()
+        except (EOFError, OSError):
+            return
+        if job is None:
+            return
+        name, cargs = job
+        try:
+            if obj is None:
+                obj = cls(*args)
+            out: tuple = (True, getattr(obj, name)(*cargs))
+        except BaseException as exc:  # noqa: BLE001 - the failure is the caller's to report
+            out = (False, exc)
+        try:
+            conn.send(out)
+        except OSError:  # the caller has gone (it stopped at a limit and exited): nobody to answer
+            return
+
+
+class _Reply:
+    __slots__ = ("_conn", "_proc", "_pending")
+
+    def __init__(self, conn: Any, proc: Any, pending: list) -> None:
+        self._conn, self._proc, self._pending = conn, proc, pending
+
+    def result(self, timeout: float | None = None) -> Any:
+        """The call's value (or its exception); :class:`TimeoutError` if none came within ``timeout`` s."""
+        try:
+            if timeout is not None and not self._conn.poll(max(0.0, timeout)):
+                raise TimeoutError(f"no reply within {timeout:g} s")
+            ok, value = self._conn.recv()
+        except (EOFError, OSError):
+            self._proc.join(1.0)
+            raise WorkerDied(_died(self._proc.exitcode)) from None
+        self._pending[0] = False
+        if not ok:
+            raise value
+        return value
+
+
+class Actor:
+    """A stateful worker: ``call(method, *args)`` starts ``obj.method(*args)`` in the worker and returns an
+    object whose ``result(timeout=None)`` waits for the reply (raising the worker's exception,
+    :class:`WorkerDied`, or :class:`TimeoutError`). One call at a time per actor: read a reply before the
+    next call."""
+
+    def __init__(self, call: Callable[..., Any], close: Callable[[], None]) -> None:
+        self.call, self.close = call, close
+
+
+def _local_actor(ctx: Any, cls: Callable, args: tuple) -> Actor:
+    parent, child = ctx.Pipe()
+    proc = ctx.Process(target=_actor_main, args=(child, cls, args), daemon=True)
+    proc.start()
+    child.close()
+
+    pending = [False]  # a call whose reply was not read: the actor is (or may be) still working
+
+    def call(name: str, *cargs: Any) -> _Reply:
+        parent.send((name, cargs))
+        pending[0] = True
+        return _Reply(parent, proc, pending)
+
+    def close() -> None:
+        try:
+            parent.send(None)
+        except OSError:
+            pass
+        # an idle actor ends by itself; it is killed if it is busy (a limit) or slow to free its memory (a search
+        # leaves millions of objects: ~1 s of deallocation that nothing needs)
+        proc.join(0.0 if pending[0] else 0.05)
+        if proc.is_alive():
+            proc.kill()
+            proc.join(1.0)
+        parent.close()
+
+    return Actor(call, close)
+
+
+@contextmanager
+def actors(cls: Callable, inits: list[tuple], dask: str | None = None,
+           dask_timeout: float = 10.0) -> Iterator[list[Actor]]:
+    """One :class:`Actor` per argument tuple of ``inits`` (``cls(*args)``): each in its own spawned local
+    process, or an actor of the Dask cluster at ``dask`` (spread over its workers in turn; the class must be
+    importable there). Closed (processes ended) on exit."""
+    if dask:
+        client = _dask_client(dask, dask_timeout)
+        try:
+            workers = sorted(client.scheduler_info().get("workers", {})) or [None]
+            futs = [client.submit(cls, *args, actor=True, pure=False,
+                                  workers=None if workers[i % len(workers)] is None else [workers[i % len(workers)]])
+                    for i, args in enumerate(inits)]
+            out = []
+            for fut in futs:
+                proxy = fut.result()
+                out.append(Actor(lambda name, *a, _p=proxy: getattr(_p, name)(*a), lambda: None))
+            yield out
+        finally:
+            client.close()
+        return
+    import multiprocessing
+
+    ctx = multiprocessing.get_context("spawn")
+    made: list[Actor] = []
+    try:
+        for args in inits:
+            made.append(_local_actor(ctx, cls, args))
+        yield made
+    finally:
+        for a in made:
+            a.close()

@@ -46,3 +46,16 @@ def test_parallel_bfs_limits() -> None:
     path = BENCH / "mastar" / "Coin_In_The_Box" / "Coin_in_the_Box__pl_7.txt"
     res, _ = parallel_bfs(path, None, 2, max_nodes=30)
     assert res.status == "limit" and "expanded-node limit" in res.reason
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_parallel_bfs_on_a_dask_cluster() -> None:
+    """The parts as actors of a Dask cluster (``scheduler``): the serial plan again."""
+    distributed = pytest.importorskip("distributed")
+    path = BENCH / "mastar" / "Grapevine" / "Grapevine_3" / "Grapevine_3__pl_3.txt"
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None,
+                                  protocol="tcp") as cluster:
+        par, _ = parallel_bfs(path, None, 3, timeout=120, scheduler=cluster.scheduler_address)
+    ser = bfs(space_for(load_task(path)), Limits(timeout=120))
+    assert par.status == "solved" and par.plan == ser.plan
