@@ -52,13 +52,17 @@ def plan_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: str
     _check_jobs(jobs, "delkit plan")
     if is_batch(files, {"jobs": jobs, "scheduler": scheduler}):
         units = plan_units(files)
-        if len(units) != 1 or scheduler:
+        parallel = jobs is not None and jobs > 1
+        # one task with --scheduler and no --jobs N: the batch runner (the task on one Dask worker); with
+        # --jobs N: one parallel search whose N parts are Dask actors
+        if len(units) != 1 or (scheduler and not parallel):
             return run_plan_batch(files, jobs=jobs, scheduler=scheduler, **options)
         files = [units[0][0]] + ([units[0][1]] if units[0][1] is not None else [])
-        if jobs is not None and jobs > 1:
+        if parallel:
             from planners.parallel import run_plan_parallel
 
-            return run_plan_parallel(files[0], files[1] if len(files) == 2 else None, jobs=jobs, **options)
+            return run_plan_parallel(files[0], files[1] if len(files) == 2 else None, jobs=jobs,
+                                     scheduler=scheduler, **options)
     return run_plan(files[0], files[1] if len(files) == 2 else None, **options)
 
 

@@ -59,3 +59,30 @@ def test_parallel_bfs_on_a_dask_cluster() -> None:
         par, _ = parallel_bfs(path, None, 3, timeout=120, scheduler=cluster.scheduler_address)
     ser = bfs(space_for(load_task(path)), Limits(timeout=120))
     assert par.status == "solved" and par.plan == ser.plan
+
+
+@pytest.mark.slow
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_cli_one_task_jobs_and_scheduler_is_a_parallel_search_on_the_cluster() -> None:
+    """``delkit plan TASK --jobs N --scheduler ADDR``: one parallel search whose parts are the cluster's actors
+    (not the batch runner, which would search serially on one worker)."""
+    import json
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    distributed = pytest.importorskip("distributed")
+    path = BENCH / "mastar" / "Grapevine" / "Grapevine_3" / "Grapevine_3__pl_3.txt"
+    repo = Path(__file__).resolve().parents[2]
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False, dashboard_address=None,
+                                  protocol="tcp") as cluster:
+        proc = subprocess.run([sys.executable, "-c", "import sys; from delkit.cli import main; sys.exit(main())",
+                               "plan", str(path), "--jobs", "2", "--scheduler", cluster.scheduler_address,
+                               "--json"], capture_output=True, text=True, timeout=300,
+                              env={**os.environ, "PYTHONPATH": str(repo)})
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout.splitlines()[-1])
+    assert "summary" not in out and out.get("processes", out.get("jobs")) == 2, out
+    ser = bfs(space_for(load_task(path)), Limits(timeout=120))
+    assert out["plan"] == list(ser.plan)
