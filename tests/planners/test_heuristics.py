@@ -348,3 +348,36 @@ def test_cc_generator_reproduces_its_instances() -> None:
         assert mod.draw(2, 4, 4, 3, seed) == want
     small = parse_mastar(mod.draw(2, 2, 2, 2, 1), "cc.txt")
     assert plan(small, search="astar").length == plan(small, search="bfs").length == 2
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(mastar_tasks(), st.sampled_from(["plain", "plain", "plain", "macro", "event"]))
+def test_h_elim_admissible_consistent_dominates_h_chain_and_astar_optimal(text: str, kind: str) -> None:
+    from delkit.errors import DelkitError
+    from planners.heuristics import h_chain, h_elim, transparent_props
+
+    try:
+        task = _variant(parse_mastar(text, "random.txt"), kind)
+        space = make_space(task)
+        got = _distances(space, limit=1500)
+    except DelkitError:
+        return
+    if got is None:
+        return
+    states, succ, dist = got
+    h, h0 = h_elim(space), h_chain(space)
+    trans = transparent_props(space)
+    pidx = {p: i for i, p in enumerate(task.props)}
+    by_key = dict(states)
+    for k, s in states:
+        for ai, x in enumerate(task.agents):   # x's view agrees with the pointed world on its transparent fluents
+            view = [s.val[w] for w in range(len(s.val)) if s.masks[ai][s.point] >> w & 1]
+            assert all(not (v ^ s.val[s.point]) >> pidx[p] & 1 for p in trans[x] for v in view), (text, x)
+        hv = h(s)
+        assert h0(s) <= hv <= dist.get(k, math.inf), (text, hv, dist.get(k))   # admissible, ≥ h_chain
+        for nk in succ[k]:
+            assert hv <= 1 + h(by_key[nk]) or hv == math.inf, text               # consistent
+    fresh = make_space(task)
+    a = best_first(fresh, Limits(timeout=30), kind="astar", h=h_elim(fresh))
+    b = plan(task, search="bfs", limits=Limits(timeout=30), allow_inconsistent=fresh.allow_inconsistent)
+    assert a.status == b.status and a.length == b.length, text
