@@ -10,7 +10,8 @@ exactly one room, unknown to everybody (R^B initial worlds). Actions, as in ``CC
 * ``tell_x_k_r``: x announces that box k is in room r (executable if x believes it); everybody observes it.
 
 The goal asks agents to believe where boxes are (``B(y, at_bk_r)`` for the box's actual room). ``--length
-L`` draws instances (seeded) until one whose optimal plan length, found by A* (h_chain), is L.
+L`` draws instances (seeded) until one whose optimal plan length, found by A* (``--heuristic``, default
+h_pdb), is L.
 
 Hardness parameters (all off by default: the defaults reproduce ``specs/cc_2_4_4``):
 
@@ -120,14 +121,16 @@ def hard_name(hard: dict[str, Any]) -> str:
     return f"_{tag}" if tag else ""
 
 
-def optimal_length(text: str, timeout: float) -> tuple[int | None, float, int]:
-    """(A*'s optimal plan length or None, CPU seconds, expanded nodes) of a CC task text."""
-    from planners.epistemic import Limits, plan
+def optimal_length(text: str, timeout: float, heuristic: str = "pdb") -> tuple[int | None, float, int]:
+    """(A*'s optimal plan length or None, CPU seconds, expanded nodes) of a CC task text (A* with the named
+    admissible heuristic, :func:`planners.heuristics.make_heuristic`; ``timeout`` wall seconds)."""
+    from planners.epistemic import Limits, best_first, make_space
+    from planners.heuristics import make_heuristic
     from planners.lang.mastar import parse_mastar
 
     c0 = time.process_time()
-    task = parse_mastar(text, "cc.txt")
-    res = plan(task, search="astar", limits=Limits(timeout=timeout))
+    space = make_space(parse_mastar(text, "cc.txt"))
+    res = best_first(space, Limits(timeout=timeout), kind="astar", h=make_heuristic(heuristic, space))
     return res.length, time.process_time() - c0, res.expanded
 
 
@@ -142,6 +145,7 @@ def main() -> None:
     ap.add_argument("--count", type=int, default=1, help="with --length: how many instances")
     ap.add_argument("--timeout", type=float, default=120.0, help="with --length: A*'s limit per try")
     ap.add_argument("--tries", type=int, default=60)
+    ap.add_argument("--heuristic", default="pdb", help="with --length: A*'s heuristic (epi, chain, elim, pdb)")
     ap.add_argument("--out", type=Path, default=None)
     ap.add_argument("--absent", action="store_true", help="a box may be in no room ((R+1)^B initial worlds)")
     ap.add_argument("--tell", choices=["public", "room"], default="public")
@@ -157,7 +161,7 @@ def main() -> None:
     found = 0
     for seed in range(a.seed, a.seed + a.tries):
         text = draw(a.agents, a.rooms, a.boxes, a.goals, seed, **hard)
-        n, cpu, exp = optimal_length(text, a.timeout)
+        n, cpu, exp = optimal_length(text, a.timeout, a.heuristic)
         print(f"seed {seed}: optimal length {n}, A* {cpu:.2f} s CPU, {exp} expanded", file=sys.stderr, flush=True)
         if n == a.length:
             name = f"CC_{a.agents}_{a.rooms}_{a.boxes}{hard_name(hard)}_s{seed}__pl_{n}.txt"

@@ -60,7 +60,7 @@ from typing import Any
 from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Prop, is_propositional, props_of
 from planners.task import Task, goal_conjuncts
 
-__all__ = ["h_gc", "h_01", "h_cover", "h_epi", "h_chain", "h_elim", "transparent_props", "dead_end_test",
+__all__ = ["h_gc", "h_01", "h_cover", "h_epi", "h_chain", "h_elim", "h_pdb", "transparent_props", "dead_end_test",
            "cover_sets", "prop_blocks", "content_conjuncts", "make_heuristic"]
 
 _MAX_EXACT = 16
@@ -512,8 +512,9 @@ def h_chain(space: Any) -> Callable[[Any], float]:
 
 
 def make_heuristic(name: str, space: Any) -> Callable[[Any], float]:
-    """Heuristic by name: ``gc``, ``01``, ``cover``, ``epi``, ``chain`` or ``elim``."""
-    table = {"gc": h_gc, "01": h_01, "cover": h_cover, "epi": h_epi, "chain": h_chain, "elim": h_elim}
+    """Heuristic by name: ``gc``, ``01``, ``cover``, ``epi``, ``chain``, ``elim`` or ``pdb``."""
+    table = {"gc": h_gc, "01": h_01, "cover": h_cover, "epi": h_epi, "chain": h_chain, "elim": h_elim,
+             "pdb": h_pdb}
     if name not in table:
         from delkit.errors import PlanningError
 
@@ -594,41 +595,18 @@ def transparent_props(space: Any) -> dict[str, frozenset[str]]:
     return out
 
 
-def h_elim(space: Any) -> Callable[[Any], float]:
-    """``max(h_chain, h_el)``: the elimination bound (admissible and consistent).
+def _elim_setup(space: Any) -> Any:
+    """What :func:`h_elim` and :func:`h_pdb` share: the elimination atoms (agent index, Q mask, φ, removers),
+    the goal's, each action's executability as (literals, atoms), the ontic effects for the h_max chains;
+    None when the analysis does not apply (general event models, several pointed worlds, no goal)."""
+    from types import SimpleNamespace
 
-    *Elimination atoms.* Take K_x φ (a goal conjunct, or a conjunct of an action's executability), φ
-    propositional, to which h_epi's belief-content argument applies (x's view V = V_-Q × V_Q at the initial
-    state, φ over the block union Q; :func:`content_conjuncts`), with no action setting a proposition of Q (so
-    the actual Q-part a is fixed and V_Q only shrinks). K_x φ holds exactly when every u ∈ V_Q with u ⊭ φ
-    has left V_Q. Such a u leaves only by a step x may fully observe whose Q-content tells u from a — a sensing
-    of a formula over Q with another value at u than at a, or an announcement whose Q-conjuncts hold at a (it
-    is applicable only where its content holds at the pointed world) but not at u — and that step must be
-    executable. So from s at least ``e(K_x φ) = max over the bad u of 1 + min over u's removers A of
-    c(exe A)`` steps are needed (0 if no bad u, ∞ if a bad u has no remover: a dead end).
-
-    *Costs of executability,* from the pointed valuation v of s: ``c0`` is h_max of the delete relaxation
-    *with* effect conditions (an effect l of A with literal-conjunct condition c costs 1 + max(c0(exe A),
-    c0(c))), where exe's literal conjuncts count and so do its belief literals B_x l over x-transparent
-    propositions (:func:`transparent_props`: B_x l ⟺ l at the pointed world); other conjuncts cost 0. Level 1
-    ``c1(exe A)`` is the max of c0 and of e¹ of the elimination atoms among exe(A)'s conjuncts, where e¹ uses
-    c0 for the removers; the goal's elimination conjuncts use c1 (e²): a ``tell`` by y of where a box is costs
-    what y needs to learn it first.
-
-    h_el(s) = the largest e² over the false goal elimination conjuncts, of c0(l) over false literal conjuncts,
-    of 1 + min c0(exe A) over the actions A whose cover holds any other false conjunct. Admissible: each level
-    bounds the steps before its formula first holds (the first remover of a bad u is executable then), by
-    induction on the plan's length. Consistent level by level: for a successor s' by B, c0_s ≤ 1 + c0_s'
-    (h_max over the pointed valuation), a u left over at s' is a u of s with the same removers, and a u that
-    B removed costs 1 at s (B was executable at s, so its level costs are 0 there).
-    """
-    base = h_chain(space)
     task = space.task
     conj = goal_conjuncts(task.goal)
     steps = [_steps(a) for a in task.actions]
     s0, _ = space.initial()
     if not conj or any(st is None for st in steps) or not hasattr(s0, "masks") or len(s0.points) != 1:
-        return base
+        return None
     pidx = {p: i for i, p in enumerate(task.props)}
     trans = transparent_props(space)
     content = content_conjuncts(space)
@@ -705,6 +683,44 @@ def h_elim(space: Any) -> Callable[[Any], float]:
                 cond = tuple(sorted({(pidx[q], b) for q, b in _lits(c) if q in pidx})) if len(st) == 1 else ()  # type: ignore[arg-type]
                 effs = ((pidx[p], v),) if isinstance(v, bool) else ((pidx[p], True), (pidx[p], False))
                 ontic.append((pre[i], cond, effs))
+    return SimpleNamespace(task=task, conj=conj, steps=steps, s0=s0, pidx=pidx, trans=trans, covers=covers,
+                           atoms=atoms, goal_atoms=goal_atoms, exe=exe, pre=pre, ontic=ontic, atom=atom)
+
+
+def h_elim(space: Any) -> Callable[[Any], float]:
+    """``max(h_chain, h_el)``: the elimination bound (admissible and consistent).
+
+    *Elimination atoms.* Take K_x φ (a goal conjunct, or a conjunct of an action's executability), φ
+    propositional, to which h_epi's belief-content argument applies (x's view V = V_-Q × V_Q at the initial
+    state, φ over the block union Q; :func:`content_conjuncts`), with no action setting a proposition of Q (so
+    the actual Q-part a is fixed and V_Q only shrinks). K_x φ holds exactly when every u ∈ V_Q with u ⊭ φ
+    has left V_Q. Such a u leaves only by a step x may fully observe whose Q-content tells u from a — a sensing
+    of a formula over Q with another value at u than at a, or an announcement whose Q-conjuncts hold at a (it
+    is applicable only where its content holds at the pointed world) but not at u — and that step must be
+    executable. So from s at least ``e(K_x φ) = max over the bad u of 1 + min over u's removers A of
+    c(exe A)`` steps are needed (0 if no bad u, ∞ if a bad u has no remover: a dead end).
+
+    *Costs of executability,* from the pointed valuation v of s: ``c0`` is h_max of the delete relaxation
+    *with* effect conditions (an effect l of A with literal-conjunct condition c costs 1 + max(c0(exe A),
+    c0(c))), where exe's literal conjuncts count and so do its belief literals B_x l over x-transparent
+    propositions (:func:`transparent_props`: B_x l ⟺ l at the pointed world); other conjuncts cost 0. Level 1
+    ``c1(exe A)`` is the max of c0 and of e¹ of the elimination atoms among exe(A)'s conjuncts, where e¹ uses
+    c0 for the removers; the goal's elimination conjuncts use c1 (e²): a ``tell`` by y of where a box is costs
+    what y needs to learn it first.
+
+    h_el(s) = the largest e² over the false goal elimination conjuncts, of c0(l) over false literal conjuncts,
+    of 1 + min c0(exe A) over the actions A whose cover holds any other false conjunct. Admissible: each level
+    bounds the steps before its formula first holds (the first remover of a bad u is executable then), by
+    induction on the plan's length. Consistent level by level: for a successor s' by B, c0_s ≤ 1 + c0_s'
+    (h_max over the pointed valuation), a u left over at s' is a u of s with the same removers, and a u that
+    B removed costs 1 at s (B was executable at s, so its level costs are 0 there).
+    """
+    base = h_chain(space)
+    z = _elim_setup(space)
+    if z is None:
+        return base
+    conj, pidx, atoms, goal_atoms, exe, pre, ontic, covers = (z.conj, z.pidx, z.atoms, z.goal_atoms, z.exe, z.pre,
+                                                              z.ontic, z.covers)
     if not goal_atoms and not ontic:
         return base
     kinds: list[tuple[str, Any]] = []
@@ -828,3 +844,197 @@ def _removers_of(u: int, a: int, removers: list[tuple[int, str, tuple[Formula, .
         if hit:
             out.append(act)
     return tuple(sorted(set(out)))
+
+
+_PDB_LIMIT = 40_000
+
+
+def h_pdb(space: Any) -> Callable[[Any], float]:
+    """``max(h_chain, max_i d_i)``: a pattern database per goal elimination conjunct (admissible, consistent).
+
+    For a goal conjunct K_x φ with an elimination atom (see :func:`h_elim`) the *pattern* tracks: the pointed
+    valuation on a set P of propositions, and the views V_Q of the tracked (agent, Q) pairs — x's for the
+    conjunct, and those of the elimination atoms in the executability of its removers (a ``tell`` needs the
+    teller to believe what it tells). P holds the literals (and transparent belief literals) of the
+    executability of every action in the pattern, closed under the effect conditions and executability of
+    the ontic actions that set P. An abstract state is (v_P, V_1, ..., V_m) with V_j ⊆ V_j(s0); an action is
+    applicable when its executability literals over P hold at v_P and its tracked atoms hold (V has no bad
+    value), ontic effects on P move v_P (conditions over P), and V_j loses every value the action may remove
+    (:func:`h_elim`'s removers). The goal: x's V has no value falsifying φ. d_i is the exact abstract goal
+    distance, tabulated once per task by backward BFS over every abstract state (patterns over
+    ``_PDB_LIMIT`` states are dropped).
+
+    Admissible: a real plan from s is an abstract plan from α(s) (real steps are applicable abstractly — the
+    abstract views are subsets of the real ones, since they lose everything that may be removed — and a
+    real goal state's views have no bad value). Consistent: for a real step s → s' by B, B's abstract
+    successor of α(s) has the same v_P and views ⊆ those of α(s'), and the abstract distance only grows with
+    the views (removal is per value), so d(α(s)) ≤ 1 + d(α(s'))."""
+    base = h_chain(space)
+    z = _elim_setup(space)
+    if z is None or not z.goal_atoms:
+        return base
+    tables = [t for t in (_pattern_table(z, i, a) for i, a in z.goal_atoms) if t is not None]
+    if not tables:
+        return base
+    inf = math.inf
+
+    def h(s: Any) -> float:
+        b = base(s)
+        if b == inf or len(s.points) != 1:
+            return b
+        v = s.val[s.point]
+        views: dict[int, set[int]] = {}
+        best = b
+        for pmask, tracked, dist in tables:
+            key = [v & pmask]
+            for ai, qmask, vals in tracked:
+                view = views.get(ai)
+                if view is None:
+                    m, w, view = s.masks[ai][s.point], 0, set()
+                    while m:
+                        if m & 1:
+                            view.add(s.val[w])
+                        m >>= 1
+                        w += 1
+                    views[ai] = view
+                bits = 0
+                for u in {x & qmask for x in view}:
+                    j = vals.get(u)
+                    if j is None:
+                        bits = -1
+                        break
+                    bits |= 1 << j
+                if bits < 0:
+                    break
+                key.append(bits)
+            else:
+                d = float(dist.get(tuple(key), inf))
+                if d > best:
+                    best = d
+                    if best == inf:
+                        return best
+        return best
+
+    return h
+
+
+def _pattern_table(z: Any, conj_index: int, goal_atom: int) -> tuple[int, list, dict] | None:
+    """(P mask, tracked [(agent index, Q mask, {Q-value: bit})], {abstract state: distance}) of one goal
+    elimination atom's pattern (see :func:`h_pdb`), or None when it is too large or does not apply."""
+    import itertools
+    from collections import deque
+
+    atoms, steps, exe, pidx, s0 = z.atoms, z.steps, z.exe, z.pidx, z.s0
+    v0 = s0.val[s0.point]
+    tracked_atoms = {goal_atom}
+    for a, _kind, _fs in atoms[goal_atom][3]:
+        tracked_atoms |= set(exe[a][1])
+    pairs = sorted({(atoms[t][0], atoms[t][1]) for t in tracked_atoms})
+    idx = {pq: j for j, pq in enumerate(pairs)}
+    vals = []
+    for ai, qmask in pairs:
+        view = {s0.val[w] & qmask for w in range(len(s0.val)) if s0.masks[ai][s0.point] >> w & 1}
+        vals.append({u: j for j, u in enumerate(sorted(view))})
+    acts = {a for t in tracked_atoms for a, _k, _f in atoms[t][3]}
+    # P: executability literals of the pattern's actions, closed under the ontic actions setting P
+    pset = {p for a in acts for p, _ in exe[a][0]}
+    ontic_of: dict[int, list] = {}
+    for a, st in enumerate(steps):
+        if len(st) != 1 or st[0].kind != "ontic":
+            if any(step.kind == "ontic" for step in st):
+                for step in st:
+                    for p, _v, _c in step.effects:
+                        if p in pidx and pidx[p] in pset:
+                            return None   # a macro moves P: its intermediate conditions are not tracked
+            continue
+        ontic_of[a] = [(pidx[p], v, tuple(sorted({(pidx[q], b) for q, b in _lits(c) if q in pidx})))
+                       for p, v, c in st[0].effects if p in pidx]
+    changed = True
+    while changed:
+        changed = False
+        for a, effs in ontic_of.items():
+            if any(p in pset for p, _, _ in effs):
+                if any(not isinstance(v, bool) for p, v, _ in effs if p in pset):
+                    return None
+                need = {p for p, _ in exe[a][0]} | {q for p, _v, c in effs if p in pset for q, _ in c}
+                if not need <= pset:
+                    pset |= need
+                    changed = True
+                acts.add(a)
+    for effs in ontic_of.values():   # a condition on an untracked proposition: the effect is not determined
+        for p, _v, c in effs:
+            if p in pset and any(q not in pset for q, _ in c):
+                return None
+    pmask = 0
+    for p in pset:
+        pmask |= 1 << p
+    # reachable v_P from s0 through the ontic actions (exe literals over P only)
+    def moved(vp: int, a: int) -> int | None:
+        if any(bool(vp >> p & 1) != b for p, b in exe[a][0] if p in pset):
+            return None
+        out = vp
+        for p, v, c in ontic_of.get(a, ()):
+            if p in pset and all(bool(vp >> q & 1) == b for q, b in c):
+                out = out | (1 << p) if v else out & ~(1 << p)
+        return out
+
+    reach = {v0 & pmask}
+    todo = [v0 & pmask]
+    while todo:
+        vp = todo.pop()
+        for a in ontic_of:
+            if a in acts:
+                n = moved(vp, a)
+                if n is not None and n not in reach:
+                    reach.add(n)
+                    todo.append(n)
+    size = len(reach)
+    for vs in vals:
+        size *= 1 << len(vs)
+    if size > _PDB_LIMIT:
+        return None
+    # per (action, tracked pair): the bits of the values it may remove; per tracked atom: its bad bits
+    a_q = [v0 & qmask for _ai, qmask in pairs]
+    remove: dict[int, list[int]] = {a: [0] * len(pairs) for a in acts}
+    for t in tracked_atoms:
+        j = idx[(atoms[t][0], atoms[t][1])]
+        for u, bit in vals[j].items():
+            for a in _removers_of(u, a_q[j], atoms[t][3], pidx):
+                if a in remove:
+                    remove[a][j] |= 1 << bit
+    # removal does not depend on φ: every tracked atom of the same pair has the same removers' contents
+    # (the removers of (x, Q) are the steps x may fully observe with Q-content), so one pass per pair suffices
+
+    def bad_bits(t: int) -> tuple[int, int]:
+        j = idx[(atoms[t][0], atoms[t][1])]
+        bits = 0
+        for u, bit in vals[j].items():
+            if not _peval(atoms[t][2], u, pidx):
+                bits |= 1 << bit
+        return j, bits
+
+    goal_j, goal_bad = bad_bits(goal_atom)
+    need_of = {a: [bad_bits(t) for t in exe[a][1] if t in tracked_atoms] for a in acts}
+    states = [tuple(k) for k in itertools.product(sorted(reach), *[range(1 << len(vs)) for vs in vals])]
+    pred: dict[tuple, list[tuple]] = {k: [] for k in states}
+    for k in states:
+        for a in acts:
+            if any(k[1 + j] & bad for j, bad in need_of[a]):
+                continue
+            vp = moved(k[0], a) if a in ontic_of else (
+                k[0] if all(bool(k[0] >> p & 1) == b for p, b in exe[a][0] if p in pset) else None)
+            if vp is None:
+                continue
+            nk = (vp, *(k[1 + j] & ~remove[a][j] for j in range(len(pairs))))
+            if nk != k and nk in pred:
+                pred[nk].append(k)
+    dist = {k: 0 for k in states if not k[1 + goal_j] & goal_bad}
+    todo2 = deque(dist)
+    while todo2:
+        k = todo2.popleft()
+        for pk in pred[k]:
+            if pk not in dist:
+                dist[pk] = dist[k] + 1
+                todo2.append(pk)
+    tracked = [(ai, qmask, vals[j]) for j, (ai, qmask) in enumerate(pairs)]
+    return pmask, tracked, dist
