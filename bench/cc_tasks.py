@@ -29,11 +29,13 @@ bench/RESULTS-planner.md §11 for their cost per expansion.
     .venv/bin/python bench/cc_tasks.py --agents 2 --rooms 4 --boxes 4 --goals 2 --seed 3 > cc.txt
     .venv/bin/python bench/cc_tasks.py --agents 2 --rooms 4 --boxes 4 --length 7 --out DIR [--count 3]
     .venv/bin/python bench/cc_tasks.py --boxes 4 --goals 3 --absent --tell room --check room --moves room ...
+    .venv/bin/python bench/cc_tasks.py --goals 3 --seed 3 --probe 60      # cost per expansion of each setting
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import random
 import sys
 import time
@@ -134,6 +136,43 @@ def optimal_length(text: str, timeout: float, heuristic: str = "pdb") -> tuple[i
     return res.length, time.process_time() - c0, res.expanded
 
 
+SETTINGS = [("defaults", {}), ("--tell room", {"tell": "room"}), ("--check room", {"check": "room"}),
+            ("--moves room", {"moves": "room"}), ("--absent", {"absent": True}),
+            ("--absent --tell room --check room --moves room",
+             {"absent": True, "tell": "room", "check": "room", "moves": "room"})]
+
+
+def probe(agents: int, rooms: int, boxes: int, goals: int, seed: int, expansions: int, engine: str = "fast") -> None:
+    """Per hardness setting: the initial worlds, the worlds of the expanded states (mean, max) and the CPU
+    seconds per expansion over A*'s (h_epi) first ``expansions`` expansions of the seeded instance."""
+    from planners.epistemic import Limits, best_first, make_space
+    from planners.heuristics import h_epi
+    from planners.lang.mastar import parse_mastar
+
+    print(f"| setting ({agents} agents, {rooms} rooms, {boxes} boxes, seed {seed}, engine {engine}) | initial worlds "
+          f"| expanded | worlds of expanded states: mean | max | CPU s per expansion |")
+    print("|---|--:|--:|--:|--:|--:|")
+    for label, hard in SETTINGS:
+        space = make_space(parse_mastar(draw(agents, rooms, boxes, goals, seed, **hard), "cc.txt"), engine=engine)
+        sizes: list[int] = []
+        succ = space.successors
+
+        def counted(s: Any, succ: Any = succ, sizes: list[int] = sizes) -> Any:
+            sizes.append(len(s.val) if hasattr(s, "val") else s.n_worlds)
+            return succ(s)
+
+        space.successors = counted  # type: ignore[method-assign]
+        s0, _ = space.initial()
+        h = h_epi(space)
+        c0 = time.process_time()
+        res = best_first(space, Limits(timeout=None, max_expanded=expansions), kind="astar", h=h)
+        cpu = time.process_time() - c0
+        n0 = len(s0.val) if hasattr(s0, "val") else s0.n_worlds
+        print(f"| {label} | {n0} | {res.expanded} | {sum(sizes) / max(1, len(sizes)):.0f} | {max(sizes, default=0)} | "
+              f"{cpu / max(1, res.expanded):.4f} |", flush=True)
+    print(f"\nload average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--agents", type=int, default=2)
@@ -146,6 +185,9 @@ def main() -> None:
     ap.add_argument("--timeout", type=float, default=120.0, help="with --length: A*'s limit per try")
     ap.add_argument("--tries", type=int, default=60)
     ap.add_argument("--heuristic", default="pdb", help="with --length: A*'s heuristic (epi, chain, elim, pdb)")
+    ap.add_argument("--probe", type=int, default=None, metavar="N",
+                    help="print each hardness setting's worlds and CPU per expansion over A*'s first N expansions")
+    ap.add_argument("--engine", default="fast", choices=["fast", "del"], help="with --probe")
     ap.add_argument("--out", type=Path, default=None)
     ap.add_argument("--absent", action="store_true", help="a box may be in no room ((R+1)^B initial worlds)")
     ap.add_argument("--tell", choices=["public", "room"], default="public")
@@ -153,6 +195,9 @@ def main() -> None:
     ap.add_argument("--moves", choices=["public", "room"], default="public")
     a = ap.parse_args()
     hard = {"absent": a.absent, "tell": a.tell, "check": a.check, "moves": a.moves}
+    if a.probe is not None:
+        probe(a.agents, a.rooms, a.boxes, a.goals, a.seed, a.probe, a.engine)
+        return
     if a.agents > len(AGENTS) or min(a.agents, a.rooms, a.boxes, a.goals) < 1 or a.goals > a.agents * a.boxes:
         raise SystemExit(f"need 1 ≤ agents ≤ {len(AGENTS)}, rooms ≥ 1, boxes ≥ 1, 1 ≤ goals ≤ agents·boxes")
     if a.length is None:
