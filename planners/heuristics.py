@@ -1015,6 +1015,8 @@ def _pattern_table(z: Any, conj_index: int, goal_atom: int) -> tuple[int, list, 
 
     goal_j, goal_bad = bad_bits(goal_atom)
     need_of = {a: [bad_bits(t) for t in exe[a][1] if t in tracked_atoms] for a in acts}
+    if any(not need_of[a] and not exe[a][0] and remove[a][goal_j] & goal_bad == goal_bad for a in acts):
+        return None   # one always-applicable step removes every bad value: every distance is ≤ 1 (h_epi's own)
     states = [tuple(k) for k in itertools.product(sorted(reach), *[range(1 << len(vs)) for vs in vals])]
     pred: dict[tuple, list[tuple]] = {k: [] for k in states}
     for k in states:
