@@ -22,8 +22,14 @@ U(s) ⊆ U(s') ∪ cover(A) for a successor s' by A, so h(s) ≤ 1 + h(s'). With
 cover of every subset is tabulated once per task (BFS over unions of covers, then a superset minimum);
 above that the weaker ⌈|U(s)| / max_A |cover(A)|⌉ (also consistent) is used.
 
-* ``h_chain`` — ``max(h_epi, h_exe)``, A*'s default: the executability chains of the pointed world's fluents
+* ``h_chain`` — ``max(h_epi, h_exe)``: the executability chains of the pointed world's fluents
   (see :func:`h_chain`).
+* ``h_elim`` — ``h_chain`` and the *elimination bound*: a false K_x φ needs every valuation of x's view that
+  falsifies φ removed, each by a step x observes whose content tells it from the actual one, executable first
+  (with h_max chains that read effect conditions and the beliefs x always has right: :func:`transparent_props`).
+* ``h_pdb`` — A*'s default: ``h_chain`` and, per such goal conjunct, the exact distance in an abstraction
+  (the pointed valuation on the propositions its actions need, x's and the tellers' views), tabulated once
+  per task (see :func:`h_pdb`).
 * ``h_epi`` — the same set-cover bound with smaller covers for *first-order belief* conjuncts (A*'s
   default). Write V_x(s) for the set of valuations of agent x's accessible worlds at the pointed world.
   Under the mA* update V_x only shrinks when the action is epistemic (full observer of an announcement of

@@ -331,8 +331,9 @@ def test_bfs_dead_end_pruning_keeps_the_plan(name: str) -> None:
 
 
 @pytest.mark.slow
-def test_cc_2_4_4_length_7_by_astar() -> None:
-    res = plan(load_task(SPECS / "cc_2_4_4" / "CC_2_4_4_s3__pl_7.txt"), search="astar", limits=Limits(timeout=900))
+@pytest.mark.parametrize("name", ["cc_2_4_4/CC_2_4_4_s3__pl_7.txt", "cc_2_4_4_hard/CC_2_4_4_ATCM_s12__pl_7.txt"])
+def test_cc_2_4_4_length_7_by_astar(name: str) -> None:
+    res = plan(load_task(SPECS / name), search="astar", limits=Limits(timeout=900))
     assert res.length == 7
 
 
@@ -346,6 +347,10 @@ def test_cc_generator_reproduces_its_instances() -> None:
     for seed in (3, 5):
         want = (SPECS / "cc_2_4_4" / f"CC_2_4_4_s{seed}__pl_7.txt").read_text()
         assert mod.draw(2, 4, 4, 3, seed) == want
+    hard = {"absent": True, "tell": "room", "check": "room", "moves": "room"}
+    for seed in (6, 12):
+        want = (SPECS / "cc_2_4_4_hard" / f"CC_2_4_4{mod.hard_name(hard)}_s{seed}__pl_7.txt").read_text()
+        assert mod.draw(2, 4, 4, 3, seed, **hard) == want
     small = parse_mastar(mod.draw(2, 2, 2, 2, 1), "cc.txt")
     assert plan(small, search="astar").length == plan(small, search="bfs").length == 2
 
