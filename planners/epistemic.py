@@ -12,8 +12,9 @@ No vacuous success: a state where some agent has no accessible world at the poin
 ⊥) is a dead end and is not expanded (``allow_inconsistent=True`` keeps it).
 
 BFS tests the goal when a state is generated; since every action costs 1 the first plan found is of
-minimal length. A* uses the admissible and consistent ``h_chain`` (the belief-content cover bound ``h_epi``
-with executability chains) and GBFS the goal count ``h_gc`` (:mod:`planners.heuristics`).
+minimal length. A* uses the admissible and consistent ``h_pdb`` (the belief-content cover bound ``h_epi`` with
+executability chains, and a pattern database per first-order belief goal) and GBFS the goal count ``h_gc``
+(:mod:`planners.heuristics`).
 """
 
 from __future__ import annotations
@@ -203,15 +204,16 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
     """GBFS (f = h) or A* (f = g + h) with duplicate detection.
 
     Default heuristics: GBFS uses the goal count h_gc (unsatisfied top-level goal conjuncts; informative,
-    not admissible); A* uses h_chain (h_epi — the observer cover with the belief-content argument — and the
-    executability chains of the pointed world's fluents, whichever is larger), admissible and consistent, so
-    A* (goal test at expansion, no reopening) returns plans of optimal length.
+    not admissible); A* uses h_pdb (the largest of h_epi — the observer cover with the belief-content argument —,
+    the executability chains of the pointed world's fluents, and per first-order belief goal the exact distance
+    in an abstraction of the believer's and the tellers' views; :func:`planners.heuristics.h_pdb`), admissible
+    and consistent, so A* (goal test at expansion, no reopening) returns plans of optimal length.
     """
     budget = _Budget(limits)
     if h is None:
-        from planners.heuristics import h_chain, h_gc
+        from planners.heuristics import h_gc, h_pdb
 
-        h = h_gc(space) if kind == "gbfs" else h_chain(space)
+        h = h_gc(space) if kind == "gbfs" else h_pdb(space)
     s0, k0 = space.initial()
     best_g: dict[Hashable, int] = {k0: 0}
     parent: dict[Hashable, Any] = {k0: None}

@@ -22,8 +22,14 @@ U(s) ⊆ U(s') ∪ cover(A) for a successor s' by A, so h(s) ≤ 1 + h(s'). With
 cover of every subset is tabulated once per task (BFS over unions of covers, then a superset minimum);
 above that the weaker ⌈|U(s)| / max_A |cover(A)|⌉ (also consistent) is used.
 
-* ``h_chain`` — ``max(h_epi, h_exe)``, A*'s default: the executability chains of the pointed world's fluents
+* ``h_chain`` — ``max(h_epi, h_exe)``: the executability chains of the pointed world's fluents
   (see :func:`h_chain`).
+* ``h_elim`` — ``h_chain`` and the *elimination bound*: a false K_x φ needs every valuation of x's view that
+  falsifies φ removed, each by a step x observes whose content tells it from the actual one, executable first
+  (with h_max chains that read effect conditions and the beliefs x always has right: :func:`transparent_props`).
+* ``h_pdb`` — A*'s default: ``h_chain`` and, per such goal conjunct, the exact distance in an abstraction
+  (the pointed valuation on the propositions its actions need, x's and the tellers' views), tabulated once
+  per task (see :func:`h_pdb`).
 * ``h_epi`` — the same set-cover bound with smaller covers for *first-order belief* conjuncts (A*'s
   default). Write V_x(s) for the set of valuations of agent x's accessible worlds at the pointed world.
   Under the mA* update V_x only shrinks when the action is epistemic (full observer of an announcement of
@@ -60,7 +66,7 @@ from typing import Any
 from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Prop, is_propositional, props_of
 from planners.task import Task, goal_conjuncts
 
-__all__ = ["h_gc", "h_01", "h_cover", "h_epi", "h_chain", "dead_end_test",
+__all__ = ["h_gc", "h_01", "h_cover", "h_epi", "h_chain", "h_elim", "h_pdb", "transparent_props", "dead_end_test",
            "cover_sets", "prop_blocks", "content_conjuncts", "make_heuristic"]
 
 _MAX_EXACT = 16
@@ -512,10 +518,531 @@ def h_chain(space: Any) -> Callable[[Any], float]:
 
 
 def make_heuristic(name: str, space: Any) -> Callable[[Any], float]:
-    """Heuristic by name: ``gc``, ``01``, ``cover``, ``epi`` or ``chain``."""
-    table = {"gc": h_gc, "01": h_01, "cover": h_cover, "epi": h_epi, "chain": h_chain}
+    """Heuristic by name: ``gc``, ``01``, ``cover``, ``epi``, ``chain``, ``elim`` or ``pdb``."""
+    table = {"gc": h_gc, "01": h_01, "cover": h_cover, "epi": h_epi, "chain": h_chain, "elim": h_elim,
+             "pdb": h_pdb}
     if name not in table:
         from delkit.errors import PlanningError
 
         raise PlanningError(f"unknown heuristic {name!r}; use one of {sorted(table)}")
     return table[name](space)
+
+
+def _peval(f: Formula, v: int, pidx: dict[str, int]) -> bool:
+    """Truth of a propositional formula at a valuation given as a bit mask over ``pidx``."""
+    from delkit.formula import Bot, Iff, Implies, Or, Top
+
+    if isinstance(f, Prop):
+        return bool(v >> pidx[f.name] & 1)
+    if isinstance(f, Not):
+        return not _peval(f.arg, v, pidx)
+    if isinstance(f, And):
+        return all(_peval(g, v, pidx) for g in f.args)
+    if isinstance(f, Or):
+        return any(_peval(g, v, pidx) for g in f.args)
+    if isinstance(f, Implies):
+        return not _peval(f.left, v, pidx) or _peval(f.right, v, pidx)
+    if isinstance(f, Iff):
+        return _peval(f.left, v, pidx) == _peval(f.right, v, pidx)
+    if isinstance(f, Top):
+        return True
+    if isinstance(f, Bot):
+        return False
+    raise TypeError(f"not propositional: {f!r}")
+
+
+def transparent_props(space: Any) -> dict[str, frozenset[str]]:
+    """Per agent x, the propositions whose value x always believes truly: B_x l ⟺ l at the pointed world.
+
+    A proposition p is *x-transparent* when x's accessible worlds at the initial pointed world all agree with it
+    on p, x observes every action step that sets p unconditionally (``x observes A``), and the conditions of
+    those effects mention x-transparent propositions only (the greatest such set). Invariant along any plan:
+    an action x is oblivious of sets no transparent p, and x's new accessible worlds are copies of old ones
+    (same values); a sensing or announcement changes no value and only selects among x's old worlds; an ontic
+    step x fully observes gives every x-accessible world (v, e) the values of the effects evaluated at v, which
+    agrees with the pointed world on the conditions — so x's view keeps agreeing with the pointed world on p.
+    Empty when an action is a general event model, the initial state is multi-pointed, or states where an
+    agent believes ⊥ are kept (``allow_inconsistent``: B_x l would hold vacuously there)."""
+    task = space.task
+    steps = [_steps(a) for a in task.actions]
+    if any(st is None for st in steps) or getattr(space, "allow_inconsistent", False):
+        return {x: frozenset() for x in task.agents}
+    s0, _ = space.initial()
+    if not hasattr(s0, "masks") or len(s0.points) != 1:
+        return {x: frozenset() for x in task.agents}
+    from delkit.formula import Top
+
+    pidx = {p: i for i, p in enumerate(task.props)}
+    flat = [step for st in steps for step in st]  # type: ignore[union-attr]
+    out = {}
+    for ai, x in enumerate(task.agents):
+        pv = s0.val[s0.point]
+        view = [s0.val[w] for w in range(len(s0.val)) if s0.masks[ai][s0.point] >> w & 1]
+        cand = {p for p in task.props if all((v ^ pv) >> pidx[p] & 1 == 0 for v in view)}
+        for step in flat:
+            if step.kind != "ontic" or not step.effects:
+                continue
+            sure = any(a == x and isinstance(c, Top) for a, c in step.full)
+            for p, _v, _c in step.effects:
+                if not sure:
+                    cand.discard(p)
+        changed = True
+        while changed:
+            changed = False
+            for step in flat:
+                if step.kind != "ontic":
+                    continue
+                for p, v, c in step.effects:
+                    if p in cand and (not is_propositional(c) or not props_of(c) <= cand
+                                      or not (isinstance(v, bool) or (is_propositional(v) and props_of(v) <= cand))):
+                        cand.discard(p)
+                        changed = True
+        out[x] = frozenset(cand)
+    return out
+
+
+def _elim_setup(space: Any) -> Any:
+    """What :func:`h_elim` and :func:`h_pdb` share: the elimination atoms (agent index, Q mask, φ, removers),
+    the goal's, each action's executability as (literals, atoms), the ontic effects for the h_max chains;
+    None when the analysis does not apply (general event models, several pointed worlds, no goal)."""
+    from types import SimpleNamespace
+
+    task = space.task
+    conj = goal_conjuncts(task.goal)
+    steps = [_steps(a) for a in task.actions]
+    s0, _ = space.initial()
+    if not conj or any(st is None for st in steps) or not hasattr(s0, "masks") or len(s0.points) != 1:
+        return None
+    pidx = {p: i for i, p in enumerate(task.props)}
+    trans = transparent_props(space)
+    content = content_conjuncts(space)
+    covers = cover_sets(task, conj, content=content)
+    blocks = prop_blocks(task)
+    set_props = {p for st in steps for step in st for p, _, _ in (step.effects if step.kind == "ontic" else ())}  # type: ignore[union-attr]
+    atoms: list[tuple[int, int, Formula, list]] = []   # (agent index, Q mask, φ, removers)
+    atom_of: dict[tuple[str, Formula], int | None] = {}
+
+    def atom(x: str, phi: Formula, q: frozenset[str] | None) -> int | None:
+        """The elimination atom of K_x φ (None when the argument does not apply)."""
+        if (x, phi) in atom_of:
+            return atom_of[(x, phi)]
+        atom_of[(x, phi)] = None
+        if q is None and blocks is not None and not getattr(space, "allow_inconsistent", False) \
+                and is_propositional(phi) and props_of(phi):
+            q = _factor_block(space, s0, x, frozenset(props_of(phi)), blocks)
+        if q is None or q & set_props:
+            return None
+        qmask = 0
+        for p in q:
+            qmask |= 1 << pidx[p]
+        removers = []
+        for a, st in enumerate(steps):
+            for step in st:  # type: ignore[union-attr]
+                if step.kind == "ontic" or x not in {ag for ag, _ in step.full}:
+                    continue
+                parts = [f for f, _ in step.sensed] if step.kind == "sensing" else \
+                    [h for f, _ in step.sensed for h in _conjuncts(f)]
+                fs = tuple(f for f in parts if props_of(f) and props_of(f) <= q)
+                if fs:
+                    removers.append((a, "sense" if step.kind == "sensing" else "announce", fs))
+        atoms.append((task.agents.index(x), qmask, phi, removers))
+        atom_of[(x, phi)] = len(atoms) - 1
+        return atom_of[(x, phi)]
+
+    goal_atoms = []
+    for i, c in content.items():
+        kind, x, q = c
+        if kind == "pos" and isinstance(conj[i], K):
+            t = atom(x, conj[i].arg, q)
+            if t is not None:
+                goal_atoms.append((i, t))
+
+    def exe_parts(f: Formula) -> tuple[tuple[tuple[int, bool], ...], tuple[int, ...]]:
+        """(literals, elimination atoms) among the conjuncts of an executability condition."""
+        lits, ats = set(), set()
+        for g in _conjuncts(f):
+            if isinstance(g, Prop):
+                lits.add((pidx[g.name], True))
+            elif isinstance(g, Not) and isinstance(g.arg, Prop):
+                lits.add((pidx[g.arg.name], False))
+            elif isinstance(g, K):
+                if _literal_props(g.arg) is not None and _literal_props(g.arg) <= trans.get(g.agent, frozenset()):
+                    lits |= {(pidx[p], b) for p, b in _lits(g.arg)}
+                elif is_propositional(g.arg) and g.agent in task.agents:
+                    t = atom(g.agent, g.arg, None)
+                    if t is not None:
+                        ats.add(t)
+        return tuple(sorted(lits)), tuple(sorted(ats))
+
+    exe = [exe_parts(st[0].executable) for st in steps]  # type: ignore[index]
+    pre = [e[0] for e in exe]
+    # ontic effects: (executability literals, condition literals, effect literals); a macro's conditions are
+    # read at intermediate states, so they are dropped (weaker, still sound)
+    ontic = []
+    for i, st in enumerate(steps):
+        for step in st:  # type: ignore[union-attr]
+            if step.kind != "ontic":
+                continue
+            for p, v, c in step.effects:
+                if p not in pidx:
+                    continue
+                cond = tuple(sorted({(pidx[q], b) for q, b in _lits(c) if q in pidx})) if len(st) == 1 else ()  # type: ignore[arg-type]
+                effs = ((pidx[p], v),) if isinstance(v, bool) else ((pidx[p], True), (pidx[p], False))
+                ontic.append((pre[i], cond, effs))
+    return SimpleNamespace(task=task, conj=conj, steps=steps, s0=s0, pidx=pidx, trans=trans, covers=covers,
+                           atoms=atoms, goal_atoms=goal_atoms, exe=exe, pre=pre, ontic=ontic, atom=atom)
+
+
+def h_elim(space: Any) -> Callable[[Any], float]:
+    """``max(h_chain, h_el)``: the elimination bound (admissible and consistent).
+
+    *Elimination atoms.* Take K_x φ (a goal conjunct, or a conjunct of an action's executability), φ
+    propositional, to which h_epi's belief-content argument applies (x's view V = V_-Q × V_Q at the initial
+    state, φ over the block union Q; :func:`content_conjuncts`), with no action setting a proposition of Q (so
+    the actual Q-part a is fixed and V_Q only shrinks). K_x φ holds exactly when every u ∈ V_Q with u ⊭ φ
+    has left V_Q. Such a u leaves only by a step x may fully observe whose Q-content tells u from a — a sensing
+    of a formula over Q with another value at u than at a, or an announcement whose Q-conjuncts hold at a (it
+    is applicable only where its content holds at the pointed world) but not at u — and that step must be
+    executable. So from s at least ``e(K_x φ) = max over the bad u of 1 + min over u's removers A of
+    c(exe A)`` steps are needed (0 if no bad u, ∞ if a bad u has no remover: a dead end).
+
+    *Costs of executability,* from the pointed valuation v of s: ``c0`` is h_max of the delete relaxation
+    *with* effect conditions (an effect l of A with literal-conjunct condition c costs 1 + max(c0(exe A),
+    c0(c))), where exe's literal conjuncts count and so do its belief literals B_x l over x-transparent
+    propositions (:func:`transparent_props`: B_x l ⟺ l at the pointed world); other conjuncts cost 0. Level 1
+    ``c1(exe A)`` is the max of c0 and of e¹ of the elimination atoms among exe(A)'s conjuncts, where e¹ uses
+    c0 for the removers; the goal's elimination conjuncts use c1 (e²): a ``tell`` by y of where a box is costs
+    what y needs to learn it first.
+
+    h_el(s) = the largest e² over the false goal elimination conjuncts, of c0(l) over false literal conjuncts,
+    of 1 + min c0(exe A) over the actions A whose cover holds any other false conjunct. Admissible: each level
+    bounds the steps before its formula first holds (the first remover of a bad u is executable then), by
+    induction on the plan's length. Consistent level by level: for a successor s' by B, c0_s ≤ 1 + c0_s'
+    (h_max over the pointed valuation), a u left over at s' is a u of s with the same removers, and a u that
+    B removed costs 1 at s (B was executable at s, so its level costs are 0 there).
+    """
+    base = h_chain(space)
+    z = _elim_setup(space)
+    if z is None:
+        return base
+    conj, pidx, atoms, goal_atoms, exe, pre, ontic, covers = (z.conj, z.pidx, z.atoms, z.goal_atoms, z.exe, z.pre,
+                                                              z.ontic, z.covers)
+    if not goal_atoms and not ontic:
+        return base
+    kinds: list[tuple[str, Any]] = []
+    for i, g in enumerate(conj):
+        if _literal_props(g) is not None:
+            kinds.append(("lits", tuple(sorted({(pidx[p], b) for p, b in _lits(g)}))))
+        elif is_propositional(g):
+            kinds.append(("none", None))
+        else:
+            kinds.append(("cover", sorted({pre[a] for a, cv in enumerate(covers) if cv >> i & 1})))
+    inf = math.inf
+    memo: dict[int, tuple[tuple[float, ...], tuple[float, ...]]] = {}
+
+    def lit_costs(v: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
+        """(c0 of each action's executability, each goal conjunct's chain cost) at pointed valuation v."""
+        cost: dict[tuple[int, bool], float] = {}
+
+        def c(lit: tuple[int, bool]) -> float:
+            return 0.0 if bool(v >> lit[0] & 1) == lit[1] else cost.get(lit, inf)
+
+        def c_set(lits: tuple[tuple[int, bool], ...]) -> float:
+            return max(map(c, lits), default=0.0)
+
+        changed = True
+        while changed:
+            changed = False
+            for p, cond, effs in ontic:
+                cb = max(c_set(p), c_set(cond)) + 1.0
+                if cb == inf:
+                    continue
+                for lit in effs:
+                    if c(lit) > cb:
+                        cost[lit] = cb
+                        changed = True
+        per = []
+        for kind, data in kinds:
+            if kind == "lits":
+                per.append(c_set(data))
+            elif kind == "cover":
+                per.append(1.0 + min((c_set(p) for p in data), default=inf))
+            else:
+                per.append(0.0)
+        return tuple(c_set(p) for p in pre), tuple(per)
+
+    holds = space.holds
+    rem_memo: dict[tuple[int, int, int], tuple[int, ...]] = {}
+
+    def h(s: Any) -> float:
+        b = base(s)
+        if b == inf or len(s.points) != 1:
+            return b
+        v = s.val[s.point]
+        got = memo.get(v)
+        if got is None:
+            if len(memo) > 100_000:
+                memo.clear()
+            got = memo[v] = lit_costs(v)
+        c0, per = got
+        best = b
+        for i, g in enumerate(conj):
+            if per[i] > best and not holds(s, g):
+                best = per[i]
+        views: dict[int, set[int]] = {}
+        lvl1: dict[int, float] = {}
+
+        def bad_of(t: int) -> tuple[list[int], int]:
+            ai, qmask, phi, _ = atoms[t]
+            view = views.get(ai)
+            if view is None:
+                m, w, view = s.masks[ai][s.point], 0, set()
+                while m:
+                    if m & 1:
+                        view.add(s.val[w])
+                    m >>= 1
+                    w += 1
+                views[ai] = view
+            return [u for u in {x & qmask for x in view} if not _peval(phi, u, pidx)], v & qmask
+
+        def elim(t: int, cost_of: Callable[[int], float]) -> float:
+            bad, a_q = bad_of(t)
+            out = 0.0
+            for u in bad:
+                key = (t, u, a_q)
+                rem = rem_memo.get(key)
+                if rem is None:
+                    rem = rem_memo[key] = _removers_of(u, a_q, atoms[t][3], pidx)
+                out = max(out, 1.0 + min((cost_of(a) for a in rem), default=inf))
+                if out == inf:
+                    break
+            return out
+
+        def e1(t: int) -> float:
+            got = lvl1.get(t)
+            if got is None:
+                got = lvl1[t] = elim(t, c0.__getitem__)
+            return got
+
+        def c1(a: int) -> float:
+            return max([c0[a], *(e1(t) for t in exe[a][1])])
+
+        for _i, t in goal_atoms:
+            e2 = elim(t, c1)
+            if e2 > best:
+                best = e2
+                if best == inf:
+                    return best
+        return best
+
+    return h
+
+
+def _removers_of(u: int, a: int, removers: list[tuple[int, str, tuple[Formula, ...]]],
+                 pidx: dict[str, int]) -> tuple[int, ...]:
+    """The actions whose Q-content tells the Q-part u from the actual Q-part a (see :func:`h_elim`)."""
+    out = []
+    for act, kind, fs in removers:
+        if kind == "sense":
+            hit = any(_peval(f, u, pidx) != _peval(f, a, pidx) for f in fs)
+        else:
+            hit = all(_peval(f, a, pidx) for f in fs) and not all(_peval(f, u, pidx) for f in fs)
+        if hit:
+            out.append(act)
+    return tuple(sorted(set(out)))
+
+
+_PDB_LIMIT = 40_000
+
+
+def h_pdb(space: Any) -> Callable[[Any], float]:
+    """``max(h_chain, max_i d_i)``: a pattern database per goal elimination conjunct (admissible, consistent).
+
+    For a goal conjunct K_x φ with an elimination atom (see :func:`h_elim`) the *pattern* tracks: the pointed
+    valuation on a set P of propositions, and the views V_Q of the tracked (agent, Q) pairs — x's for the
+    conjunct, and those of the elimination atoms in the executability of its removers (a ``tell`` needs the
+    teller to believe what it tells). P holds the literals (and transparent belief literals) of the
+    executability of every action in the pattern, closed under the effect conditions and executability of
+    the ontic actions that set P. An abstract state is (v_P, V_1, ..., V_m) with V_j ⊆ V_j(s0); an action is
+    applicable when its executability literals over P hold at v_P and its tracked atoms hold (V has no bad
+    value), ontic effects on P move v_P (conditions over P), and V_j loses every value the action may remove
+    (:func:`h_elim`'s removers). The goal: x's V has no value falsifying φ. d_i is the exact abstract goal
+    distance, tabulated once per task by backward BFS over every abstract state (patterns over
+    ``_PDB_LIMIT`` states are dropped).
+
+    Admissible: a real plan from s is an abstract plan from α(s) (real steps are applicable abstractly — the
+    abstract views are subsets of the real ones, since they lose everything that may be removed — and a
+    real goal state's views have no bad value). Consistent: for a real step s → s' by B, B's abstract
+    successor of α(s) has the same v_P and views ⊆ those of α(s'), and the abstract distance only grows with
+    the views (removal is per value), so d(α(s)) ≤ 1 + d(α(s'))."""
+    base = h_chain(space)
+    z = _elim_setup(space)
+    if z is None or not z.goal_atoms:
+        return base
+    tables = [t for t in (_pattern_table(z, i, a) for i, a in z.goal_atoms) if t is not None]
+    if not tables:
+        return base
+    inf = math.inf
+
+    def h(s: Any) -> float:
+        b = base(s)
+        if b == inf or len(s.points) != 1:
+            return b
+        v = s.val[s.point]
+        views: dict[int, set[int]] = {}
+        best = b
+        for pmask, tracked, dist in tables:
+            key = [v & pmask]
+            for ai, qmask, vals in tracked:
+                view = views.get(ai)
+                if view is None:
+                    m, w, view = s.masks[ai][s.point], 0, set()
+                    while m:
+                        if m & 1:
+                            view.add(s.val[w])
+                        m >>= 1
+                        w += 1
+                    views[ai] = view
+                bits = 0
+                for u in {x & qmask for x in view}:
+                    j = vals.get(u)
+                    if j is None:
+                        bits = -1
+                        break
+                    bits |= 1 << j
+                if bits < 0:
+                    break
+                key.append(bits)
+            else:
+                d = float(dist.get(tuple(key), inf))
+                if d > best:
+                    best = d
+                    if best == inf:
+                        return best
+        return best
+
+    return h
+
+
+def _pattern_table(z: Any, conj_index: int, goal_atom: int) -> tuple[int, list, dict] | None:
+    """(P mask, tracked [(agent index, Q mask, {Q-value: bit})], {abstract state: distance}) of one goal
+    elimination atom's pattern (see :func:`h_pdb`), or None when it is too large or does not apply."""
+    import itertools
+    from collections import deque
+
+    atoms, steps, exe, pidx, s0 = z.atoms, z.steps, z.exe, z.pidx, z.s0
+    v0 = s0.val[s0.point]
+    tracked_atoms = {goal_atom}
+    for a, _kind, _fs in atoms[goal_atom][3]:
+        tracked_atoms |= set(exe[a][1])
+    pairs = sorted({(atoms[t][0], atoms[t][1]) for t in tracked_atoms})
+    idx = {pq: j for j, pq in enumerate(pairs)}
+    vals = []
+    for ai, qmask in pairs:
+        view = {s0.val[w] & qmask for w in range(len(s0.val)) if s0.masks[ai][s0.point] >> w & 1}
+        vals.append({u: j for j, u in enumerate(sorted(view))})
+    acts = {a for t in tracked_atoms for a, _k, _f in atoms[t][3]}
+    # P: executability literals of the pattern's actions, closed under the ontic actions setting P
+    pset = {p for a in acts for p, _ in exe[a][0]}
+    ontic_of: dict[int, list] = {}
+    for a, st in enumerate(steps):
+        if len(st) != 1 or st[0].kind != "ontic":
+            if any(step.kind == "ontic" for step in st):
+                for step in st:
+                    for p, _v, _c in step.effects:
+                        if p in pidx and pidx[p] in pset:
+                            return None   # a macro moves P: its intermediate conditions are not tracked
+            continue
+        ontic_of[a] = [(pidx[p], v, tuple(sorted({(pidx[q], b) for q, b in _lits(c) if q in pidx})))
+                       for p, v, c in st[0].effects if p in pidx]
+    changed = True
+    while changed:
+        changed = False
+        for a, effs in ontic_of.items():
+            if any(p in pset for p, _, _ in effs):
+                if any(not isinstance(v, bool) for p, v, _ in effs if p in pset):
+                    return None
+                need = {p for p, _ in exe[a][0]} | {q for p, _v, c in effs if p in pset for q, _ in c}
+                if not need <= pset:
+                    pset |= need
+                    changed = True
+                acts.add(a)
+    for effs in ontic_of.values():   # a condition on an untracked proposition: the effect is not determined
+        for p, _v, c in effs:
+            if p in pset and any(q not in pset for q, _ in c):
+                return None
+    pmask = 0
+    for p in pset:
+        pmask |= 1 << p
+    # reachable v_P from s0 through the ontic actions (exe literals over P only)
+    def moved(vp: int, a: int) -> int | None:
+        if any(bool(vp >> p & 1) != b for p, b in exe[a][0] if p in pset):
+            return None
+        out = vp
+        for p, v, c in ontic_of.get(a, ()):
+            if p in pset and all(bool(vp >> q & 1) == b for q, b in c):
+                out = out | (1 << p) if v else out & ~(1 << p)
+        return out
+
+    reach = {v0 & pmask}
+    todo = [v0 & pmask]
+    while todo:
+        vp = todo.pop()
+        for a in ontic_of:
+            if a in acts:
+                n = moved(vp, a)
+                if n is not None and n not in reach:
+                    reach.add(n)
+                    todo.append(n)
+    size = len(reach)
+    for vs in vals:
+        size *= 1 << len(vs)
+    if size > _PDB_LIMIT:
+        return None
+    # per (action, tracked pair): the bits of the values it may remove; per tracked atom: its bad bits
+    a_q = [v0 & qmask for _ai, qmask in pairs]
+    remove: dict[int, list[int]] = {a: [0] * len(pairs) for a in acts}
+    for t in tracked_atoms:
+        j = idx[(atoms[t][0], atoms[t][1])]
+        for u, bit in vals[j].items():
+            for a in _removers_of(u, a_q[j], atoms[t][3], pidx):
+                if a in remove:
+                    remove[a][j] |= 1 << bit
+    # removal does not depend on φ: every tracked atom of the same pair has the same removers' contents
+    # (the removers of (x, Q) are the steps x may fully observe with Q-content), so one pass per pair suffices
+
+    def bad_bits(t: int) -> tuple[int, int]:
+        j = idx[(atoms[t][0], atoms[t][1])]
+        bits = 0
+        for u, bit in vals[j].items():
+            if not _peval(atoms[t][2], u, pidx):
+                bits |= 1 << bit
+        return j, bits
+
+    goal_j, goal_bad = bad_bits(goal_atom)
+    need_of = {a: [bad_bits(t) for t in exe[a][1] if t in tracked_atoms] for a in acts}
+    if any(not need_of[a] and not exe[a][0] and remove[a][goal_j] & goal_bad == goal_bad for a in acts):
+        return None   # one always-applicable step removes every bad value: every distance is ≤ 1 (h_epi's own)
+    states = [tuple(k) for k in itertools.product(sorted(reach), *[range(1 << len(vs)) for vs in vals])]
+    pred: dict[tuple, list[tuple]] = {k: [] for k in states}
+    for k in states:
+        for a in acts:
+            if any(k[1 + j] & bad for j, bad in need_of[a]):
+                continue
+            vp = moved(k[0], a) if a in ontic_of else (
+                k[0] if all(bool(k[0] >> p & 1) == b for p, b in exe[a][0] if p in pset) else None)
+            if vp is None:
+                continue
+            nk = (vp, *(k[1 + j] & ~remove[a][j] for j in range(len(pairs))))
+            if nk != k and nk in pred:
+                pred[nk].append(k)
+    dist = {k: 0 for k in states if not k[1 + goal_j] & goal_bad}
+    todo2 = deque(dist)
+    while todo2:
+        k = todo2.popleft()
+        for pk in pred[k]:
+            if pk not in dist:
+                dist[pk] = dist[k] + 1
+                todo2.append(pk)
+    tracked = [(ai, qmask, vals[j]) for j, (ai, qmask) in enumerate(pairs)]
+    return pmask, tracked, dist

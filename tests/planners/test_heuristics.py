@@ -331,8 +331,9 @@ def test_bfs_dead_end_pruning_keeps_the_plan(name: str) -> None:
 
 
 @pytest.mark.slow
-def test_cc_2_4_4_length_7_by_astar() -> None:
-    res = plan(load_task(SPECS / "cc_2_4_4" / "CC_2_4_4_s3__pl_7.txt"), search="astar", limits=Limits(timeout=900))
+@pytest.mark.parametrize("name", ["cc_2_4_4/CC_2_4_4_s3__pl_7.txt", "cc_2_4_4_hard/CC_2_4_4_ATCM_s12__pl_7.txt"])
+def test_cc_2_4_4_length_7_by_astar(name: str) -> None:
+    res = plan(load_task(SPECS / name), search="astar", limits=Limits(timeout=900))
     assert res.length == 7
 
 
@@ -346,5 +347,87 @@ def test_cc_generator_reproduces_its_instances() -> None:
     for seed in (3, 5):
         want = (SPECS / "cc_2_4_4" / f"CC_2_4_4_s{seed}__pl_7.txt").read_text()
         assert mod.draw(2, 4, 4, 3, seed) == want
+    hard = {"absent": True, "tell": "room", "check": "room", "moves": "room"}
+    for seed in (6, 12):
+        want = (SPECS / "cc_2_4_4_hard" / f"CC_2_4_4{mod.hard_name(hard)}_s{seed}__pl_7.txt").read_text()
+        assert mod.draw(2, 4, 4, 3, seed, **hard) == want
     small = parse_mastar(mod.draw(2, 2, 2, 2, 1), "cc.txt")
     assert plan(small, search="astar").length == plan(small, search="bfs").length == 2
+
+
+@settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(mastar_tasks(), st.sampled_from(["plain", "plain", "plain", "macro", "event"]), st.sampled_from(["elim", "pdb"]))
+def test_h_elim_and_h_pdb_admissible_consistent_dominate_h_chain_and_astar_optimal(text: str, kind: str,
+                                                                                    name: str) -> None:
+    from delkit.errors import DelkitError
+    from planners.heuristics import h_chain, make_heuristic, transparent_props
+
+    try:
+        task = _variant(parse_mastar(text, "random.txt"), kind)
+        space = make_space(task)
+        got = _distances(space, limit=1500)
+    except DelkitError:
+        return
+    if got is None:
+        return
+    states, succ, dist = got
+    h, h0 = make_heuristic(name, space), h_chain(space)
+    trans = transparent_props(space)
+    pidx = {p: i for i, p in enumerate(task.props)}
+    by_key = dict(states)
+    for k, s in states:
+        for ai, x in enumerate(task.agents):   # x's view agrees with the pointed world on its transparent fluents
+            view = [s.val[w] for w in range(len(s.val)) if s.masks[ai][s.point] >> w & 1]
+            assert all(not (v ^ s.val[s.point]) >> pidx[p] & 1 for p in trans[x] for v in view), (text, x)
+        hv = h(s)
+        assert h0(s) <= hv <= dist.get(k, math.inf), (text, hv, dist.get(k))   # admissible, ≥ h_chain
+        for nk in succ[k]:
+            assert hv <= 1 + h(by_key[nk]) or hv == math.inf, text               # consistent
+    fresh = make_space(task)
+    a = best_first(fresh, Limits(timeout=30), kind="astar", h=make_heuristic(name, fresh))
+    b = plan(task, search="bfs", limits=Limits(timeout=30), allow_inconsistent=fresh.allow_inconsistent)
+    assert a.status == b.status and a.length == b.length, text
+
+
+def _cc_module():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("cc_tasks", SPECS.parent / "bench" / "cc_tasks.py")
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)  # type: ignore[union-attr]
+    return mod
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(2, 3), st.integers(1, 2), st.integers(0, 10_000), st.booleans(),
+       st.sampled_from(["public", "room"]), st.sampled_from(["private", "room"]), st.sampled_from(["elim", "pdb"]))
+def test_h_elim_and_h_pdb_exact_distances_on_small_cc_tasks(rooms: int, boxes: int, seed: int, absent: bool,
+                                                             tell: str, check: str, name: str) -> None:
+    """Collaboration-and-Communication tasks (where tells, checks and moves chain): admissible and consistent
+    against exact goal distances, and stronger than h_chain somewhere."""
+    from planners.heuristics import h_chain, make_heuristic
+
+    text = _cc_module().draw(2, rooms, boxes, min(2, 2 * boxes), seed, absent=absent, tell=tell, check=check)
+    space = make_space(parse_mastar(text, "cc.txt"))
+    got = _distances(space, limit=1200)
+    if got is None:
+        return
+    states, succ, dist = got
+    h, h0 = make_heuristic(name, space), h_chain(space)
+    by_key = dict(states)
+    for k, s in states:
+        hv = h(s)
+        assert h0(s) <= hv <= dist.get(k, math.inf), (text, hv, dist.get(k))
+        for nk in succ[k]:
+            assert hv <= 1 + h(by_key[nk]) or hv == math.inf, text
+
+
+def test_h_pdb_is_stronger_on_cc() -> None:
+    from planners.heuristics import h_chain, h_elim, h_pdb
+
+    text = _cc_module().draw(2, 3, 1, 1, 3, absent=True)
+    space = make_space(parse_mastar(text, "cc.txt"))
+    states, _succ, dist = _distances(space, limit=3000)
+    hs = [h_chain(space), h_elim(space), h_pdb(space)]
+    sums = [sum(min(h(s), 99) for _, s in states) for h in hs]
+    assert sums[0] < sums[1] < sums[2], sums
