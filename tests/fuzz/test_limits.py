@@ -139,7 +139,13 @@ def test_explore_sweep_total_limit(tmp_path, capsys):
 def test_limit_wall_time_from_process_start_initial_state(tmp_path):
     """The cheap one: the initial state (2^21 worlds) is still being built at the deadline."""
     rc, out, err, wall = timed(["plan", *many_free_fluents(tmp_path), "--timeout", "1", "--json"])
-    assert rc == 3 and json.loads(out)["status"] == "limit", err
+    # the command's own report (JSON), or — when a loaded machine delays the body past the grace period —
+    # the console watchdog's line: both are the limit holding (exit 3, the limit named), nothing else is
+    assert rc == 3, (rc, err)
+    if out.strip():
+        assert json.loads(out)["status"] == "limit", out
+    else:
+        assert "no answer within --timeout 1 s" in err, err
     assert wall < 1 + 0.5 + MARGIN, wall
 
 
