@@ -115,12 +115,22 @@ class CompactSpace:
         # executable) per valuations of the designated worlds restricted to the propositions the conditions
         # mention — they decide it (shared by all states)
         self._select: list[tuple[dict, int] | None] = []
+        # per action: the node id of its executability when it is the only condition that is not
+        # propositional (B(a, p), say) — the event model is still chosen by the designated valuations, the
+        # executability is checked per state; None when it is propositional too
+        self._exe_check: list[int | None] = []
         eng = self.engine
         for e in self._acts:
             conds = [] if e[0] == "macro" else [c for c in self._conditions(e) if not isinstance(c, Top)]
+            exe = None
+            if e[0] == "spec" and not self._has_groups and not eng.is_propositional(e[2]):
+                exe = e[2]
+                conds = [c for c in self._conditions(e)[1:] if not isinstance(c, Top)]
             if e[0] == "macro" or not all(eng.is_propositional(eng.cid(c)) for c in conds):
                 self._select.append(None)
+                self._exe_check.append(None)
                 continue
+            self._exe_check.append(exe)
             support = 0
             for c in conds:
                 for p in props_of(c):
@@ -221,11 +231,12 @@ class CompactSpace:
         return self.engine.inconsistent(s)
 
     # ------------------------------------------------------------------ transitions
-    def event_model(self, s: CompactState, entry: tuple) -> EventModel | PlainEvents | None:
-        """The event model of a (non-macro) action in ``s``; None if its executability fails in ``s``."""
+    def event_model(self, s: CompactState, entry: tuple, check: bool = True) -> EventModel | PlainEvents | None:
+        """The event model of a (non-macro) action in ``s``; None if its executability fails in ``s``
+        (``check=False``: not tested, the caller does)."""
         kind, act, exe = entry[0], entry[1], entry[2]
         at = self.engine.holds_id
-        if not at(s, exe):
+        if check and not at(s, exe):
             return None
         if kind == "event":
             bits = tuple(at(s, c) for c in entry[3])
@@ -458,29 +469,31 @@ class CompactSpace:
         """The successor of ``s`` by the action ``name`` (None if not applicable)."""
         return self.apply_entry(s, self._acts[self._index[name]])
 
-    def _candidates(self, s: CompactState, here: Any) -> list[tuple[str, tuple | None, tuple | None, Any]]:
-        """The actions that may apply in ``s`` as (name, entry, None, None) — decided per state — or (name,
-        None, compiled event model, loop test) — chosen by the designated worlds' valuations ``here`` and not
-        excluded by them (some designated event's propositional precondition holds at every designated
-        world); the loop test (:meth:`_loop_test`, decided by ``here`` too) or None. Computed once per
+    def _candidates(self, s: CompactState, here: Any) -> list[tuple[str, tuple | None, tuple | None, Any,
+                                                                   int | None]]:
+        """The actions that may apply in ``s`` as (name, entry, None, None, None) — decided per state — or
+        (name, None, compiled event model, loop test, executability) — chosen by the designated worlds'
+        valuations ``here`` and not excluded by them (some designated event's propositional precondition
+        holds at every designated world); the loop test (:meth:`_loop_test`, decided by ``here`` too) or
+        None; the node id of an executability to check per state (``_exe_check``) or None. Computed once per
         ``here`` (cached by :meth:`successors`), so it is not on the per-state path."""
         single = not isinstance(here, frozenset)
         compile_em, may = self.engine.compile, self.engine.may_apply
         out = []
         acts, select = self._acts, self._select
         for i in self._enabled((here,) if single else tuple(sorted(here))):
-            entry, sel = acts[i], select[i]
+            entry, sel, exe = acts[i], select[i], self._exe_check[i]
             if sel is None:
-                out.append((entry[1].name, entry, None, None))
+                out.append((entry[1].name, entry, None, None, None))
                 continue
             table, support = sel
             at = here & support if single else frozenset([v & support for v in here])
             comp = table.get(at, _MISSING)
             if comp is _MISSING:
-                em = self.event_model(s, entry)
+                em = self.event_model(s, entry, check=exe is None)
                 comp = table[at] = None if em is None else compile_em(em)
             if comp is not None and may(comp, (here,) if single else here):
-                out.append((entry[1].name, None, comp, self._loop_test(s, entry)))
+                out.append((entry[1].name, None, comp, self._loop_test(s, entry), exe))
         return out
 
     def successors(self, s: CompactState) -> Iterator[tuple[str, CompactState, Hashable]]:
@@ -493,8 +506,11 @@ class CompactSpace:
         apply = self.engine.apply_compiled
         loop_ok: bool | None = None  # s itself as a successor: is it consistent? (decided on first use)
         commute, ks = self._commute, s.key
-        for name, entry, comp, test in cands:
+        holds = self.engine.holds_id
+        for name, entry, comp, test, exe in cands:
             check_time(ALARM_SLACK)  # one clock read: a single expansion of a large state can take seconds
+            if exe is not None and not holds(s, exe):
+                continue
             # (entry is None: the executability was decided by the designated valuations, see _candidates)
             if name in commute and (entry is None or self.engine.holds_id(s, entry[2])):
                 z = self._predicted(ks, name)
