@@ -333,6 +333,23 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
     return blk, cval, masks, cps
 
 
+#: products (and models) with at least this many worlds are refined by numpy (:mod:`delkit.compact_np`, the
+#: same canonical output); below it the pure-Python :func:`_refine` is faster (bench/product_update.py)
+NP_REFINE_MIN = 2048
+
+
+def _refine_any(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]],
+                points: Sequence[int]) -> tuple[list[int], list[int], tuple, tuple[int, ...]]:
+    """:func:`_refine`, by numpy for models of :data:`NP_REFINE_MIN` worlds or more."""
+    if len(val) >= NP_REFINE_MIN:
+        from delkit.compact_np import refine
+
+        out = refine(val, dist, cls, points)
+        if out is not None:
+            return out
+    return _refine(val, dist, cls, points)
+
+
 def refine_key(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]],
                points: Sequence[int]) -> CompactState:
     """Coarsest bisimulation (partition refinement to the fixpoint) + canonical quotient.
@@ -346,7 +363,7 @@ def refine_key(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[i
     ``points`` are the designated worlds; the key is (the quotient's valuations, the number of its frame:
     relations + sorted distinct designated blocks, see :func:`frame_id`).
     """
-    _blk, cval, masks, cps = _refine(val, dist, cls, points)
+    _blk, cval, masks, cps = _refine_any(val, dist, cls, points)
     return CompactState(tuple(cval), masks, cps, frame_id(masks, cps))
 
 
@@ -944,7 +961,7 @@ class CompactEngine:
         if built is None:
             built = _pair_product(s, q, k, rows, order)
         val, dist, cls, points, flat_at = built
-        blk, cval, rmasks, cps = _refine(val, dist, cls, points)
+        blk, cval, rmasks, cps = _refine_any(val, dist, cls, points)
         fid = frame_id(rmasks, cps)
         if skey is not None:
             rep = [-1] * len(cval)
