@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from delkit.compact import CompactEngine, CompactState, PlainEvents, bit_positions, state_of_key
 from delkit.errors import PlanningError
-from delkit.formula import Formula, Top, is_propositional, props_of
+from delkit.formula import And, Formula, Top, is_propositional, props_of
 from delkit.resources import ALARM_SLACK, check_time
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, goal_conjuncts, plain_event_model
 
@@ -119,13 +119,21 @@ class CompactSpace:
         # propositional (B(a, p), say) — the event model is still chosen by the designated valuations, the
         # executability is checked per state; None when it is propositional too
         self._exe_check: list[int | None] = []
+        # ... and the node id of its propositional conjuncts (at_x_1, say), decided by the valuations too
+        self._exe_prop: list[int | None] = []
         eng = self.engine
         for e in self._acts:
             conds = [] if e[0] == "macro" else [c for c in self._conditions(e) if not isinstance(c, Top)]
-            exe = None
+            exe = pexe = None
             if e[0] == "spec" and not self._has_groups and not eng.is_propositional(e[2]):
-                exe = e[2]
+                parts = goal_conjuncts(e[1].executable)
+                rest = [g for g in parts if not is_propositional(g)]
+                lits = [g for g in parts if is_propositional(g)]
+                exe = eng.cid(rest[0] if len(rest) == 1 else And(tuple(rest)))
+                if lits:
+                    pexe = eng.cid(lits[0] if len(lits) == 1 else And(tuple(lits)))
                 conds = [c for c in self._conditions(e)[1:] if not isinstance(c, Top)]
+            self._exe_prop.append(pexe)
             if e[0] == "macro" or not all(eng.is_propositional(eng.cid(c)) for c in conds):
                 self._select.append(None)
                 self._exe_check.append(None)
@@ -486,6 +494,9 @@ class CompactSpace:
             if sel is None:
                 out.append((entry[1].name, entry, None, None, None))
                 continue
+            pexe = self._exe_prop[i]
+            if exe is not None and pexe is not None and not self.engine.holds_id(s, pexe):
+                continue  # a propositional conjunct of the executability fails at these valuations
             table, support = sel
             at = here & support if single else frozenset([v & support for v in here])
             comp = table.get(at, _MISSING)
