@@ -149,6 +149,7 @@ class CompactSpace:
         # commuting actions (:meth:`_commuting`) and what is known of their transitions: (state key, action
         # name) -> successor key, and successor key -> [(state key, action name)] it was reached by
         self._commute = self._commuting()
+        self._pairs: dict[tuple[str, str], bool] = {}
         self._succ: dict[tuple, Hashable] = {}
         self._origin: dict[Hashable, list[tuple[Hashable, str]]] = {}
 
@@ -260,34 +261,47 @@ class CompactSpace:
             self._ems[key] = em
         return em
 
-    def _commuting(self) -> frozenset[str]:
-        """The mA* sensing and announcement actions whose observability conditions, sensed formulas and
-        their conditions are all propositional. Any two of them commute: their event models have
-        propositional preconditions and no postconditions and are chosen by the designated worlds'
-        valuations, which neither changes, so E_a;E_b ≅ E_b;E_a ((e, f) ↦ (f, e)): when s·b·a and s·a·b
-        both exist they are bisimilar. The designated events' applicability is read from those valuations
-        too; an executability condition that is not propositional (B(a, p), say) is checked in the state
-        itself before a successor is predicted (:meth:`successors`). Empty when the task has group
-        relations."""
+    def _commuting(self) -> dict[str, tuple[frozenset[str], frozenset[str]]]:
+        """The mA* actions whose event model is chosen by propositional conditions and has propositional
+        pre- and postconditions — sensings and announcements, and ontic actions — with the fluents their
+        event models read (observability conditions, sensed formulas and their conditions, effect conditions
+        and values) and write (effect fluents). Two of them commute when neither writes a fluent the other
+        reads or writes (:meth:`_commute_pair`; two sensings/announcements always do): each one's event model
+        is the same before and after the other, and E_a;E_b ≅ E_b;E_a ((e, f) ↦ (f, e): the composition's
+        relations are products, its preconditions pre(e) ∧ pre(f), its postconditions the union), so when
+        s·b·a and s·a·b both exist they are bisimilar. Whether a is applicable in s·b is decided in s·b itself
+        (its executability and designated preconditions, :meth:`successors`). Empty with group relations."""
         if self._has_groups:
-            return frozenset()
-        out = []
+            return {}
+        out = {}
         for e in self._acts:
-            if e[0] != "spec" or e[1].kind not in ("sensing", "announcement") or e[1].effects:
+            if e[0] != "spec" or e[1].kind not in ("sensing", "announcement", "ontic"):
                 continue
             act = e[1]
+            if act.kind != "ontic" and act.effects:
+                continue
             forms = [*(c for _, c in act.full), *(c for _, c in act.partial),
-                     *(f for f, _ in act.sensed), *(c for _, c in act.sensed)]
+                     *(f for f, _ in act.sensed), *(c for _, c in act.sensed),
+                     *(c for _, _, c in act.effects), *(v for _, v, _ in act.effects if isinstance(v, Formula))]
             if all(is_propositional(f) for f in forms):
-                out.append(act.name)
-        return frozenset(out) if len(out) > 1 else frozenset()
+                reads = frozenset().union(*(props_of(f) for f in forms))
+                out[act.name] = (reads, frozenset(p for p, _, _ in act.effects))
+        return out if len(out) > 1 else {}
+
+    def _commute_pair(self, a: str, b: str) -> bool:
+        """Actions a and b of :meth:`_commuting` commute (cached)."""
+        hit = self._pairs.get((a, b))
+        if hit is None:
+            (ra, wa), (rb, wb) = self._commute[a], self._commute[b]
+            hit = self._pairs[(a, b)] = not (wa & (rb | wb)) and not (wb & ra)
+        return hit
 
     def _predicted(self, ks: Hashable, name: str) -> Hashable | None:
         """The key of s·a when s was reached from p by a commuting b, and p·a·b is known: s·a = p·b·a ≅
         p·a·b (:meth:`_commuting`); None when not known."""
         succ = self._succ
         for kp, b in self._origin.get(ks, ()):
-            if b != name:
+            if b != name and self._commute_pair(name, b):
                 y = succ.get((kp, name))
                 if y is not None:
                     z = succ.get((y, b))
