@@ -1086,25 +1086,28 @@ def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
     nlists: list[list[list[int]]] = [[] for _ in range(nag)]
     ncls: list[list[int]] = [[] for _ in range(nag)]
     base = [len(c) for c in classes]
-    memo: list[dict[int, int]] = [{} for _ in range(nag)]
     entry = 0  # the worlds w whose pair (w, ε) is a successor of a built pair
+    # per relation: (its successor masks, per event "ε only", its event rows, s's list of each world, the
+    # memo (successor mask, event) -> list id, the new lists, the built pairs' list ids, the id of the first
+    # new list)
+    rel = [(masks[a], only[a], q[a], cid[a], {}, nlists[a], ncls[a].append, base[a]) for a in range(nag)]
+    push = order.append
     i = 0
     while i < len(order):
         code = order[i]
         w, e = divmod(code, k)
         i += 1
-        for a in range(nag):
-            mw = masks[a][w]
-            if only[a][e]:  # a's successors of (w, e) are the pairs (v, ε), v in R_a(w): s's own list
+        for per, oa, qa, ca, ma, nl, add, ba in rel:
+            mw = per[w]
+            if oa[e]:  # a's successors of (w, e) are the pairs (v, ε), v in R_a(w): s's own list
                 entry |= mw
-                ncls[a].append(cid[a][w])
+                add(ca[w])
                 continue
             mkey = mw * k + e
-            ma = memo[a]
             j = ma.get(mkey)
             if j is None:
                 lst = []
-                for f in q[a][e]:
+                for f in qa[e]:
                     if f == eps:
                         entry |= mw
                         lst.extend(bit_positions(mw))
@@ -1116,11 +1119,11 @@ def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
                             t = idx[pk]
                             if t < 0:
                                 t = idx[pk] = n + len(order)
-                                order.append(pk)
+                                push(pk)
                             lst.append(t)
-                j = ma[mkey] = base[a] + len(nlists[a])
-                nlists[a].append(lst)
-            ncls[a].append(j)
+                j = ma[mkey] = ba + len(nl)
+                nl.append(lst)
+            add(j)
     if not entry:
         return None
     full = (1 << n) - 1
