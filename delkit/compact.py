@@ -74,7 +74,7 @@ class CompactState:
     groups' intersection relations); ``succ``, ``cid`` and ``classes`` are derived from it on first use.
     """
 
-    __slots__ = ("val", "masks", "points", "fid", "key", "memo", "_succ", "_cid", "_classes")
+    __slots__ = ("val", "masks", "points", "fid", "key", "memo", "copies", "_succ", "_cid", "_classes")
 
     def __init__(self, val: tuple[int, ...], masks: tuple[tuple[int, ...], ...], points: tuple[int, ...],
                  fid: int = -1) -> None:
@@ -84,6 +84,7 @@ class CompactState:
         self.fid = fid  # frame_id(masks, points); -1 for a scratch state that is never keyed
         self.key: Hashable = (val, fid)
         self.memo: dict = {}
+        self.copies: dict | None = None  # the product's copies of parts of this state (delkit.compact._copy_product)
         self._succ = self._cid = self._classes = None
 
     def __repr__(self) -> str:
@@ -332,6 +333,23 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
     return blk, cval, masks, cps
 
 
+#: products (and models) with at least this many worlds are refined by numpy (:mod:`delkit.compact_np`, the
+#: same canonical output); below it the pure-Python :func:`_refine` is faster (bench/product_update.py)
+NP_REFINE_MIN = 2048
+
+
+def _refine_any(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]],
+                points: Sequence[int]) -> tuple[list[int], list[int], tuple, tuple[int, ...]]:
+    """:func:`_refine`, by numpy for models of :data:`NP_REFINE_MIN` worlds or more."""
+    if len(val) >= NP_REFINE_MIN:
+        from delkit.compact_np import refine
+
+        out = refine(val, dist, cls, points)
+        if out is not None:
+            return out
+    return _refine(val, dist, cls, points)
+
+
 def refine_key(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]],
                points: Sequence[int]) -> CompactState:
     """Coarsest bisimulation (partition refinement to the fixpoint) + canonical quotient.
@@ -345,7 +363,7 @@ def refine_key(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[i
     ``points`` are the designated worlds; the key is (the quotient's valuations, the number of its frame:
     relations + sorted distinct designated blocks, see :func:`frame_id`).
     """
-    _blk, cval, masks, cps = _refine(val, dist, cls, points)
+    _blk, cval, masks, cps = _refine_any(val, dist, cls, points)
     return CompactState(tuple(cval), masks, cps, frame_id(masks, cps))
 
 
@@ -780,9 +798,22 @@ class CompactEngine:
         shared = self._shapes.get(frame)
         if shared is None:
             shared = self._shapes[frame] = ({}, [0, 0, 0])
-        comp = (q, k, des, others, tabs, lits, npre, nposts, shared[0], shared[1], tuple(lits[e] for e in des))
+        comp = (q, k, des, others, tabs, lits, npre, nposts, shared[0], shared[1], tuple(lits[e] for e in des),
+                self._copy_event(q, k, des, em))
         self._compiled[id(em)] = (em, comp)  # the model is kept alive so that its id is not reused
         return comp
+
+    def _copy_event(self, q: list, k: int, des: tuple[int, ...], em: EventModel | PlainEvents) -> tuple | None:
+        """The event model's skip event, if it has one: an event ε, not designated, with precondition ⊤, no
+        postconditions, that every relation (agents' and groups') maps to itself alone — mA*'s ε of the
+        oblivious agents. Then the pairs (w, ε) of a product form a copy of the old state (see
+        :func:`_copy_product`). Returns (ε, per relation and event: whether ε is its only successor) or None."""
+        for e in range(k):
+            if e in des or em.post[e] or self._nodes[self.cid(em.pre[e])][0] != _TOP:
+                continue
+            if all(tuple(rows[e]) == (e,) for rows in q):
+                return e, tuple(tuple(tuple(rows[f]) == (e,) for f in range(k)) for rows in q)
+        return None
 
     def _successor_rows(self, r: Relation, k: int) -> list[tuple[int, ...]]:
         """The successors of each of the k events under ``r`` (cached per relation object)."""
@@ -879,7 +910,7 @@ class CompactEngine:
 
     def apply_compiled(self, s: CompactState, comp: tuple) -> CompactState | None:
         """:meth:`apply` with the event model already compiled (``comp = self.compile(em)``)."""
-        q, k, designated, others, tabs, _lits, npre, nposts, shapes, stat, _dlits = comp
+        q, k, designated, others, tabs, _lits, npre, nposts, shapes, stat, _dlits, copy = comp
         if k == 1 and len(s.val) > 64 and all(r[0] == (0,) for r in q):  # (smaller: the shape cache below)
             return self._apply_public(s, tabs[0], npre[0], nposts[0])
         val = s.val
@@ -901,7 +932,6 @@ class CompactEngine:
             if not here:
                 return None
             order.extend(here)
-        npoints = len(order)
         for e in others:
             rows[e] = row(s, tabs[e], npre[e], nposts[e])
         # the shape of the result (which pairs exist, how they are related and contracted, in which canonical
@@ -927,52 +957,11 @@ class CompactEngine:
             if hit is not None:
                 pick, rmasks, cps, fid = hit
                 return CompactState(pick(flat), rmasks, cps, fid)
-        idx = [-1] * (n * k)  # pair code -> its number among the new worlds (-1: not reached yet)
-        for t, code in enumerate(order):
-            idx[code] = t
-        okm = []  # per event: the worlds of s where its precondition holds, as a bit mask
-        for r in rows:
-            m = 0
-            bit = 1
-            for x in r:
-                if x >= 0:
-                    m |= bit
-                bit <<= 1
-            okm.append(m)
-        nag = len(q)
-        dist: list[list[list[int]]] = [[] for _ in range(nag)]
-        cls: list[list[int]] = [[] for _ in range(nag)]
-        # the worlds with one successor set share it: the successor list of (w, e) is computed once per
-        # (agent, successor mask of w, e) and shared
-        memo: list[dict[int, int]] = [{} for _ in range(nag)]
-        masks = s.masks
-        i = 0
-        while i < len(order):
-            code = order[i]
-            w, e = divmod(code, k)
-            i += 1
-            for a in range(nag):
-                mw = masks[a][w]
-                mkey = mw * k + e
-                ma = memo[a]
-                j = ma.get(mkey)
-                if j is None:
-                    lst = []
-                    for f in q[a][e]:
-                        m = mw & okm[f]
-                        if m:
-                            for v in bit_positions(m):
-                                pk = v * k + f
-                                t = idx[pk]
-                                if t < 0:
-                                    t = idx[pk] = len(order)
-                                    order.append(pk)
-                                lst.append(t)
-                    j = ma[mkey] = len(dist[a])
-                    dist[a].append(lst)
-                cls[a].append(j)
-        val = [rows[code % k][code // k] for code in order]
-        blk, cval, rmasks, cps = _refine(val, dist, cls, range(npoints))
+        built = None if copy is None else _copy_product(s, q, k, copy, rows, order)
+        if built is None:
+            built = _pair_product(s, q, k, rows, order)
+        val, dist, cls, points, flat_at = built
+        blk, cval, rmasks, cps = _refine_any(val, dist, cls, points)
         fid = frame_id(rmasks, cps)
         if skey is not None:
             rep = [-1] * len(cval)
@@ -980,11 +969,10 @@ class CompactEngine:
                 if rep[b] < 0:
                     rep[b] = t
             # the new valuations of the blocks' representatives, picked from rows flattened event by event
-            at = [(order[t] % k) * n + order[t] // k for t in rep]
+            at = [flat_at(t) for t in rep]
             pick = itemgetter(*at) if len(at) > 1 else (lambda f, _i=at[0]: (f[_i],))
             shapes[skey] = (pick, rmasks, cps, fid)
         return CompactState(tuple(cval), rmasks, cps, fid)
-
 
     def refine_update(self, s: CompactState, full: Sequence[int], fids: Sequence[int]) -> CompactState:
         """Contracted s ⊗ E for an mA* sensing or announcement E in which every agent observes, fully (the
@@ -1007,6 +995,221 @@ class CompactEngine:
             masks[a] = tuple(m & same[w] for w, m in enumerate(masks[a]))
         return _generated_quotient(s.val, masks, s.points)
 
+
+
+def _okm(rows: Sequence[Sequence[int]]) -> list[int]:
+    """Per event: the worlds where its precondition holds (row entry ≥ 0), as a bit mask."""
+    okm = []
+    for r in rows:
+        m = 0
+        bit = 1
+        for x in r:
+            if x >= 0:
+                m |= bit
+            bit <<= 1
+        okm.append(m)
+    return okm
+
+
+def _pair_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: int, rows: Sequence[Sequence[int]],
+                  order: list[int]) -> tuple:
+    """The part of s ⊗ E generated by the designated pairs ``order`` (pair (w, e) coded w*k + e; ``rows[e][w]``
+    the new valuation, -1 where pre(e) fails), worlds numbered in order of discovery: (valuations, distinct
+    successor lists and per world the index of its list, per relation; designated worlds; world number ->
+    its index in the rows flattened event by event)."""
+    n = len(s.val)
+    npoints = len(order)
+    idx = [-1] * (n * k)  # pair code -> its number among the new worlds (-1: not reached yet)
+    for t, code in enumerate(order):
+        idx[code] = t
+    okm = _okm(rows)
+    nag = len(q)
+    dist: list[list[list[int]]] = [[] for _ in range(nag)]
+    cls: list[list[int]] = [[] for _ in range(nag)]
+    # the worlds with one successor set share it: the successor list of (w, e) is computed once per
+    # (agent, successor mask of w, e) and shared
+    memo: list[dict[int, int]] = [{} for _ in range(nag)]
+    masks = s.masks
+    i = 0
+    while i < len(order):
+        code = order[i]
+        w, e = divmod(code, k)
+        i += 1
+        for a in range(nag):
+            mw = masks[a][w]
+            mkey = mw * k + e
+            ma = memo[a]
+            j = ma.get(mkey)
+            if j is None:
+                lst = []
+                for f in q[a][e]:
+                    m = mw & okm[f]
+                    if m:
+                        for v in bit_positions(m):
+                            pk = v * k + f
+                            t = idx[pk]
+                            if t < 0:
+                                t = idx[pk] = len(order)
+                                order.append(pk)
+                            lst.append(t)
+                j = ma[mkey] = len(dist[a])
+                dist[a].append(lst)
+            cls[a].append(j)
+    val = [rows[code % k][code // k] for code in order]
+    return val, dist, cls, range(npoints), lambda t: (order[t] % k) * n + order[t] // k
+
+
+def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: int, copy: tuple,
+                  rows: Sequence[Sequence[int]], order: list[int]) -> tuple | None:
+    """:func:`_pair_product` for an event model with a skip event ε (``copy`` = (ε, per relation and event:
+    ε is its only successor), see :meth:`CompactEngine._copy_event`), built without rebuilding the copy.
+
+    The pairs (w, ε) are related exactly as the worlds w of s and keep their valuations: once one of them is
+    reached, the pairs (w, ε) reached are a copy of X, the part of s generated by the worlds w reached first
+    (a closed part of s). Only the pairs of the other events are numbered and built; the copy's worlds and
+    successor lists are s's own: all of s when X is (it is whenever X holds the designated worlds, s being
+    generated by them), else X's worlds renumbered (the copy of X is built once per state and X, and shared
+    by the actions that reach it). Returns None — the caller builds the pairs one by one — when no pair
+    (w, ε) is reached."""
+    eps, only = copy
+    n = len(s.val)
+    order = list(order)  # the caller's list stays as it was, for a fallback
+    npoints = len(order)
+    idx = [-1] * (n * k)
+    for t, code in enumerate(order):
+        idx[code] = n + t
+    okm = _okm(rows)
+    nag = len(q)
+    cid, classes, masks = s.cid, s.classes, s.masks
+    # raw numbering while building: world w of s for (w, ε), n + t for the t-th other pair; successor list
+    # ids below len(classes[a]) are s's own lists (the copy's), the new lists follow them
+    nlists: list[list[list[int]]] = [[] for _ in range(nag)]
+    ncls: list[list[int]] = [[] for _ in range(nag)]
+    base = [len(c) for c in classes]
+    entry = 0  # the worlds w whose pair (w, ε) is a successor of a built pair
+    # per relation: (its successor masks, per event "ε only", its event rows, s's list of each world, the
+    # memo (successor mask, event) -> list id, the new lists, the built pairs' list ids, the id of the first
+    # new list)
+    rel = [(masks[a], only[a], q[a], cid[a], {}, nlists[a], ncls[a].append, base[a]) for a in range(nag)]
+    push = order.append
+    i = 0
+    while i < len(order):
+        code = order[i]
+        w, e = divmod(code, k)
+        i += 1
+        for per, oa, qa, ca, ma, nl, add, ba in rel:
+            mw = per[w]
+            if oa[e]:  # a's successors of (w, e) are the pairs (v, ε), v in R_a(w): s's own list
+                entry |= mw
+                add(ca[w])
+                continue
+            mkey = mw * k + e
+            j = ma.get(mkey)
+            if j is None:
+                lst = []
+                for f in qa[e]:
+                    if f == eps:
+                        entry |= mw
+                        lst.extend(bit_positions(mw))
+                        continue
+                    m = mw & okm[f]
+                    if m:
+                        for v in bit_positions(m):
+                            pk = v * k + f
+                            t = idx[pk]
+                            if t < 0:
+                                t = idx[pk] = n + len(order)
+                                push(pk)
+                            lst.append(t)
+                j = ma[mkey] = ba + len(nl)
+                nl.append(lst)
+            add(j)
+    if not entry:
+        return None
+    full = (1 << n) - 1
+    pm = 0
+    for p in s.points:
+        pm |= 1 << p
+    reach = full
+    if entry & pm != pm:  # X, the part of s the copy generates: all of s?
+        seen = front = entry
+        while front:
+            nxt = 0
+            for w in bit_positions(front):
+                for per in masks:
+                    nxt |= per[w]
+            front = nxt & ~seen
+            seen |= front
+        reach = seen
+    new_val = [rows[code % k][code // k] for code in order]
+    pts = range(n, n + npoints)
+    if reach == full:
+        val = list(s.val)
+        val.extend(new_val)
+        dist = [list(classes[a]) + nlists[a] for a in range(nag)]
+        cls = [list(cid[a]) + ncls[a] for a in range(nag)]
+        eb = eps * n
+        return (val, dist, cls, pts,
+                lambda t: eb + t if t < n else (order[t - n] % k) * n + order[t - n] // k)
+    # X is part of s: its worlds renumbered 0..|X|-1 (ascending), the other pairs from |X| on
+    cache = s.copies
+    if cache is None:
+        cache = s.copies = {}
+    hit = cache.get(reach)
+    if hit is None:
+        xs = bit_positions(reach)
+        r = [-1] * n
+        for t, w in enumerate(xs):
+            r[w] = t
+        cdist, ccls, cmaps = [], [], []
+        for a in range(nag):
+            cm: dict[int, int] = {}
+            lists: list[list[int]] = []
+            col = []
+            ca, cl = cid[a], classes[a]
+            for w in xs:
+                c = ca[w]
+                j = cm.get(c)
+                if j is None:
+                    j = cm[c] = len(lists)
+                    lists.append([r[v] for v in cl[c]])
+                col.append(j)
+            cdist.append(lists)
+            ccls.append(col)
+            cmaps.append(cm)
+        hit = cache[reach] = (xs, r, cdist, ccls, cmaps, [s.val[w] for w in xs])
+    xs, r, cdist, ccls, cmaps, xval = hit
+    nx = len(xs)
+    shift = n - nx
+    dist, cls = [], []
+    for a in range(nag):
+        da = list(cdist[a])
+        cm = cmaps[a]
+        extra: dict[int, int] = {}  # s's lists of the built pairs' worlds that no world of X has
+        newid = []
+        for lst in nlists[a]:
+            newid.append(len(da))
+            da.append([r[v] if v < n else v - shift for v in lst])
+        ba, cl = base[a], classes[a]
+        col = list(ccls[a])
+        for c in ncls[a]:
+            if c >= ba:
+                col.append(newid[c - ba])
+                continue
+            j = cm.get(c)
+            if j is None:
+                j = extra.get(c)
+                if j is None:
+                    j = extra[c] = len(da)
+                    da.append([r[v] for v in cl[c]])
+            col.append(j)
+        dist.append(da)
+        cls.append(col)
+    val = list(xval)
+    val.extend(new_val)
+    eb = eps * n
+    return (val, dist, cls, range(nx, nx + npoints),
+            lambda t: eb + xs[t] if t < nx else (order[t - nx] % k) * n + order[t - nx] // k)
 
 
 def _generated_quotient(val: Sequence[int], masks: Sequence[Sequence[int]], points: Sequence[int]) -> CompactState:

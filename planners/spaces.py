@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from delkit.compact import CompactEngine, CompactState, PlainEvents, bit_positions, state_of_key
 from delkit.errors import PlanningError
-from delkit.formula import Formula, Top, is_propositional, props_of
+from delkit.formula import And, Formula, Top, is_propositional, props_of
 from delkit.resources import ALARM_SLACK, check_time
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, goal_conjuncts, plain_event_model
 
@@ -115,12 +115,30 @@ class CompactSpace:
         # executable) per valuations of the designated worlds restricted to the propositions the conditions
         # mention — they decide it (shared by all states)
         self._select: list[tuple[dict, int] | None] = []
+        # per action: the node id of its executability when it is the only condition that is not
+        # propositional (B(a, p), say) — the event model is still chosen by the designated valuations, the
+        # executability is checked per state; None when it is propositional too
+        self._exe_check: list[int | None] = []
+        # ... and the node id of its propositional conjuncts (at_x_1, say), decided by the valuations too
+        self._exe_prop: list[int | None] = []
         eng = self.engine
         for e in self._acts:
             conds = [] if e[0] == "macro" else [c for c in self._conditions(e) if not isinstance(c, Top)]
+            exe = pexe = None
+            if e[0] == "spec" and not self._has_groups and not eng.is_propositional(e[2]):
+                parts = goal_conjuncts(e[1].executable)
+                rest = [g for g in parts if not is_propositional(g)]
+                lits = [g for g in parts if is_propositional(g)]
+                exe = eng.cid(rest[0] if len(rest) == 1 else And(tuple(rest)))
+                if lits:
+                    pexe = eng.cid(lits[0] if len(lits) == 1 else And(tuple(lits)))
+                conds = [c for c in self._conditions(e)[1:] if not isinstance(c, Top)]
+            self._exe_prop.append(pexe)
             if e[0] == "macro" or not all(eng.is_propositional(eng.cid(c)) for c in conds):
                 self._select.append(None)
+                self._exe_check.append(None)
                 continue
+            self._exe_check.append(exe)
             support = 0
             for c in conds:
                 for p in props_of(c):
@@ -131,6 +149,7 @@ class CompactSpace:
         # commuting actions (:meth:`_commuting`) and what is known of their transitions: (state key, action
         # name) -> successor key, and successor key -> [(state key, action name)] it was reached by
         self._commute = self._commuting()
+        self._pairs: dict[tuple[str, str], bool] = {}
         self._succ: dict[tuple, Hashable] = {}
         self._origin: dict[Hashable, list[tuple[Hashable, str]]] = {}
 
@@ -221,11 +240,12 @@ class CompactSpace:
         return self.engine.inconsistent(s)
 
     # ------------------------------------------------------------------ transitions
-    def event_model(self, s: CompactState, entry: tuple) -> EventModel | PlainEvents | None:
-        """The event model of a (non-macro) action in ``s``; None if its executability fails in ``s``."""
+    def event_model(self, s: CompactState, entry: tuple, check: bool = True) -> EventModel | PlainEvents | None:
+        """The event model of a (non-macro) action in ``s``; None if its executability fails in ``s``
+        (``check=False``: not tested, the caller does)."""
         kind, act, exe = entry[0], entry[1], entry[2]
         at = self.engine.holds_id
-        if not at(s, exe):
+        if check and not at(s, exe):
             return None
         if kind == "event":
             bits = tuple(at(s, c) for c in entry[3])
@@ -241,31 +261,47 @@ class CompactSpace:
             self._ems[key] = em
         return em
 
-    def _commuting(self) -> frozenset[str]:
-        """The mA* sensing and announcement actions whose executability, observability conditions, sensed
-        formulas and their conditions are all propositional. Any two of them commute: their event models
-        have propositional preconditions and no postconditions and are chosen by the designated worlds'
-        valuations, which neither changes, so E_a;E_b ≅ E_b;E_a ((e, f) ↦ (f, e)) and each is applicable
-        after the other iff it is before: s·a·b ≅ s·b·a. Empty when the task has group relations."""
+    def _commuting(self) -> dict[str, tuple[frozenset[str], frozenset[str]]]:
+        """The mA* actions whose event model is chosen by propositional conditions and has propositional
+        pre- and postconditions — sensings and announcements, and ontic actions — with the fluents their
+        event models read (observability conditions, sensed formulas and their conditions, effect conditions
+        and values) and write (effect fluents). Two of them commute when neither writes a fluent the other
+        reads or writes (:meth:`_commute_pair`; two sensings/announcements always do): each one's event model
+        is the same before and after the other, and E_a;E_b ≅ E_b;E_a ((e, f) ↦ (f, e): the composition's
+        relations are products, its preconditions pre(e) ∧ pre(f), its postconditions the union), so when
+        s·b·a and s·a·b both exist they are bisimilar. Whether a is applicable in s·b is decided in s·b itself
+        (its executability and designated preconditions, :meth:`successors`). Empty with group relations."""
         if self._has_groups:
-            return frozenset()
-        out = []
+            return {}
+        out = {}
         for e in self._acts:
-            if e[0] != "spec" or e[1].kind not in ("sensing", "announcement") or e[1].effects:
+            if e[0] != "spec" or e[1].kind not in ("sensing", "announcement", "ontic"):
                 continue
             act = e[1]
-            forms = [act.executable, *(c for _, c in act.full), *(c for _, c in act.partial),
-                     *(f for f, _ in act.sensed), *(c for _, c in act.sensed)]
+            if act.kind != "ontic" and act.effects:
+                continue
+            forms = [*(c for _, c in act.full), *(c for _, c in act.partial),
+                     *(f for f, _ in act.sensed), *(c for _, c in act.sensed),
+                     *(c for _, _, c in act.effects), *(v for _, v, _ in act.effects if isinstance(v, Formula))]
             if all(is_propositional(f) for f in forms):
-                out.append(act.name)
-        return frozenset(out) if len(out) > 1 else frozenset()
+                reads = frozenset().union(*(props_of(f) for f in forms))
+                out[act.name] = (reads, frozenset(p for p, _, _ in act.effects))
+        return out if len(out) > 1 else {}
+
+    def _commute_pair(self, a: str, b: str) -> bool:
+        """Actions a and b of :meth:`_commuting` commute (cached)."""
+        hit = self._pairs.get((a, b))
+        if hit is None:
+            (ra, wa), (rb, wb) = self._commute[a], self._commute[b]
+            hit = self._pairs[(a, b)] = not (wa & (rb | wb)) and not (wb & ra)
+        return hit
 
     def _predicted(self, ks: Hashable, name: str) -> Hashable | None:
         """The key of s·a when s was reached from p by a commuting b, and p·a·b is known: s·a = p·b·a ≅
         p·a·b (:meth:`_commuting`); None when not known."""
         succ = self._succ
         for kp, b in self._origin.get(ks, ()):
-            if b != name:
+            if b != name and self._commute_pair(name, b):
                 y = succ.get((kp, name))
                 if y is not None:
                     z = succ.get((y, b))
@@ -306,29 +342,55 @@ class CompactSpace:
         fm, pm, sm = self._observed(s, entry)
         n = len(self.task.agents)
         return (act.kind, tuple(a for a in range(n) if (fm >> a) & 1),
-                tuple(c for j, c in enumerate(ids) if (sm >> j) & 1), (fm | pm) == (1 << n) - 1)
+                tuple(c for j, c in enumerate(ids) if (sm >> j) & 1), (fm | pm) == (1 << n) - 1,
+                tuple(a for a in range(n) if ((fm | pm) >> a) & 1))
 
     def _is_loop(self, s: CompactState, test: tuple) -> bool:
-        """Whether the action of ``test`` (:meth:`_loop_test`, applicable in ``s``) leads back to ``s``, read
-        from ``s`` without the product: a sensing whose full observers already know, at every world, whether
-        each sensed formula holds (each one's successor set lies inside the world's class of the formula),
-        or an announcement of formulas true at every world. Then (w, e_w) ↦ w (and (w, ε) ↦ w for oblivious
-        agents) is a bounded morphism from s ⊗ E onto s: the successor is bisimilar to s, the same key."""
-        kind, agents, fids, _ = test
+        """Whether the action of ``test`` (:meth:`_loop_test`, executable in ``s``) is applicable and leads
+        back to ``s``, read from ``s`` without the product. Let X be the worlds reachable from the
+        designated ones by the observers' (full and partial) relations: it is a loop when every full
+        observer, at every world of X, already knows whether each sensed (announced) formula holds (each
+        one's successor set lies inside the world's class of the formula) — and, for an announcement, the
+        formulas hold at every designated world (else it is not applicable). Then every pair (w, e) of the
+        product that is reached is w with the one real event whose precondition w satisfies, or w with ε
+        (the oblivious agents' copy of s), and (w, e) ↦ w is a bounded morphism from the generated part
+        of s ⊗ E onto s (back: a full observer's successor v of w satisfies pre(e), a partial observer's
+        meets the event of its own truth values, an oblivious one's meets ε): the successor is bisimilar
+        to s, the same key."""
+        kind, agents, fids, everyone, observers = test
         ev = self.engine.ev
-        if kind == "announcement":
-            every = (1 << len(s.val)) - 1
-            return all(ev(s, c) == every for c in fids)
         masks = s.masks
+        if kind == "announcement":
+            for c in fids:
+                b = ev(s, c)
+                for p in s.points:
+                    if not (b >> p) & 1:
+                        return False
+        if not agents or not fids:
+            return True
+        if everyone:  # X is all of s (s is generated by its designated worlds)
+            xs: Any = range(len(s.val))
+        else:
+            seen = 0
+            for p in s.points:
+                seen |= 1 << p
+            front = seen
+            while front:
+                nxt = 0
+                for w in bit_positions(front):
+                    for a in observers:
+                        nxt |= masks[a][w]
+                front = nxt & ~seen
+                seen |= front
+            xs = bit_positions(seen)
         for c in fids:
             b = ev(s, c)
             nb = ~b
             for a in agents:
-                w = 0
-                for m in masks[a]:
-                    if m & (nb if (b >> w) & 1 else b):
+                per = masks[a]
+                for w in xs:
+                    if per[w] & (nb if (b >> w) & 1 else b):
                         return False
-                    w += 1
         return True
 
     def _epistemic_successor(self, s: CompactState, test: tuple) -> CompactState | None:
@@ -338,7 +400,7 @@ class CompactSpace:
         designated world (not applicable)."""
         if self._is_loop(s, test):
             return s
-        kind, full, fids, _ = test
+        kind, full, fids, _, _ = test
         if kind == "announcement":
             ev = self.engine.ev
             for c in fids:
@@ -429,29 +491,34 @@ class CompactSpace:
         """The successor of ``s`` by the action ``name`` (None if not applicable)."""
         return self.apply_entry(s, self._acts[self._index[name]])
 
-    def _candidates(self, s: CompactState, here: Any) -> list[tuple[str, tuple | None, tuple | None, Any]]:
-        """The actions that may apply in ``s`` as (name, entry, None, None) — decided per state — or (name,
-        None, compiled event model, loop test) — chosen by the designated worlds' valuations ``here`` and not
-        excluded by them (some designated event's propositional precondition holds at every designated
-        world); the loop test (:meth:`_loop_test`, decided by ``here`` too) or None. Computed once per
+    def _candidates(self, s: CompactState, here: Any) -> list[tuple[str, tuple | None, tuple | None, Any,
+                                                                   int | None]]:
+        """The actions that may apply in ``s`` as (name, entry, None, None, None) — decided per state — or
+        (name, None, compiled event model, loop test, executability) — chosen by the designated worlds'
+        valuations ``here`` and not excluded by them (some designated event's propositional precondition
+        holds at every designated world); the loop test (:meth:`_loop_test`, decided by ``here`` too) or
+        None; the node id of an executability to check per state (``_exe_check``) or None. Computed once per
         ``here`` (cached by :meth:`successors`), so it is not on the per-state path."""
         single = not isinstance(here, frozenset)
         compile_em, may = self.engine.compile, self.engine.may_apply
         out = []
         acts, select = self._acts, self._select
         for i in self._enabled((here,) if single else tuple(sorted(here))):
-            entry, sel = acts[i], select[i]
+            entry, sel, exe = acts[i], select[i], self._exe_check[i]
             if sel is None:
-                out.append((entry[1].name, entry, None, None))
+                out.append((entry[1].name, entry, None, None, None))
                 continue
+            pexe = self._exe_prop[i]
+            if exe is not None and pexe is not None and not self.engine.holds_id(s, pexe):
+                continue  # a propositional conjunct of the executability fails at these valuations
             table, support = sel
             at = here & support if single else frozenset([v & support for v in here])
             comp = table.get(at, _MISSING)
             if comp is _MISSING:
-                em = self.event_model(s, entry)
+                em = self.event_model(s, entry, check=exe is None)
                 comp = table[at] = None if em is None else compile_em(em)
             if comp is not None and may(comp, (here,) if single else here):
-                out.append((entry[1].name, None, comp, self._loop_test(s, entry)))
+                out.append((entry[1].name, None, comp, self._loop_test(s, entry), exe))
         return out
 
     def successors(self, s: CompactState) -> Iterator[tuple[str, CompactState, Hashable]]:
@@ -464,9 +531,13 @@ class CompactSpace:
         apply = self.engine.apply_compiled
         loop_ok: bool | None = None  # s itself as a successor: is it consistent? (decided on first use)
         commute, ks = self._commute, s.key
-        for name, entry, comp, test in cands:
+        holds = self.engine.holds_id
+        for name, entry, comp, test, exe in cands:
             check_time(ALARM_SLACK)  # one clock read: a single expansion of a large state can take seconds
-            if name in commute:
+            if exe is not None and not holds(s, exe):
+                continue
+            # (entry is None: the executability was decided by the designated valuations, see _candidates)
+            if name in commute and (entry is None or self.engine.holds_id(s, entry[2])):
                 z = self._predicted(ks, name)
                 if z is not None:  # known by commutation; it was yielded before, so it is consistent
                     yield name, (s if z == ks else state_of_key(z)), z  # type: ignore[arg-type]
