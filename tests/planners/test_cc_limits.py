@@ -27,6 +27,9 @@ def test_cc_2_4_4_limit_held_within_half_a_second() -> None:
                        timeout=120)
     wall = time.monotonic() - t0
     out = p.stdout + p.stderr
-    # stopped inside the first expansion: nothing was expanded
-    assert p.returncode == 3 and "--timeout 2 s reached" in out and "0 expanded" in out, (p.returncode, out[-300:])
+    # stopped inside the first expansion: nothing was expanded — reported by the search itself, or, where a
+    # loaded machine delays that report past the grace period, by the console watchdog (the limit named)
+    assert p.returncode == 3, (p.returncode, out[-300:])
+    assert ("--timeout 2 s reached" in out and "0 expanded" in out) or (
+        not p.stdout and "no answer within --timeout 2 s" in p.stderr), out[-300:]
     assert wall < limit + 0.5 + MARGIN, wall
