@@ -3,10 +3,19 @@
 from __future__ import annotations
 
 import os
+from pathlib import Path
 
 import pytest
 
 from delkit.executors import WorkerDied, actors
+
+
+@pytest.fixture(autouse=True)
+def _importable_in_the_workers(monkeypatch) -> None:
+    """The actors' spawned processes unpickle :class:`Counter` by its module, ``tests.delkit.test_actors``:
+    the repository root must be on the path they inherit (pytest's importlib mode does not put it there, and
+    the core-only run, ``make test-core``, starts pytest from another directory)."""
+    monkeypatch.syspath_prepend(str(Path(__file__).resolve().parents[2]))
 
 
 class Counter:
