@@ -53,3 +53,24 @@ def test_five_thousand_inputs():
     print(tally.table())
     assert tally.total >= 5000
     _assert_clean(tally)
+
+
+def test_the_harness_alarm_inside_a_ctypes_call_is_a_hang():
+    """z3's wrappers call into ctypes: the harness's alarm raised while ctypes converts an argument comes back
+    as ``ctypes.ArgumentError("argument 1: _Hang: ")`` — that is a hang of the command, not its crash."""
+    import ctypes
+
+    import fuzzkit
+
+    class Arg:
+        @classmethod
+        def from_param(cls, obj):
+            raise fuzzkit._Hang()
+
+    fn = ctypes.CDLL(None).abs
+    fn.argtypes = [Arg]
+    with pytest.raises(ctypes.ArgumentError) as info:
+        fn(1)
+    assert fuzzkit._from_hang(info.value)
+    assert not fuzzkit._from_hang(ctypes.ArgumentError("argument 1: TypeError: wrong type"))
+    assert not fuzzkit._from_hang(ValueError("_Hang"))
