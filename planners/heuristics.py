@@ -407,6 +407,41 @@ def _point_valuation(s: Any, pidx: dict[str, int]) -> int | None:
     return v
 
 
+def _chain_costs(v: int, ontic, kinds) -> tuple[Any, tuple[float, ...]]:
+    """h_max of the delete relaxation from the pointed valuation ``v``: ``ontic`` holds (executability
+    literals, condition literals, effect literals) per action; returns (the cost of a literal set, each goal
+    conjunct's cost by its kind: "lits" its literals, "cover" 1 + the cheapest executability, else 0)."""
+    inf = math.inf
+    cost: dict[tuple[int, bool], float] = {}
+
+    def c(lit: tuple[int, bool]) -> float:
+        return 0.0 if bool(v >> lit[0] & 1) == lit[1] else cost.get(lit, inf)
+
+    def c_set(lits: tuple[tuple[int, bool], ...]) -> float:
+        return max(map(c, lits), default=0.0)
+
+    changed = True
+    while changed:
+        changed = False
+        for p, cond, effs in ontic:
+            cb = max(c_set(p), c_set(cond)) + 1.0
+            if cb == inf:
+                continue
+            for lit in effs:
+                if c(lit) > cb:
+                    cost[lit] = cb
+                    changed = True
+    per = []
+    for kind, data in kinds:
+        if kind == "lits":
+            per.append(c_set(data))
+        elif kind == "cover":
+            per.append(1.0 + min((c_set(p) for p in data), default=inf))
+        else:
+            per.append(0.0)
+    return c_set, tuple(per)
+
+
 def h_chain(space: Any) -> Callable[[Any], float]:
     """``max(h_epi, h_exe)``: h_epi strengthened by executability chains (admissible and consistent).
 
@@ -448,7 +483,7 @@ def h_chain(space: Any) -> Callable[[Any], float]:
                     if p in pidx:
                         effs |= {(pidx[p], v)} if isinstance(v, bool) else {(pidx[p], True), (pidx[p], False)}
         if effs:
-            ontic.append((pre[i], tuple(sorted(effs))))
+            ontic.append((pre[i], (), tuple(sorted(effs))))
     kinds: list[tuple[str, Any]] = []  # per conjunct: ("lits", literals) or ("cover", distinct exe literal sets)
     for i, g in enumerate(conj):
         lp = _literal_props(g)
@@ -462,34 +497,8 @@ def h_chain(space: Any) -> Callable[[Any], float]:
     memo: dict[int, tuple[float, tuple[float, ...]]] = {}
 
     def per_conjunct(v: int) -> tuple[float, tuple[float, ...]]:
-        cost: dict[tuple[int, bool], float] = {}
-
-        def c(lit: tuple[int, bool]) -> float:
-            return 0.0 if bool(v >> lit[0] & 1) == lit[1] else cost.get(lit, inf)
-
-        def c_set(lits: tuple[tuple[int, bool], ...]) -> float:
-            return max(map(c, lits), default=0.0)
-
-        changed = True
-        while changed:
-            changed = False
-            for p, effs in ontic:
-                cb = c_set(p) + 1.0
-                if cb == inf:
-                    continue
-                for lit in effs:
-                    if c(lit) > cb:
-                        cost[lit] = cb
-                        changed = True
-        out = []
-        for kind, data in kinds:
-            if kind == "lits":
-                out.append(c_set(data))
-            elif kind == "cover":
-                out.append(1.0 + min((c_set(p) for p in data), default=inf))
-            else:
-                out.append(0.0)
-        return max(out, default=0.0), tuple(out)
+        _, per = _chain_costs(v, ontic, kinds)
+        return max(per, default=0.0), per
 
     holds = space.holds
 
@@ -742,34 +751,8 @@ def h_elim(space: Any) -> Callable[[Any], float]:
 
     def lit_costs(v: int) -> tuple[tuple[float, ...], tuple[float, ...]]:
         """(c0 of each action's executability, each goal conjunct's chain cost) at pointed valuation v."""
-        cost: dict[tuple[int, bool], float] = {}
-
-        def c(lit: tuple[int, bool]) -> float:
-            return 0.0 if bool(v >> lit[0] & 1) == lit[1] else cost.get(lit, inf)
-
-        def c_set(lits: tuple[tuple[int, bool], ...]) -> float:
-            return max(map(c, lits), default=0.0)
-
-        changed = True
-        while changed:
-            changed = False
-            for p, cond, effs in ontic:
-                cb = max(c_set(p), c_set(cond)) + 1.0
-                if cb == inf:
-                    continue
-                for lit in effs:
-                    if c(lit) > cb:
-                        cost[lit] = cb
-                        changed = True
-        per = []
-        for kind, data in kinds:
-            if kind == "lits":
-                per.append(c_set(data))
-            elif kind == "cover":
-                per.append(1.0 + min((c_set(p) for p in data), default=inf))
-            else:
-                per.append(0.0)
-        return tuple(c_set(p) for p in pre), tuple(per)
+        c_set, per = _chain_costs(v, ontic, kinds)
+        return tuple(c_set(p) for p in pre), per
 
     holds = space.holds
     rem_memo: dict[tuple[int, int, int], tuple[int, ...]] = {}
