@@ -497,25 +497,10 @@ class KnowledgeStructure:
             for p in list(voc):
                 if p in keep_set:
                     continue
-                x = b.var(p)
-                sub: Any = None
-                if (law & ~x) == b.false:
-                    sub = b.true
-                elif (law & x) == b.false:
-                    sub = b.false
-                else:
-                    for q in voc:
-                        if q == p:
-                            continue
-                        y = b.var(q)
-                        if (law & b.apply("xor", x, y)) == b.false:
-                            sub = y
-                        elif (law & ~b.apply("xor", x, y)) == b.false:
-                            sub = ~y
-                        if sub is not None:
-                            break
-                if sub is None:
+                found = _redundant_variable(b, law, p, voc)
+                if found is None:
                     continue
+                sub = found[0]
                 law = b.let({p: sub}, law)
                 actual = b.let({p: sub}, actual)
                 voc.remove(p)
@@ -605,6 +590,26 @@ def _ev_every(ks: KnowledgeStructure, f: E) -> Any:
     for a in f.group:
         out = out & ks._box((a,), u)
     return out
+
+
+def _redundant_variable(b: Any, law: Any, p: str, voc: Sequence[str]) -> tuple[Any, str | None, bool] | None:
+    """Whether the state law makes ``p`` redundant (SMCDEL's ``optimize``): (its substitute, None, False) when
+    the law determines it (``b.true`` / ``b.false``), (±q, q, negated) when the law makes it equivalent to
+    another variable q of ``voc`` (or to its negation), None otherwise."""
+    x = b.var(p)
+    if (law & ~x) == b.false:
+        return b.true, None, False
+    if (law & x) == b.false:
+        return b.false, None, False
+    for q in voc:
+        if q == p:
+            continue
+        y = b.var(q)
+        if (law & b.apply("xor", x, y)) == b.false:
+            return y, q, False
+        if (law & ~b.apply("xor", x, y)) == b.false:
+            return ~y, q, True
+    return None
 
 
 def _common_fixpoint(st: Any, group: tuple[str, ...], u: Any) -> Any:

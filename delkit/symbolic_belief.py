@@ -61,6 +61,7 @@ from delkit.symbolic import (
     _ev_every,
     _fold_bdds,
     _fresh,
+    _redundant_variable,
     new_manager,
 )
 
@@ -328,26 +329,11 @@ class BeliefStructure:
             for p in list(voc):
                 if p in keep_set:
                     continue
-                x = b.var(p)
-                sub: Any = None
-                sub_p: Any = None
-                if (law & ~x) == b.false:
-                    sub = sub_p = b.true
-                elif (law & x) == b.false:
-                    sub = sub_p = b.false
-                else:
-                    for q in voc:
-                        if q == p:
-                            continue
-                        y = b.var(q)
-                        if (law & b.apply("xor", x, y)) == b.false:
-                            sub, sub_p = y, b.var(primes[q])
-                        elif (law & ~b.apply("xor", x, y)) == b.false:
-                            sub, sub_p = ~y, ~b.var(primes[q])
-                        if sub is not None:
-                            break
-                if sub is None:
+                found = _redundant_variable(b, law, p, voc)
+                if found is None:
                     continue
+                sub, q, negated = found
+                sub_p = sub if q is None else ~b.var(primes[q]) if negated else b.var(primes[q])
                 law = b.let({p: sub}, law)
                 actual = b.let({p: sub}, actual)
                 rels = {a: b.let({p: sub, primes[p]: sub_p}, r) for a, r in rels.items()}
