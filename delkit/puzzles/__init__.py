@@ -13,7 +13,8 @@
 
 :data:`CATALOGUE` lists them for ``delkit puzzle --list`` (command, literature answer, backends, source).
 
-:func:`summary_table` runs them all (a few seconds) for ``delkit demo``.
+:func:`summary_table` runs every one of them on a small instance (a few seconds) for ``delkit demo`` and
+``delkit puzzle all``.
 """
 
 from __future__ import annotations
@@ -90,31 +91,63 @@ CATALOGUE += [
 
 
 #: how many rows :func:`summary_table` has (for a progress display)
-N_PUZZLES = 6
+N_PUZZLES = 16
 
 
 def summary_table(on_row=None) -> list[dict]:
-    """Run every puzzle once; one row per puzzle: ``puzzle``, ``answer``, ``expected``, ``ok``, ``seconds``.
-    ``on_row(row)`` is called after each puzzle (e.g. to advance a progress display)."""
+    """Run every puzzle of :data:`CATALOGUE` once, on a small instance (a few seconds in all); one row per
+    run: ``puzzle``, ``command`` (its :data:`CATALOGUE` command), ``answer``, ``expected`` (the literature
+    answer, or for What Sum SMCDEL's own test count), ``ok``, ``seconds`` (wall). ``on_row(row)`` is called
+    after each puzzle (e.g. to advance a progress display)."""
+    from delkit.puzzles.coin_flip import solve_coin_flip
+    from delkit.puzzles.door_mat import solve_door_mat
+    from delkit.puzzles.gossip import solve_gossip, solve_gossip_kw
+    from delkit.puzzles.hanabi import solve_hanabi
+    from delkit.puzzles.letter_passing import solve_letter_passing
+    from delkit.puzzles.number_triangle import solve_number_triangle
+    from delkit.puzzles.prisoners import solve_prisoners
+    from delkit.puzzles.what_sum import solve_what_sum
+
     rows: list[dict] = []
 
-    def row(name: str, run, answer, expected) -> None:
+    def row(command: str, name: str, run, answer, expected) -> None:
         t0 = time.perf_counter()
         result = run()
         got = answer(result)
-        rows.append({"puzzle": name, "answer": got, "expected": expected, "ok": got == expected,
+        rows.append({"puzzle": name, "command": command, "answer": got, "expected": expected, "ok": got == expected,
                      "seconds": round(time.perf_counter() - t0, 4)})
         if on_row is not None:
             on_row(rows[-1])
 
-    row("muddy children (N=10, M=4): nobody-knows rounds", lambda: solve_muddy(10, 4),
+    row("muddy", "muddy children (N=10, M=4): nobody-knows rounds", lambda: solve_muddy(10, 4),
         lambda r: r.nobody_knows_rounds, 3)
-    row("sum and product", solve_sum_product, lambda r: [list(s) for s in r.solutions], [[4, 13]])
-    row("Cheryl's birthday", solve_cheryl, lambda r: list(r.solutions), ["July 16"])
-    row("Russian cards: safe 5-7 hand announcements", solve_russian_cards,
+    row("sum-product", "sum and product", solve_sum_product, lambda r: [list(s) for s in r.solutions], [[4, 13]])
+    row("cheryl", "Cheryl's birthday", solve_cheryl, lambda r: list(r.solutions), ["July 16"])
+    row("russian-cards", "Russian cards: safe 5-7 hand announcements", solve_russian_cards,
         lambda r: len(r.safe_announcements), 102)
-    row("drinking logicians (all want)", lambda: solve_drinking((True, True, True)), lambda r: list(r.answers),
-        ["I don't know", "I don't know", "yes"])
-    row("dining cryptographers (0 paid): anonymous, paid known", lambda: solve_dining(3, 0, 5),
+    row("drinking", "drinking logicians (all want)", lambda: solve_drinking((True, True, True)),
+        lambda r: list(r.answers), ["I don't know", "I don't know", "yes"])
+    row("dining", "dining cryptographers (0 paid): anonymous, paid known", lambda: solve_dining(3, 0, 5),
         lambda r: [r.anonymous, r.common_knows_whether_paid], [True, True])
+    row("gossip", "gossip (n=3): least calls making all experts, fewer fail", lambda: solve_gossip(3),
+        lambda r: [len(r.calls), r.shorter_fail], [3, True])
+    row("what-sum", "What Sum (bound 50): states after three 'I don't know's", lambda: solve_what_sum(50, 50),
+        lambda r: r.states, 330)
+    row("door-mat", "door mat: key after tryTake; Bob knows it before / after the announcement", solve_door_mat,
+        lambda r: [r.goal_after_try, r.bob_knows_beforehand, r.bob_knows_after_announcement], [True, False, True])
+    row("prisoners", "prisoners (n=4): the counter knows exactly when his count reaches n-1",
+        lambda: solve_prisoners(4, 200, 0), lambda r: [r.sound, r.knows_day == r.announce_day], [True, True])
+    row("letter-passing", "letter passing (n=3): passes; goal common knowledge at the end",
+        lambda: solve_letter_passing(3), lambda r: [len(r.plan), r.steps[-1]["common_knowledge_of_goal"]],
+        [2, True])
+    row("coin-flip", "coin flip (partial): every claim holds", lambda: solve_coin_flip(False, "partial"),
+        lambda r: all(r.claims.values()), True)
+    row("coin-flip", "coin flip (oblivious, KD45): every claim holds", lambda: solve_coin_flip(False, "oblivious"),
+        lambda r: all(r.claims.values()), True)
+    row("number-triangle", "number triangle (N=10, M=4, 'some'): rounds, then the muddy know",
+        lambda: solve_number_triangle(10, 4), lambda r: [r.nobody_knows_rounds, r.muddy_know], [3, True])
+    row("gossip --variant kw", "gossip, knowing whether (n=3): least calls", lambda: solve_gossip_kw(3),
+        lambda r: [len(r.calls), r.shorter_fail], [3, True])
+    row("hanabi", "Hanabi hints: safe after one hint; after two", solve_hanabi,
+        lambda r: [list(r.safe_after_one), [1, 4] in [list(p) for p in r.safe_after_two]], [[0], True])
     return rows
