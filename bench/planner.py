@@ -23,6 +23,14 @@ BFS (a capped BFS is shown as a lower bound on its expansions).
     .venv/bin/python bench/planner.py --expansions [--bfs-timeout 1200]
     .venv/bin/python bench/planner.py --suite [--jobs 2]
     .venv/bin/python bench/planner.py --heuristics        # A*: h_epi vs h_chain, expansions and CPU
+    .venv/bin/python bench/planner.py [--suite] --efp-bin /work/peers/efp/build/bin/efp.out   # EFP in the same run
+
+``--efp-bin PATH`` (or ``$EFP_BIN``) measures EFP in the same run (bench/peers/efp: how to build it): before
+each timed ``delkit plan`` process, one ``efp.out FILE -st POSS`` process (EFP's possibilities representation,
+BFS, its default search), timed the same way (whole process, CPU from ``RUSAGE_CHILDREN``); the table gains
+EFP's same-run median CPU and its plan length, and the recorded CSV column stays beside it. With ``--suite`` it
+adds EFP's totals over the suite: one EFP process per instance (EFP has no batch mode), summed, and the wall
+of the same processes run two at a time (the 2 cores delkit's ``--jobs 2`` uses).
 
 ``--suite`` runs the whole suite as ONE ``delkit plan FILE... --jobs N --json`` command (issue 24) and prints
 each task's length beside EFP's, and the command's total CPU and wall seconds beside the sum of EFP's.
@@ -58,6 +66,42 @@ def _efp(x: str) -> float | None:
         return None  # ">60 (timeout)"
 
 
+def _efp_once(binary: Path, path: Path, timeout: float) -> tuple[float, float, dict]:
+    """One EFP process on ``path`` (possibilities, BFS): (wall s, CPU s, {"length", "status"}). EFP runs in a
+    scratch directory (it may write result files into its working directory); a run past ``timeout`` is
+    killed and reported as ``timeout`` (its CPU until then is counted)."""
+    import tempfile
+
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    t0 = time.perf_counter()
+    with tempfile.TemporaryDirectory(prefix="efp-") as cwd:
+        try:
+            proc = subprocess.run([str(binary), str(path), "-st", "POSS"], cwd=cwd, capture_output=True, text=True,
+                                  errors="replace", timeout=timeout, check=False)
+            text, code = proc.stdout, proc.returncode
+        except subprocess.TimeoutExpired:
+            text, code = None, None
+    wall = time.perf_counter() - t0
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    if text is None:
+        return wall, cpu, {"length": None, "status": "timeout"}
+    for line in text.splitlines():
+        if line.strip().startswith("Plan Length:"):
+            return wall, cpu, {"length": int(line.split(":")[1]), "status": "solved"}
+    if "Initial was Goal" in text:
+        return wall, cpu, {"length": 0, "status": "solved"}
+    status = "unsolvable" if "No plan found" in text or "does not exists any Plan" in text else f"error (exit {code})"
+    return wall, cpu, {"length": None, "status": status}
+
+
+def _efp_binary(arg: Path | None) -> Path | None:
+    path = arg or (Path(os.environ["EFP_BIN"]) if os.environ.get("EFP_BIN") else None)
+    if path is not None and not (path.is_file() and os.access(path, os.X_OK)):
+        raise SystemExit(f"--efp-bin {path}: not an executable file (build it: sh bench/peers/efp/build.sh)")
+    return path
+
+
 def _once(path: Path, search: str, engine: str, timeout: float) -> tuple[float, float, dict]:
     env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     env.pop("PYTHONDONTWRITEBYTECODE", None)  # as an installed package: the warm-up run leaves .pyc files
@@ -77,7 +121,7 @@ def _once(path: Path, search: str, engine: str, timeout: float) -> tuple[float, 
     return wall, cpu, out
 
 
-def run(runs: int, search: str, engine: str, timeout: float, own: bool = True) -> list[dict]:
+def run(runs: int, search: str, engine: str, timeout: float, own: bool = True, efp: Path | None = None) -> list[dict]:
     bench = shared_benchmarks()
     if bench is None:
         raise SystemExit("../shared/benchmarks is not available")
@@ -90,7 +134,12 @@ def run(runs: int, search: str, engine: str, timeout: float, own: bool = True) -
     for path, name, expected, poss, kripke, kripke_text in track(items, f"plan ({search})"):
         _once(path, search, engine, timeout)  # warm-up (page cache, parser cache)
         walls, cpus, searches, res = [], [], [], {}
+        e_cpus, e_walls, e_res = [], [], {}
         for _ in range(runs):
+            if efp is not None:  # EFP's process right before ours, in the same run
+                ew, ec, e_res = _efp_once(efp, path, timeout)
+                e_walls.append(ew)
+                e_cpus.append(ec)
             w, c, res = _once(path, search, engine, timeout)
             walls.append(w)
             cpus.append(c)
@@ -99,7 +148,10 @@ def run(runs: int, search: str, engine: str, timeout: float, own: bool = True) -
         out.append({"file": name, "expected": expected, "length": res.get("length"), "status": res.get("status"),
                     "expanded": res.get("expanded"), "wall": statistics.median(walls), "wall_min": min(walls),
                     "cpu": statistics.median(cpus), "search": statistics.median(searches) if searches else None,
-                    "efp_poss": poss, "efp_kripke": kripke, "efp_kripke_text": kripke_text})
+                    "efp_poss": poss, "efp_kripke": kripke, "efp_kripke_text": kripke_text,
+                    "efp_same_cpu": statistics.median(e_cpus) if e_cpus else None,
+                    "efp_same_wall": statistics.median(e_walls) if e_walls else None,
+                    "efp_same_length": e_res.get("length"), "efp_same_status": e_res.get("status")})
     return out
 
 
@@ -130,7 +182,7 @@ def expansions(bfs_timeout: float) -> list[dict]:
     return out
 
 
-def suite(jobs: int, timeout: float, search: str) -> tuple[list[dict], dict]:
+def suite(jobs: int, timeout: float, search: str, efp: Path | None = None) -> tuple[list[dict], dict]:
     """The whole shared mA* suite in ONE batch command (``delkit plan FILE... --jobs N --json``): per task its
     JSON line, and the whole command's CPU (user + system of the command and its workers, RUSAGE_CHILDREN)
     and wall seconds — the timed region is the whole batch process (start-up, spawning the workers, every
@@ -162,7 +214,25 @@ def suite(jobs: int, timeout: float, search: str) -> tuple[list[dict], dict]:
     total = {"cpu": cpu, "wall": wall, "exit": proc.returncode, "jobs": jobs,
              "efp_poss_total": sum(x["efp_poss"] or 0.0 for x in out),
              "efp_missing": sum(x["efp_poss"] is None for x in out)}
+    if efp is not None:
+        total.update(_efp_suite(efp, [Path(f) for f in files], out, timeout, jobs))
     return out, total
+
+
+def _efp_suite(efp: Path, files: list[Path], out: list[dict], timeout: float, jobs: int) -> dict:
+    """EFP over the suite in the same run: one process per instance, one at a time (summed CPU and wall), then
+    the same processes ``jobs`` at a time (wall of the whole set, as delkit's --jobs uses that many cores)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    runs = [_efp_once(efp, f, timeout) for f in files]
+    for row, (_, c, res) in zip(out, runs, strict=True):
+        row.update(efp_same_cpu=c, efp_same_length=res["length"], efp_same_status=res["status"])
+    t0 = time.perf_counter()
+    with ThreadPoolExecutor(max_workers=jobs) as pool:
+        list(pool.map(lambda f: _efp_once(efp, f, timeout), files))
+    return {"efp_same_cpu": sum(c for _, c, _ in runs), "efp_same_wall_serial": sum(w for w, _, _ in runs),
+            "efp_same_wall_parallel": time.perf_counter() - t0,
+            "efp_same_solved": sum(r["status"] == "solved" for _, _, r in runs)}
 
 
 def heuristics_table(timeout: float) -> list[dict]:
@@ -209,7 +279,10 @@ def main() -> None:
     ap.add_argument("--suite", action="store_true", help="the whole suite as one batch command (--jobs)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--heuristics", action="store_true", help="A* with h_epi vs h_chain (in-process)")
+    ap.add_argument("--efp-bin", type=Path, default=None, help="EFP's efp.out: measure EFP in the same run "
+                    "(default $EFP_BIN; bench/peers/efp/build.sh builds it)")
     args = ap.parse_args()
+    efp = _efp_binary(args.efp_bin)
     if args.heuristics:
         print("| instance | optimum | h_epi len | h_epi expanded | h_epi CPU s | h_chain len | h_chain expanded "
               "| h_chain CPU s | chain/epi expanded |")
@@ -227,22 +300,31 @@ def main() -> None:
             args.json.write_text(json.dumps(rows, indent=1))
         return
     if args.suite:
-        rows, total = suite(args.jobs, args.timeout, args.search)
+        rows, total = suite(args.jobs, args.timeout, args.search, efp)
         print(f"delkit plan <{len(rows)} files> --jobs {args.jobs} --json --search {args.search}: one command, "
               f"python {sys.version.split()[0]}, {os.cpu_count()} cores")
-        print("| instance | EFP len | our len | status | expanded | task CPU s | EFP-poss s |")
-        print("|---|--:|--:|---|--:|--:|--:|")
+        same = " EFP same-run len | EFP same-run CPU s |" if efp else ""
+        print(f"| instance | EFP len | our len | status | expanded | task CPU s | EFP-poss s (CSV) |{same}")
+        print("|---|--:|--:|---|--:|--:|--:|" + ("--:|--:|" if efp else ""))
         for r in rows:
             ok = "" if r["length"] == r["expected"] else " (!)"
             cpu = f"{r['task_cpu']:.3f}" if r["task_cpu"] is not None else "-"
+            extra = (f" {r['efp_same_length'] if r['efp_same_length'] is not None else r['efp_same_status']} | "
+                     f"{r['efp_same_cpu']:.3f} |") if efp else ""
             print(f"| {r['file'].rsplit('/', 1)[-1].removesuffix('.txt')} | {r['expected']} | {r['length']}{ok} | "
                   f"{r['status']} | {r['expanded']} | {cpu} | "
-                  f"{r['efp_poss'] if r['efp_poss'] is not None else '-'} |")
+                  f"{r['efp_poss'] if r['efp_poss'] is not None else '-'} |{extra}")
         print(f"\nlengths equal to EFP's: {sum(r['length'] == r['expected'] for r in rows)}/{len(rows)}; "
               f"whole command: CPU {total['cpu']:.3f} s, wall {total['wall']:.3f} s (exit {total['exit']}); "
               f"EFP-poss total (sum of its whole-process seconds per instance"
               f"{', ' + str(total['efp_missing']) + ' missing' if total['efp_missing'] else ''}): "
               f"{total['efp_poss_total']:.3f} s; load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
+        if efp:
+            print(f"EFP in the same run ({efp}, -st POSS, one process per instance): solved "
+                  f"{total['efp_same_solved']}/{len(rows)}, CPU {total['efp_same_cpu']:.3f} s, wall "
+                  f"{total['efp_same_wall_serial']:.3f} s one at a time, {total['efp_same_wall_parallel']:.3f} s "
+                  f"{args.jobs} at a time; delkit's whole command / EFP's CPU: "
+                  f"{total['cpu'] / total['efp_same_cpu']:.2f}")
         if args.json:
             args.json.write_text(json.dumps({"rows": rows, "total": total}, indent=1))
         return
@@ -259,12 +341,14 @@ def main() -> None:
         if args.json:
             args.json.write_text(json.dumps(rows, indent=1))
         return
-    rows = run(args.runs, args.search, args.engine, args.timeout, own=not args.no_own)
+    rows = run(args.runs, args.search, args.engine, args.timeout, own=not args.no_own, efp=efp)
     print(f"delkit plan --search {args.search} --engine {args.engine}, whole process, median of {args.runs} runs; "
           f"python {sys.version.split()[0]}, {os.cpu_count()} cores")
-    print("| instance | EFP len | our len | expanded | whole wall s | whole CPU s | search s | EFP-poss s "
-          "| wall − EFP-poss s | CPU − EFP-poss s | EFP-Kripke s |")
-    print("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|")
+    same = efp is not None
+    print("| instance | EFP len | our len | expanded | whole wall s | whole CPU s | search s | EFP-poss s (CSV) "
+          "| wall − EFP-poss s | CPU − EFP-poss s | EFP-Kripke s (CSV) |"
+          + (" EFP same-run len | EFP same-run CPU s | CPU / EFP same-run |" if same else ""))
+    print("|---|--:|--:|--:|--:|--:|--:|--:|--:|--:|--:|" + ("--:|--:|--:|" if same else ""))
     for r in rows:
         ok = "" if r["length"] == r["expected"] else " (!)"
         p = r["efp_poss"]
@@ -273,6 +357,10 @@ def main() -> None:
                 f"{r['search']:.3f}" if r["search"] is not None else "-",
                 f"{p:.3f}" if p is not None else "-", f"{r['wall'] - p:+.3f}" if p is not None else "-",
                 f"{r['cpu'] - p:+.3f}" if p is not None else "-", r["efp_kripke_text"]]
+        if same:
+            e = r["efp_same_cpu"]
+            cols += [str(r["efp_same_length"]) if r["efp_same_length"] is not None else str(r["efp_same_status"]),
+                     f"{e:.3f}", f"{r['cpu'] / e:.2f}" if e and r["efp_same_status"] == "solved" else "-"]
         print("| " + " | ".join(cols) + " |")
     efp_rows = [r for r in rows if r["efp_poss"] is not None]
     slow = [r for r in efp_rows if r["efp_poss"] >= 0.3]
@@ -282,10 +370,20 @@ def main() -> None:
     for key in ("wall", "cpu"):
         faster = sum(r[key] < r["efp_poss"] for r in slow)
         worst = max(efp_rows, key=lambda r, k=key: r[k] - r["efp_poss"])
-        print(f"{key}: faster than EFP-poss on {faster}/{len(slow)} instances where EFP-poss needs >= 0.3 s; "
+        print(f"{key}: faster than EFP-poss (CSV) on {faster}/{len(slow)} instances where EFP-poss needs >= 0.3 s; "
               f"largest excess over EFP-poss {worst[key] - worst['efp_poss']:+.3f} s "
               f"({worst['file'].rsplit('/', 1)[-1]}); faster on {sum(r[key] < r['efp_poss'] for r in efp_rows)}/"
               f"{len(efp_rows)} overall")
+    if same:
+        solved = [r for r in rows if r["efp_same_status"] == "solved"]
+        slow = [r for r in solved if r["efp_same_cpu"] >= 0.3]
+        print(f"EFP in the same run: solved {len(solved)}/{len(rows)}, lengths equal to ours on "
+              f"{sum(r['efp_same_length'] == r['length'] for r in solved)}/{len(solved)}; delkit's whole-process CPU "
+              f"below EFP's on {sum(r['cpu'] < r['efp_same_cpu'] for r in slow)}/{len(slow)} instances where EFP "
+              f"needs >= 0.3 s (median ratio "
+              f"{statistics.median(r['cpu'] / r['efp_same_cpu'] for r in slow) if slow else float('nan'):.2f}), "
+              f"on {sum(r['cpu'] < r['efp_same_cpu'] for r in solved)}/{len(solved)} overall; summed CPU delkit "
+              f"{sum(r['cpu'] for r in solved):.3f} s, EFP {sum(r['efp_same_cpu'] for r in solved):.3f} s")
     print(f"load average at the end: {os.getloadavg()[0]:.2f} on {os.cpu_count()} cores")
     if args.json:
         args.json.write_text(json.dumps(rows, indent=1))
