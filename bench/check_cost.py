@@ -16,12 +16,12 @@ import csv
 import json
 import os
 import platform
-import resource
-import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+from _timing import timed_run
 
 ROOT = Path(__file__).resolve().parents[1]
 BENCH = ROOT.parent / "shared" / "benchmarks"
@@ -31,15 +31,9 @@ if not BENCH.exists():
 
 def _run(argv: list[str]) -> tuple[int, str, str, float, float]:
     """(exit status, stdout, stderr, CPU seconds, wall seconds) of one delkit process."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    t0 = time.perf_counter()
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    p = subprocess.run([str(Path(sys.executable).parent / "delkit"), *argv], capture_output=True, text=True,
-                       env=env, check=False)
-    wall = time.perf_counter() - t0
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return p.returncode, p.stdout, p.stderr, cpu, wall
+    r = timed_run([str(Path(sys.executable).parent / "delkit"), *argv], env=env)
+    return r.returncode, r.stdout, r.stderr, r.cpu, r.wall
 
 
 def problems(only: str) -> list[tuple[str, list[str], list[str]]]:

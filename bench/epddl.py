@@ -35,12 +35,13 @@ import argparse
 import csv
 import json
 import os
-import resource
 import statistics
 import subprocess
 import sys
 import time
 from pathlib import Path
+
+from _timing import timed_run
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -66,18 +67,15 @@ def _whole(args: list[str], timeout: float) -> tuple[float, float, dict]:
     """Wall and CPU (the child's user + system) seconds of one ``delkit plan`` process and its JSON answer."""
     env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     env["PYTHONPATH"] = str(ROOT)
-    c0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    t0 = time.perf_counter()
-    p = subprocess.run([sys.executable, "-c", "import sys; from delkit.cli import main; sys.exit(main())",
-                        "plan", *args, "--json", "--timeout", str(timeout)], capture_output=True, text=True,
-                       env=env, timeout=timeout + 60)
-    wall = time.perf_counter() - t0
-    c1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    p = timed_run([sys.executable, "-c", "import sys; from delkit.cli import main; sys.exit(main())",
+                   "plan", *args, "--json", "--timeout", str(timeout)], env=env, timeout=timeout + 60)
+    if p.timed_out:
+        raise subprocess.TimeoutExpired(p.stdout, timeout + 60)
     try:
         data = json.loads(p.stdout)
     except json.JSONDecodeError:
         data = {"status": f"error rc={p.returncode}", "reason": p.stderr.strip()[-200:]}
-    return wall, (c1.ru_utime - c0.ru_utime) + (c1.ru_stime - c0.ru_stime), data
+    return p.wall, p.cpu, data
 
 
 def _median(runs: list[tuple[float, float]]) -> tuple[float, float]:

@@ -15,12 +15,12 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-import resource
-import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+from _timing import timed_run
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tests" / "fuzz"))
@@ -84,12 +84,8 @@ def main() -> int:
                 continue
             cmd = [sys.executable, *argv[1:]] if argv[0] == "@hold" else [delkit, *argv]
             load = os.getloadavg()[0]
-            before = resource.getrusage(resource.RUSAGE_CHILDREN)
-            t0 = time.monotonic()
-            p = subprocess.run(cmd, capture_output=True, text=True, env=env, check=False)
-            wall = time.monotonic() - t0
-            after = resource.getrusage(resource.RUSAGE_CHILDREN)
-            cpu = after.ru_utime - before.ru_utime + after.ru_stime - before.ru_stime
+            p = timed_run(cmd, env=env, clock=time.monotonic)
+            wall, cpu = p.wall, p.cpu
             limit = next((float(a.split("=")[-1] if "=" in a else argv[k + 1]) for k, a in enumerate(argv)
                           if a.startswith(("--timeout", "--total-timeout"))), t)
             if argv[0] == "@hold":  # the script chose its limit after allocating

@@ -24,13 +24,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import resource
 import shutil
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
+
+from _timing import timed_run
 
 ROOT = Path(__file__).resolve().parents[1]
 TARGET_MB = 500  # the issue's target, reported
@@ -41,14 +41,9 @@ FAIL_MB = 650
 
 def _run(cmd: list[str], *, cwd: Path | None = None, env: dict | None = None) -> dict:
     """Run ``cmd``; wall seconds, CPU seconds of the child (user + system), exit status, output."""
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    t0 = time.perf_counter()
-    proc = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True)
-    wall = time.perf_counter() - t0
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-    return {"cmd": " ".join(cmd), "rc": proc.returncode, "wall_s": round(wall, 2), "cpu_s": round(cpu, 2),
-            "stdout": proc.stdout, "stderr": proc.stderr}
+    r = timed_run(cmd, cwd=cwd, env=env)
+    return {"cmd": " ".join(cmd), "rc": r.returncode, "wall_s": round(r.wall, 2), "cpu_s": round(r.cpu, 2),
+            "stdout": r.stdout, "stderr": r.stderr}
 
 
 def _du_mb(path: Path) -> float:

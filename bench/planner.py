@@ -42,12 +42,13 @@ import argparse
 import csv
 import json
 import os
-import resource
 import statistics
 import subprocess
 import sys
 import time
 from pathlib import Path
+
+from _timing import timed_run
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
@@ -72,19 +73,10 @@ def _efp_once(binary: Path, path: Path, timeout: float) -> tuple[float, float, d
     killed and reported as ``timeout`` (its CPU until then is counted)."""
     import tempfile
 
-    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    t0 = time.perf_counter()
     with tempfile.TemporaryDirectory(prefix="efp-") as cwd:
-        try:
-            proc = subprocess.run([str(binary), str(path), "-st", "POSS"], cwd=cwd, capture_output=True, text=True,
-                                  errors="replace", timeout=timeout, check=False)
-            text, code = proc.stdout, proc.returncode
-        except subprocess.TimeoutExpired:
-            text, code = None, None
-    wall = time.perf_counter() - t0
-    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
-    if text is None:
+        r = timed_run([str(binary), str(path), "-st", "POSS"], cwd=cwd, timeout=timeout)
+    wall, cpu, text, code = r.wall, r.cpu, r.stdout, r.returncode
+    if r.timed_out:
         return wall, cpu, {"length": None, "status": "timeout"}
     for line in text.splitlines():
         if line.strip().startswith("Plan Length:"):
@@ -107,18 +99,13 @@ def _once(path: Path, search: str, engine: str, timeout: float) -> tuple[float, 
     env.pop("PYTHONDONTWRITEBYTECODE", None)  # as an installed package: the warm-up run leaves .pyc files
     cmd = [sys.executable, "-c", _MAIN, "plan", str(path), "--json", "--search", search, "--engine", engine,
            "--timeout", f"{timeout:g}"]
-    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    t0 = time.perf_counter()
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, check=False)
-    wall = time.perf_counter() - t0
-    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    r = timed_run(cmd, env=env)
     try:
-        out = json.loads(proc.stdout)
+        out = json.loads(r.stdout)
     except json.JSONDecodeError:
         out = {"status": "error", "length": None, "expanded": None, "seconds": None,
-               "reason": proc.stderr.strip()[-200:]}
-    return wall, cpu, out
+               "reason": r.stderr.strip()[-200:]}
+    return r.wall, r.cpu, out
 
 
 def run(runs: int, search: str, engine: str, timeout: float, own: bool = True, efp: Path | None = None) -> list[dict]:
@@ -197,12 +184,8 @@ def suite(jobs: int, timeout: float, search: str, efp: Path | None = None) -> tu
     cmd = [sys.executable, "-c", _MAIN, "plan", *files, "--jobs", str(jobs), "--json", "--timeout", str(timeout),
            "--search", search]
     subprocess.run(cmd, env=env, capture_output=True, check=False)  # warm-up: .pyc files, page cache
-    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    t0 = time.perf_counter()
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, check=False)
-    wall = time.perf_counter() - t0
-    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
-    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    proc = timed_run(cmd, env=env)
+    wall, cpu = proc.wall, proc.cpu
     lines = [json.loads(ln) for ln in proc.stdout.splitlines() if ln.startswith("{")]
     by_file = {ln["file"]: ln for ln in lines if not ln.get("summary")}
     out = []
