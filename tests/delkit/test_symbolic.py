@@ -171,6 +171,20 @@ def test_transformer_with_factual_change_by_hand() -> None:
     assert after.holds("~Kw_b p")
 
 
+def test_transformer_copies_sit_next_to_their_variables() -> None:
+    # every p_i is flipped or kept by a private coin f: the product's law relates each p_i to its copy p_i'
+    # (p_i <-> (p_i' xor f)); with the copies next to their variables the law is linear in n, with the copies
+    # below all of V it has a node per subset of the p_i (order p_1..p_n, p_1'..p_n': the classic 2^n)
+    n = 12
+    ps = [f"p{i}" for i in range(n)]
+    ks = KnowledgeStructure.create(ps, "T", {"a": ps, "b": []})
+    flip = Transformer(("f",), parse("T"), {p: parse(f"~({p} <-> f)") for p in ps}, {"a": ("f",), "b": ()})
+    after = ks.transform(flip)
+    assert after.count_states() == 2 ** (n + 1)
+    assert len(after.law) <= 8 * n, len(after.law)  # ≈ 2^(n+1) nodes with the copies at the bottom
+    assert after.holds("~Kw_b p0") and after.valid("K_a (p0 | ~p0)")
+
+
 def test_semi_private_and_public_announcement_via_update_formulas() -> None:
     model = KripkeModel.build([{"p"}, set()], {"a": [[0, 1]], "b": [[0, 1]], "c": [[0], [1]]}, designated=[0])
     for em in (public_announcement("p", AGENTS), semi_private_announcement("p", ["a"], AGENTS)):
