@@ -23,11 +23,16 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any, Protocol
 
+from delkit._records import DataclassFields, frozen_delattr, frozen_setattr
 from delkit.errors import ParseError
+
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
+if TYPE_CHECKING:
+    from typing import Any, Protocol
+else:
+    Protocol = object  # EventModelLike is a typing.Protocol for the type checkers
 
 __all__ = [
     "Dkw", "Ckw",
@@ -52,14 +57,52 @@ class EventModelLike(Protocol):
     def post(self) -> Sequence[Mapping[str, Formula]]: ...
 
 
+_init = object.__setattr__  # the records' own __init__ (their __setattr__ refuses)
+
+
+def _cached_hash(self: Formula) -> int:
+    """The hash of the fields' tuple, computed once per object; subformulas without a cached hash are hashed
+    first, bottom-up without recursion, so that deeply nested formulas (a stack of 400 announcements)
+    hash in linear time and without RecursionError."""
+    h = getattr(self, "_hash", None)  # a missing slot is an AttributeError caught in C (a raise here costs ~1 µs)
+    if h is not None:
+        return h
+    try:  # subformulas usually have their hash already: one step
+        h = self._field_hash()
+    except RecursionError:  # a deep chain of fresh subformulas: bottom-up below
+        pass
+    else:
+        _init(self, "_hash", h)
+        return h
+    stack: list[tuple[Formula, bool]] = [(self, False)]
+    while stack:
+        f, ready = stack.pop()
+        if ready:
+            if not hasattr(f, "_hash"):
+                _init(f, "_hash", f._field_hash())
+            continue
+        stack.append((f, True))
+        stack.extend((c, False) for c in children(f) if not hasattr(c, "_hash"))
+    return self._hash
+
+
 class Formula:
     """Base class of all formulas. Supports ``~f``, ``f & g``, ``f | g``, ``f >> g`` (implication).
 
+    Formulas are immutable (assigning raises ``dataclasses.FrozenInstanceError``), compared and hashed by
+    their fields, printed by ``repr`` as ``K(agent='a', arg=Prop(name='p'))`` and pickled by their fields; the
+    :mod:`dataclasses` functions (``fields``, ``replace``, ``is_dataclass``) work on them. The classes are
+    written by hand rather than with ``@dataclass`` (start-up time: see :mod:`delkit._records`).
+
     Hashes are computed once per object and cached (slot ``_hash``): formulas are dictionary keys in the
-    evaluators' caches, and without the cache hashing a deep formula is linear in its size each time.
+    evaluators' caches, and without the cache hashing a deep formula is linear in its size each time. The
+    value is that of the tuple of the fields (as a frozen dataclass's).
     """
 
     __slots__ = ("_hash",)
+    __match_args__: tuple[str, ...] = ()
+    __setattr__ = frozen_setattr
+    __delattr__ = frozen_delattr
 
     def __invert__(self) -> Formula:
         return Not(self)
@@ -76,174 +119,295 @@ class Formula:
     def __str__(self) -> str:
         return show(self)
 
+    __hash__ = _cached_hash
 
-@dataclass(frozen=True, slots=True)
-class Top(Formula):
+    def __repr__(self) -> str:
+        inner = ", ".join(f"{n}={getattr(self, n)!r}" for n in self.__match_args__)
+        return f"{type(self).__name__}({inner})"
+
+    def __reduce__(self) -> tuple:
+        return (type(self), tuple(getattr(self, n) for n in self.__match_args__))
+
+
+class _Nullary(Formula):
+    __slots__ = ()
+    __dataclass_fields__ = DataclassFields()
+
+    def __init__(self) -> None:
+        pass
+
+    def __eq__(self, other: object) -> bool:
+        return True if other.__class__ is self.__class__ else NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash(())
+
+
+class Top(_Nullary):
     """⊤, true everywhere."""
 
+    __slots__ = ()
 
-@dataclass(frozen=True, slots=True)
-class Bot(Formula):
+
+class Bot(_Nullary):
     """⊥, false everywhere."""
+
+    __slots__ = ()
 
 
 TOP = Top()
 BOT = Bot()
 
 
-@dataclass(frozen=True, slots=True)
 class Prop(Formula):
     """An atomic proposition."""
 
+    __slots__ = ("name",)
+    __match_args__ = ("name",)
+    __dataclass_fields__ = DataclassFields("name")
     name: str
 
+    def __init__(self, name: str) -> None:
+        _init(self, "name", name)
 
-@dataclass(frozen=True, slots=True)
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            return self is other or self.name == other.name  # type: ignore[attr-defined]
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.name,))
+
+
 class Not(Formula):
+    __slots__ = ("arg",)
+    __match_args__ = ("arg",)
+    __dataclass_fields__ = DataclassFields("arg")
     arg: Formula
 
+    def __init__(self, arg: Formula) -> None:
+        _init(self, "arg", arg)
 
-@dataclass(frozen=True, slots=True)
-class And(Formula):
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            a, b = self.arg, other.arg  # type: ignore[attr-defined]
+            return a is b or a == b
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.arg,))
+
+
+class _Nary(Formula):
+    __slots__ = ("args",)
+    __match_args__ = ("args",)
+    __dataclass_fields__ = DataclassFields("args")
+    args: tuple[Formula, ...]
+
+    def __init__(self, args: Iterable[Formula]) -> None:
+        _init(self, "args", tuple(args))
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            return self is other or self.args == other.args  # type: ignore[attr-defined]
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.args,))
+
+
+class And(_Nary):
     """Conjunction of any number of formulas (the empty conjunction is ⊤)."""
 
-    args: tuple[Formula, ...]
-
-    def __init__(self, args: Iterable[Formula]) -> None:
-        object.__setattr__(self, "args", tuple(args))
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
-class Or(Formula):
+class Or(_Nary):
     """Disjunction of any number of formulas (the empty disjunction is ⊥)."""
 
-    args: tuple[Formula, ...]
-
-    def __init__(self, args: Iterable[Formula]) -> None:
-        object.__setattr__(self, "args", tuple(args))
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
-class Implies(Formula):
+class _Binary(Formula):
+    __slots__ = ("left", "right")
+    __match_args__ = ("left", "right")
+    __dataclass_fields__ = DataclassFields("left", "right")
     left: Formula
     right: Formula
 
+    def __init__(self, left: Formula, right: Formula) -> None:
+        _init(self, "left", left)
+        _init(self, "right", right)
 
-@dataclass(frozen=True, slots=True)
-class Iff(Formula):
-    left: Formula
-    right: Formula
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            a, b = self.left, other.left  # type: ignore[attr-defined]
+            if a is b or a == b:
+                a, b = self.right, other.right  # type: ignore[attr-defined]
+                return a is b or a == b
+            return False
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.left, self.right))
 
 
-@dataclass(frozen=True, slots=True)
-class K(Formula):
+class Implies(_Binary):
+    __slots__ = ()
+
+
+class Iff(_Binary):
+    __slots__ = ()
+
+
+class _Agent(Formula):
+    __slots__ = ("agent", "arg")
+    __match_args__ = ("agent", "arg")
+    __dataclass_fields__ = DataclassFields("agent", "arg")
+    agent: str
+    arg: Formula
+
+    def __init__(self, agent: str, arg: Formula) -> None:
+        _init(self, "agent", agent)
+        _init(self, "arg", arg)
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            if self.agent != other.agent:  # type: ignore[attr-defined]
+                return False
+            a, b = self.arg, other.arg  # type: ignore[attr-defined]
+            return a is b or a == b
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.agent, self.arg))
+
+
+class K(_Agent):
     """K_a φ: φ holds in every world agent a considers possible (belief on KD45 models)."""
 
-    agent: str
-    arg: Formula
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
-class Kw(Formula):
+class Kw(_Agent):
     """Kw_a φ = K_a φ ∨ K_a ¬φ: agent a knows whether φ."""
 
-    agent: str
-    arg: Formula
+    __slots__ = ()
 
 
 def _group(agents: Iterable[str]) -> tuple[str, ...]:
     return tuple(sorted(set(agents)))
 
 
-@dataclass(frozen=True, slots=True)
-class E(Formula):
+class _Group(Formula):
+    __slots__ = ("group", "arg")
+    __match_args__ = ("group", "arg")
+    __dataclass_fields__ = DataclassFields("group", "arg")
+    group: tuple[str, ...]
+    arg: Formula
+
+    def __init__(self, group: Iterable[str], arg: Formula) -> None:
+        _init(self, "group", _group(group))
+        _init(self, "arg", arg)
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            if self.group != other.group:  # type: ignore[attr-defined]
+                return False
+            a, b = self.arg, other.arg  # type: ignore[attr-defined]
+            return a is b or a == b
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.group, self.arg))
+
+
+class E(_Group):
     """E_G φ = ⋀_{a∈G} K_a φ: everybody in G knows φ."""
 
-    group: tuple[str, ...]
-    arg: Formula
-
-    def __init__(self, group: Iterable[str], arg: Formula) -> None:
-        object.__setattr__(self, "group", _group(group))
-        object.__setattr__(self, "arg", arg)
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
-class C(Formula):
+class C(_Group):
     """C_G φ: φ holds in every world reachable in one or more steps of ⋃_{a∈G} R_a."""
 
-    group: tuple[str, ...]
-    arg: Formula
-
-    def __init__(self, group: Iterable[str], arg: Formula) -> None:
-        object.__setattr__(self, "group", _group(group))
-        object.__setattr__(self, "arg", arg)
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
-class D(Formula):
+class D(_Group):
     """D_G φ: φ holds in every world reachable by ⋂_{a∈G} R_a (distributed knowledge)."""
 
-    group: tuple[str, ...]
-    arg: Formula
-
-    def __init__(self, group: Iterable[str], arg: Formula) -> None:
-        object.__setattr__(self, "group", _group(group))
-        object.__setattr__(self, "arg", arg)
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
 class Announce(Formula):
     """[!φ]ψ: if φ is true, ψ holds after φ is publicly announced."""
 
+    __slots__ = ("announced", "arg")
+    __match_args__ = ("announced", "arg")
+    __dataclass_fields__ = DataclassFields("announced", "arg")
     announced: Formula
     arg: Formula
 
+    def __init__(self, announced: Formula, arg: Formula) -> None:
+        _init(self, "announced", announced)
+        _init(self, "arg", arg)
 
-@dataclass(frozen=True, slots=True)
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            return (self.announced, self.arg) == (other.announced, other.arg)  # type: ignore[attr-defined]
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.announced, self.arg))
+
+
 class Update(Formula):
     """[E,e]ψ: if pre(e) holds, ψ holds after the update with event model E at event e.
 
     ``event`` is an event index or name of ``model``; ``name`` is how the model is written in text.
     """
 
+    __slots__ = ("model", "event", "arg", "name")
+    __match_args__ = ("model", "event", "arg", "name")
+    __dataclass_fields__ = DataclassFields("model", "event", "arg", ("name", "E"))
     model: EventModelLike
     event: int
     arg: Formula
-    name: str = "E"
+    name: str
 
+    def __init__(self, model: EventModelLike, event: int, arg: Formula, name: str = "E") -> None:
+        _init(self, "model", model)
+        _init(self, "event", event)
+        _init(self, "arg", arg)
+        _init(self, "name", name)
 
-_FIELD_HASH: dict[type, Any] = {}
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            return ((self.model, self.event, self.arg, self.name)
+                    == (other.model, other.event, other.arg, other.name))  # type: ignore[attr-defined]
+        return NotImplemented
 
+    __hash__ = _cached_hash
 
-def _cached_hash(self: Formula) -> int:
-    """The dataclass field hash, computed once per object; subformulas without a cached hash are hashed
-    first, bottom-up without recursion, so that deeply nested formulas (a stack of 400 announcements)
-    hash in linear time and without RecursionError."""
-    h = getattr(self, "_hash", None)  # a missing slot is an AttributeError caught in C (a raise here costs ~1 µs)
-    if h is not None:
-        return h
-    try:  # subformulas usually have their hash already: one step
-        h = _FIELD_HASH[type(self)](self)
-    except RecursionError:  # a deep chain of fresh subformulas: bottom-up below
-        pass
-    else:
-        object.__setattr__(self, "_hash", h)
-        return h
-    stack: list[tuple[Formula, bool]] = [(self, False)]
-    while stack:
-        f, ready = stack.pop()
-        if ready:
-            if not hasattr(f, "_hash"):
-                object.__setattr__(f, "_hash", _FIELD_HASH[type(f)](f))
-            continue
-        stack.append((f, True))
-        stack.extend((c, False) for c in children(f) if not hasattr(c, "_hash"))
-    return self._hash
-
-
-for _cls in (Top, Bot, Prop, Not, And, Or, Implies, Iff, K, Kw, E, C, D, Announce, Update):
-    _FIELD_HASH[_cls] = _cls.__hash__
-    _cls.__hash__ = _cached_hash
+    def _field_hash(self) -> int:
+        return hash((self.model, self.event, self.arg, self.name))
 
 
 # ----------------------------------------------------------------------------- helpers

@@ -29,12 +29,13 @@ import sys
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from delkit._lazy import lazy_module
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:
     import json
+    from typing import Any
 else:
     json = lazy_module("json")  # a single small task never needs it (start-up)
 

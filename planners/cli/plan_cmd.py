@@ -21,12 +21,13 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from delkit._lazy import lazy_module
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:
     import json
+    from typing import Any
 
     import typer
 else:

@@ -15,13 +15,19 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Literal
 
 from delkit.errors import ParseError, io_reason
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
+if TYPE_CHECKING:
+    from typing import Literal
+
 __all__ = ["Dialect", "detect", "detect_text"]
 
-Dialect = Literal["mastar", "epddl2021", "epddl2026"]
+if TYPE_CHECKING:
+    Dialect = Literal["mastar", "epddl2021", "epddl2026"]
+else:
+    Dialect = str
 
 _E2026 = re.compile(r"\(\s*action-type-library\b|:action-type\b|\(\s*:event\b|:observability-conditions\b|"
                     r":facts-init\b|\[\s*C\.|\bKw\.|\(\s*:init\s+:worlds\b|\(\s*:init\s*\(\s*:and\b|"

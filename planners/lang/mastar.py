@@ -20,9 +20,9 @@ Formulas: ``f``, ``-φ``, ``φ & ψ``, ``φ | ψ``, ``φ , ψ`` (conjunction, lo
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from pathlib import Path
 
+from delkit._records import DataclassFields, Record
 from delkit.errors import ParseError, io_reason
 from delkit.formula import TOP, C, D, E, Formula, K, Not, Or, Prop, conj
 from planners.lang.initial import finitary_s5
@@ -31,12 +31,17 @@ from planners.task import ActionSpec, Task, merge_observers
 __all__ = ["parse_mastar", "load_mastar", "parse_mastar_formula", "Tok", "tokenize"]
 
 
-@dataclass(frozen=True)
-class Tok:
+class Tok(Record):
+    """A token (a frozen record, :mod:`delkit._records`)."""
+
+    __dataclass_fields__ = DataclassFields("kind", "text", "line", "col")
     kind: str  # "id", "punct", "eof"
     text: str
     line: int
     col: int
+
+    def __init__(self, kind: str, text: str, line: int, col: int) -> None:
+        self.__dict__.update(kind=kind, text=text, line=line, col=col)
 
 
 _TOKEN = re.compile(r"\s+|%[^\n]*|[A-Za-z_][A-Za-z0-9_]*|[(),;\[\]&|\-]|.", re.S)
