@@ -548,14 +548,14 @@ def substitute(f: Formula, mapping: Mapping[str, Formula]) -> Formula:
 
 # ----------------------------------------------------------------------------- printing
 
-_SIMPLE_AGENT = re.compile(r"^[A-Za-z0-9]+$")
-_EVENT_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.']*$")
+_EVENT_NAME = r"^[A-Za-z_][A-Za-z0-9_.']*$"  # compiled on first use (re's cache): start-up
 _PREC = {Iff: 1, Implies: 2, Or: 3, And: 4}
 _ATOMIC = 9
 
 
 def _agent(a: str) -> str:
-    return f"_{a}" if _SIMPLE_AGENT.match(a) else "{" + a + "}"
+    x = a[:-1] if a.endswith("\n") else a  # as re.match(r"^[A-Za-z0-9]+$", a), without compiling it at import
+    return f"_{a}" if x.isascii() and x.isalnum() else "{" + a + "}"
 
 
 def _group_text(g: tuple[str, ...]) -> str:
@@ -576,7 +576,7 @@ def show(f: Formula, *, diamonds: bool = False) -> str:
 
 def _event_text(f: Update) -> str:
     ev = f.model.events[f.event]
-    if not _EVENT_NAME.match(ev):
+    if not re.match(_EVENT_NAME, ev):
         import json
 
         ev = json.dumps(ev)
@@ -718,14 +718,15 @@ def parse(text: str, *, events: Mapping[str, EventModelLike] | None = None, sour
     ``events`` maps names used in ``[E,e]`` to event models. Errors raise :class:`ParseError` with the
     line and column in ``source`` (offsets let callers report positions inside a larger file).
     """
-    from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
-
     if not text.strip():
         raise ParseError("empty formula; write e.g. 'K_a p & ~K_b p'", source=source,
                          line=1 + line_offset, column=1 + column_offset)
+    fast = _fast_parse(text)
+    if fast is not None:
+        return fast
     try:
         tree = _parser().parse(text)
-    except UnexpectedToken as exc:
+    except _lark_errors()[0] as exc:
         tok = exc.token
         expected = sorted({_token_name(t) for t in exc.expected})
         if tok.type == "$END":
@@ -736,18 +737,176 @@ def parse(text: str, *, events: Mapping[str, EventModelLike] | None = None, sour
         raise ParseError(f"unexpected {shown}", source=source, line=line + line_offset,
                          column=column + (column_offset if line == 1 else 0),
                          expected=expected) from None
-    except UnexpectedCharacters as exc:
+    except _lark_errors()[1] as exc:
         raise ParseError(f"unexpected character {text[exc.pos_in_stream]!r}", source=source,
                          line=exc.line + line_offset,
                          column=exc.column + (column_offset if exc.line == 1 else 0)) from None
-    except UnexpectedEOF as exc:
+    except _lark_errors()[2] as exc:
         lines = text.splitlines() or [""]
         raise ParseError("formula ends too early", source=source, line=len(lines) + line_offset,
                          column=len(lines[-1]) + 1,
                          expected=sorted({_token_name(t) for t in exc.expected})) from None
-    except UnexpectedInput as exc:  # pragma: no cover - other lark errors
+    except _lark_errors()[3] as exc:  # pragma: no cover - other lark errors
         raise ParseError(str(exc), source=source) from None
     return _Build(events or {}, source).build(tree)
+
+
+def _lark_errors() -> tuple:
+    from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+
+    return UnexpectedToken, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
+
+
+# ----------------------------------------------------------------------------- the fast reader
+# Most formulas a user types (properties of `delkit check -p`, goals, formulas in specs) use the connectives,
+# K/B/Kw/M with an agent, E/C/D/Dkw/Ckw with a group and <a>; for those text :func:`_fast_parse` builds the
+# formula the grammar's parser would, by recursive descent over the same tokens, without importing lark
+# (≈ 0.1 s of a small `delkit check -p` run). It reads the grammar's tokens as lark's contextual lexer does
+# (terminals tried in lark's order: priority, then length; NAME where only an agent name may follow), and
+# answers None — and the lark parser reads the text — for anything else: announcements, [E,e], <!φ>, <{…}>,
+# quoted names, and every text with an error (so the error messages stay lark's). tests/cli/test_startup.py
+# checks it against the lark parser on random formulas and random token strings.
+_FAST_TOKEN = (r"[ \t\r\n]+|#[^\n]*|(?P<kw>Kw_[A-Za-z0-9]+)|(?P<brace>(?:Dkw|Ckw|Kw|[KBECDM])\{)|(?P<k>[KB]_[A-Za-z0-9]+)"
+               r"|(?P<m>M_[A-Za-z0-9]+)|(?P<dia><[A-Za-z0-9]+>)|(?P<name>[A-Za-z_][A-Za-z0-9_.']*)|(?P<sym><->|->|[~!¬&|()])")
+_FAST_NAME = r"(?:[ \t\r\n]+|#[^\n]*)*([A-Za-z_][A-Za-z0-9_.']*)(?:[ \t\r\n]+|#[^\n]*)*"
+_KEYWORDS = {"T": TOP, "F": BOT, "true": TOP, "false": BOT}
+
+
+class _NotFast(Exception):
+    """The fast reader does not take this text: the lark parser reads it."""
+
+
+def _fast_parse(text: str) -> Formula | None:
+    """The formula of ``text`` as :func:`parse` builds it, or None (see the comment above)."""
+    try:
+        return _FastReader(text).read()
+    except (_NotFast, RecursionError):
+        return None
+
+
+class _FastReader:
+    """Recursive descent over the tokens, lexed on demand from ``pos`` (agent names in braces by NAME alone)."""
+
+    __slots__ = ("text", "pos", "kind", "tok", "end", "_lex")
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+        self._lex = re.compile(_FAST_TOKEN).match
+        self.pos = 0
+        self.kind, self.tok, self.end = self._next(0)
+
+    def _next(self, pos: int) -> tuple[str, str, int]:
+        """The kind of the token at or after ``pos`` (its regex group; '' at the end), its text, its end."""
+        text, n = self.text, len(self.text)
+        while pos < n:
+            m = self._lex(text, pos)
+            if m is None:
+                raise _NotFast
+            if m.lastgroup is not None:
+                return m.lastgroup, m.group(m.lastgroup), m.end()
+            pos = m.end()
+        return "", "", n
+
+    def read(self) -> Formula:
+        f = self.iff()
+        if self.tok:
+            raise _NotFast
+        return f
+
+    def peek(self) -> str:
+        return self.tok
+
+    def advance(self) -> None:
+        self.pos = self.end
+        self.kind, self.tok, self.end = self._next(self.end)
+
+    def take(self) -> tuple[str, str]:
+        kind, t = self.kind, self.tok
+        if not t:
+            raise _NotFast
+        self.advance()
+        return kind, t
+
+    def iff(self) -> Formula:
+        out = self.imp()
+        while self.peek() == "<->":
+            self.advance()
+            out = Iff(out, self.imp())
+        return out
+
+    def imp(self) -> Formula:
+        left = self.disj()
+        if self.peek() == "->":
+            self.advance()
+            return Implies(left, self.imp())
+        return left
+
+    def disj(self) -> Formula:
+        parts = [self.conj()]
+        while self.peek() == "|":
+            self.advance()
+            parts.append(self.conj())
+        return parts[0] if len(parts) == 1 else Or(parts)
+
+    def conj(self) -> Formula:
+        parts = [self.unary()]
+        while self.peek() == "&":
+            self.advance()
+            parts.append(self.unary())
+        return parts[0] if len(parts) == 1 else And(parts)
+
+    def agents(self, several: bool) -> list[str]:
+        """The agent names after a brace token (just taken), through the closing ``}``: NAME tokens, as the
+        contextual lexer reads them there; ``several``: a comma-separated group (at least one)."""
+        text, pos = self.text, self.pos
+        name = re.compile(_FAST_NAME).match
+        names = []
+        while True:
+            m = name(text, pos)
+            if m is None or m.group(1) in _KEYWORDS:
+                raise _NotFast
+            names.append(m.group(1))
+            pos = m.end()
+            if several and text.startswith(",", pos):
+                pos += 1
+                continue
+            if not text.startswith("}", pos):
+                raise _NotFast
+            break
+        self.pos = pos + 1
+        self.kind, self.tok, self.end = self._next(pos + 1)
+        return names
+
+    def unary(self) -> Formula:  # noqa: C901 - one clause per operator, as _Build
+        kind, t = self.take()
+        if kind == "name":
+            return _KEYWORDS.get(t) or Prop(t)
+        if t in ("~", "!", "¬"):
+            return Not(self.unary())
+        if kind == "k":
+            return K(t[2:], self.unary())
+        if kind == "kw":
+            return Kw(t[3:], self.unary())
+        if kind == "m":
+            return Not(K(t[2:], Not(self.unary())))
+        if kind == "dia":
+            return Not(K(t[1:-1], Not(self.unary())))
+        if kind == "brace":
+            if t in ("K{", "B{", "Kw{", "M{"):
+                (agent,) = self.agents(False)
+                arg = self.unary()
+                if t == "M{":
+                    return Not(K(agent, Not(arg)))
+                return Kw(agent, arg) if t == "Kw{" else K(agent, arg)
+            group = self.agents(True)
+            arg = self.unary()
+            return {"E{": E, "C{": C, "D{": D, "Dkw{": Dkw, "Ckw{": Ckw}[t](group, arg)
+        if t == "(":
+            f = self.iff()
+            if self.take()[1] != ")":
+                raise _NotFast
+            return f
+        raise _NotFast
 
 
 class _Build:

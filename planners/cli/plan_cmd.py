@@ -162,8 +162,8 @@ def register(app: typer.Typer) -> None:
 
 
 # ---------------------------------------------------------------------------------------------- fast path
-_NUM = re.compile(r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)\Z")
-_INT = re.compile(r"[0-9]+\Z")
+_NUM = r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)\Z"  # compiled on first use (re's cache): start-up
+_INT = r"[0-9]+\Z"
 
 # option -> (keyword, kind); kind: flag, str, float, int, path, list
 _BATCH_OPTS = {"--jobs": ("jobs", "int"), "-j": ("jobs", "int"), "--scheduler": ("scheduler", "str")}  # batch.py
@@ -183,7 +183,7 @@ _CHECK_OPTS = {"--property": ("prop", "list"), "-p": ("prop", "list"), "--proper
 def _value(kind: str, text: str) -> Any:
     """The option value, or raise ValueError for anything but its plain well-formed spelling."""
     if kind in ("float", "int"):
-        if not (_INT if kind == "int" else _NUM).match(text):
+        if not re.match(_INT if kind == "int" else _NUM, text):
             raise ValueError(text)
         return int(text) if kind == "int" else float(text)
     if not text or text.startswith("-"):
