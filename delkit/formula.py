@@ -766,8 +766,8 @@ def _lark_errors() -> tuple:
 # answers None — and the lark parser reads the text — for anything else: announcements, [E,e], <!φ>, <{…}>,
 # quoted names, and every text with an error (so the error messages stay lark's). tests/cli/test_startup.py
 # checks it against the lark parser on random formulas and random token strings.
-_FAST_TOKEN = (r"[ \t\r\n]+|#[^\n]*|(?P<kw>Kw_[A-Za-z0-9]+)|(?P<brace>(?:Dkw|Ckw|Kw|[KBECDM])\{)|(?P<k>[KB]_[A-Za-z0-9]+)"
-               r"|(?P<m>M_[A-Za-z0-9]+)|(?P<dia><[A-Za-z0-9]+>)|(?P<name>[A-Za-z_][A-Za-z0-9_.']*)|(?P<sym><->|->|[~!¬&|()])")
+_FAST_TOKEN = (r"[ \t\r\n]+|#[^\n]*|(?P<kw>Kw_[A-Za-z0-9]+)|(?P<brace>(?:Dkw|Ckw|Kw|[KBECDM])\{)"
+               r"|(?P<k>[KB]_[A-Za-z0-9]+)|(?P<m>M_[A-Za-z0-9]+)|(?P<dia><[A-Za-z0-9]+>)|(?P<name>[A-Za-z_][A-Za-z0-9_.']*)|(?P<sym><->|->|[~!¬&|()])")
 _FAST_NAME = r"(?:[ \t\r\n]+|#[^\n]*)*([A-Za-z_][A-Za-z0-9_.']*)(?:[ \t\r\n]+|#[^\n]*)*"
 _KEYWORDS = {"T": TOP, "F": BOT, "true": TOP, "false": BOT}
 

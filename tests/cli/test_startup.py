@@ -274,7 +274,8 @@ def test_fast_formula_reader_reads_printed_formulas_as_lark(f, diamonds) -> None
     assert fast == _lark_parse(text) == f
 
 
-_PIECES = ["p", "q", "K", "M", "E", "T", "F", "true", "false", "K_a", "K_a_b", "M_a_b", "Kw_a.b", "B_b'", "B_b", "Kw_a", "M_a", "<a>", "<ab>",
+_PIECES = ["p", "q", "K", "M", "E", "T", "F", "true", "false", "K_a", "K_a_b", "M_a_b", "Kw_a.b", "B_b'", "B_b", "Kw_a",
+           "M_a", "<a>", "<ab>",
            "K{", "Kw{", "M{", "B{", "E{", "C{", "D{", "Dkw{", "Ckw{", "{", "}", ",", "a", "b", "robot_1", "(", ")",
            "~", "!", "¬", "&", "|", "->", "<->", "<", ">", "[", "]", "[!", "<!", " ", "  ", "\t", "\n", "#c\n", "x'",
            "p.q", "_", "1", "Kwx", "C{a,b}", "K{T}", "E{a, b}", "K_", "Kw_", "M_", "<a", "a>", "<{", "\"e\"", "é",
