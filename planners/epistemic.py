@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import functools
 import gc
-import heapq
 import resource
 import time
 from collections import deque
@@ -231,6 +230,8 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
         from planners.heuristics import h_gc, h_pdb
 
         h = h_gc(space) if kind == "gbfs" else h_pdb(space)
+    from heapq import heappop, heappush  # here: BFS, the default, needs no heap (start-up)
+
     s0, k0 = space.initial()
     best_g: dict[Hashable, int] = {k0: 0}
     parent: dict[Hashable, Any] = {k0: None}
@@ -250,7 +251,7 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
         if why:
             return SearchResult("limit", None, expanded, generated, budget.seconds, kind,
                                 "no plan within limits: " + why, space.dead_ends, len(parent))
-        _, tg, _, state, key = heapq.heappop(heap)
+        _, tg, _, state, key = heappop(heap)
         g = tg * tie
         if key in closed:
             continue
@@ -271,7 +272,7 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
             if hv == float("inf"):
                 continue
             f = hv if kind == "gbfs" else ng + hv
-            heapq.heappush(heap, (f, tie * ng, counter, nxt, nkey))
+            heappush(heap, (f, tie * ng, counter, nxt, nkey))
     return SearchResult("unsolvable", None, expanded, generated, budget.seconds, kind,
                         "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
 
