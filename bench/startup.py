@@ -11,8 +11,10 @@ interpreter and ``import numpy``. The plan/check inputs are ``CB_simple__pl_2`` 
 and plank's EPDDL (2026) Coin-in-the-Box ``problem_2`` are planned too. ``--runs 11`` for the figures in
 ``bench/RESULTS-planner.md``. ``--ab DIR`` times a second checkout (e.g. ``git worktree add --detach /tmp/old
 COMMIT``) in the same run, its runs alternating with this tree's (same inputs, same load): an A/B column.
+``--entry run`` runs the console script's entry point instead (``delkit.cli.run``: what ``delkit`` and ``python -m
+delkit`` run; it leaves with ``os._exit``, so the interpreter's teardown — ≈ 10 ms — is not in the process).
 
-    .venv/bin/python bench/startup.py [--runs 7] [--json out.json] [--only plan,check] [--ab DIR]
+    .venv/bin/python bench/startup.py [--runs 7] [--json out.json] [--only plan,check] [--ab DIR] [--entry run]
 """
 
 from __future__ import annotations
@@ -32,6 +34,11 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 _MAIN = "import sys; from delkit.cli import main; sys.exit(main())"
+# ``--entry run``: what the ``delkit`` console script (and ``python -m delkit``) runs — delkit.cli.run, which
+# leaves with os._exit after flushing (no interpreter teardown) and arms the --timeout watchdog thread
+_RUN = "from delkit.cli import run; run()"
+_ENTRY = {"main": _MAIN, "run": _RUN}
+ENTRY = _MAIN
 
 _MODEL = {
     "delkit": "kripke-model", "version": 1, "props": ["m1", "m2"], "agents": ["c1", "c2"],
@@ -92,7 +99,7 @@ def cases(tmp: Path) -> list[tuple[str, list[str]]]:
 def _once(argv: list[str], env: dict[str, str]) -> tuple[float, float, int]:
     """One run of ``argv`` in a fresh process (``python -c`` puts the working directory first on ``sys.path``: it
     is the checkout on ``PYTHONPATH``, so that checkout's code runs): (wall s, CPU s, exit status)."""
-    cmd = [sys.executable, "-c", argv[1]] if argv and argv[0] == "<python>" else [sys.executable, "-c", _MAIN, *argv]
+    cmd = [sys.executable, "-c", argv[1]] if argv and argv[0] == "<python>" else [sys.executable, "-c", ENTRY, *argv]
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     proc = subprocess.run(cmd, env=env, cwd=env["PYTHONPATH"].split(os.pathsep)[0], stdout=subprocess.DEVNULL,
@@ -142,12 +149,17 @@ def main() -> None:
     ap.add_argument("--only", default="", help="comma-separated substrings of the command labels to run")
     ap.add_argument("--json", type=Path, default=None)
     ap.add_argument("--ab", type=Path, default=None, help="a second checkout, timed in alternation (A/B)")
+    ap.add_argument("--entry", choices=sorted(_ENTRY), default="main",
+                    help="main: python -c 'sys.exit(delkit.cli.main())' (the interpreter's teardown included, the "
+                         "protocol of the earlier figures); run: the console script's delkit.cli.run")
     args = ap.parse_args()
+    global ENTRY
+    ENTRY = _ENTRY[args.entry]
     load0 = os.getloadavg()[0]
     rows = run(args.runs, [s for s in args.only.split(",") if s] or None, args.ab)
     w = max(len(r["command"]) for r in rows)
-    print(f"whole-process time, median of {args.runs} runs (python {sys.version.split()[0]}, {os.cpu_count()} cores, "
-          f"load average {load0:.1f} before, {os.getloadavg()[0]:.1f} after)")
+    print(f"whole-process time, median of {args.runs} runs, entry {args.entry} (python {sys.version.split()[0]}, "
+          f"{os.cpu_count()} cores, load average {load0:.1f} before, {os.getloadavg()[0]:.1f} after)")
     extra = f" {args.ab} CPU s | {args.ab} wall s |" if args.ab else ""
     print(f"| {'command':<{w}} | wall s (median) | wall s (min) | CPU s (median) | exit |{extra}")
     print(f"|{'-' * (w + 2)}|----------------:|-------------:|---------------:|-----:|"
