@@ -136,6 +136,25 @@ class PlainState:
         return [(a, w) for a, rows in zip(self.engine.agents, self.succ, strict=True) for w in self.designated
                 if not rows[w]]
 
+    def product_bytes_bound(self, em: PlainEvents) -> float:
+        """An upper bound of :func:`delkit.resources.product_update_bytes` for the numpy replay of this product
+        (whatever its relations' representation): the plain replay refuses no more than the numpy one, it leaves
+        a product above the budget to it."""
+        n, k = len(self.val), 0
+        pre = [self.check(p) for p in em.pre]
+        total = 0.0
+        degs = [[len(r) for r in rows] for rows in self.succ]
+        cand = [0.0] * len(self.succ)
+        for e in range(len(em.events)):
+            for w in range(n):
+                if pre[e][w]:
+                    k += 1
+                    for i, a in enumerate(self.engine.agents):
+                        cand[i] += degs[i][w] * len(em.rows[a][e])
+        total = k * (8.0 * 4 + len(self.engine.props)) + sum(16.0 * k + 48.0 * c + 16.0 * sum(d)
+                                                             for c, d in zip(cand, degs, strict=True))
+        return total
+
     def product(self, em: PlainEvents) -> PlainState:
         """M ⊗ E, as ``KripkeModel.product`` builds it (see the module docstring)."""
         if set(em.agents) != set(self.engine.agents) or any(p not in self.engine.pidx for m in em.post for p in m):

@@ -291,7 +291,11 @@ def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, mod
                            f"{why}", ag, wd, {"precondition": show(act.executable)})
     plain = isinstance(model, PlainState)
     if plain:
+        from delkit.resources import memory_budget
+
         em = plain_events(task, act, model)
+        if model.product_bytes_bound(em) > memory_budget()[0]:
+            raise NeedNumpy("the numpy replay's memory estimate decides")  # it refuses with its own figure
     else:
         from delkit.resources import product_update_bytes, require
 
