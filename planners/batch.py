@@ -86,7 +86,7 @@ def _check_jobs(jobs: int | None, command: str) -> None:
 
         raise ParseError(f"--jobs {jobs}: use a number of worker processes ≥ 1", source=command)
 
-_PROBLEM = re.compile(r"\(\s*define\s*\(\s*problem\b", re.I)
+_PROBLEM = r"(?i)\(\s*define\s*\(\s*problem\b"  # compiled on first use (re's cache): start-up
 
 
 def is_batch(pos: Sequence[Path], kw: dict[str, Any], command: str = "plan") -> bool:
@@ -115,7 +115,7 @@ def _role(path: Path) -> str:
     if dialect == "mastar":
         return "mastar"
     lisp = "\n".join(ln.split(";", 1)[0] for ln in text.splitlines())
-    return "problem" if _PROBLEM.search(lisp) and "(domain" not in lisp.replace(" ", "")[:200] else "domain"
+    return "problem" if re.search(_PROBLEM, lisp) and "(domain" not in lisp.replace(" ", "")[:200] else "domain"
 
 
 def plan_units(files: Sequence[Path]) -> list[tuple[Path, Path | None]]:

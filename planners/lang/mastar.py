@@ -83,15 +83,16 @@ class _Parser:
         self.warnings: list[str] = []
         self.toks = tokenize(text, source)
         self.i = 0
+        self.tok = self.toks[0]  # the current token, self.toks[self.i] (an attribute: read at every step)
         self.fluents: list[str] = []
         self.actions: list[str] = []
         self.agents: list[str] = []
         self.decl_at: dict[str, Tok] = {}
 
     # ------------------------------------------------------------------ token helpers
-    @property
-    def tok(self) -> Tok:
-        return self.toks[self.i]
+    def seek(self, i: int) -> None:
+        self.i = i
+        self.tok = self.toks[i]
 
     def err(self, msg: str, tok: Tok | None = None, expected: list[str] | None = None) -> ParseError:
         t = tok or self.tok
@@ -103,11 +104,14 @@ class _Parser:
     def next(self) -> Tok:
         t = self.tok
         self.i += 1
+        self.tok = self.toks[self.i] if t.kind != "eof" else t  # (the parser never moves past end of file)
         return t
 
     def accept(self, text: str) -> bool:
-        if self.tok.text == text and self.tok.kind != "eof":
+        t = self.tok
+        if t.text == text and t.kind != "eof":
             self.i += 1
+            self.tok = self.toks[self.i]
             return True
         return False
 
@@ -218,7 +222,7 @@ class _Parser:
         # first pass: declarations (mA* files may use names before their declaration statement)
         self._declarations()
         self._fl, self._ag, self._ac = set(self.fluents), set(self.agents), set(self.actions)
-        self.i = 0
+        self.seek(0)
         exe: dict[str, list[Formula]] = {a: [] for a in self.actions}
         kind: dict[str, str] = {}
         kind_at: dict[str, Tok] = {}
@@ -345,7 +349,7 @@ class _Parser:
                     self.expect(",")
         if not self.agents:
             raise ParseError("no 'agent' statement", source=self.source)
-        self.i = 0
+        self.seek(0)
 
 
 def _warn(msg: str) -> None:
