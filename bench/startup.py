@@ -11,6 +11,7 @@ interpreter and ``import numpy``. The plan/check inputs are ``CB_simple__pl_2`` 
 and plank's EPDDL (2026) Coin-in-the-Box ``problem_2`` are planned too. ``--runs 11`` for the figures in
 ``bench/RESULTS-planner.md``. ``--ab DIR`` times a second checkout (e.g. ``git worktree add --detach /tmp/old
 COMMIT``) in the same run, its runs alternating with this tree's (same inputs, same load): an A/B column.
+With ``--ab`` every round of a row also runs the bare interpreter (a per-row baseline column, same load).
 ``--entry run`` runs the console script's entry point instead (``delkit.cli.run``: what ``delkit`` and ``python -m
 delkit`` run; it leaves with ``os._exit``, so the interpreter's teardown — ≈ 10 ms — is not in the process).
 
@@ -117,20 +118,23 @@ def _env(root: Path) -> dict[str, str]:
 
 
 def run(runs: int, only: list[str] | None = None, ab: Path | None = None) -> list[dict]:
+    """One row per command; with ``ab`` each round also runs the other checkout and the bare interpreter, in
+    alternation, so that every row has its own same-load A/B and baseline (``pass_cpu_median``)."""
     envs = [_env(ROOT)] + ([_env(ab)] if ab is not None else [])
     rows = []
     with tempfile.TemporaryDirectory() as d:
         for label, argv in cases(Path(d)):
             if only and not any(o in label for o in only):
                 continue
-            for env in envs:
-                _once(argv, env)  # warm-up: page cache, parser cache, .pyc files
-            walls: list[list[float]] = [[] for _ in envs]
-            cpus: list[list[float]] = [[] for _ in envs]
-            codes: list[set[int]] = [set() for _ in envs]
+            jobs = [(argv, env) for env in envs] + ([(["<python>", "pass"], envs[0])] if ab is not None else [])
+            for a, env in jobs:
+                _once(a, env)  # warm-up: page cache, parser cache, .pyc files
+            walls: list[list[float]] = [[] for _ in jobs]
+            cpus: list[list[float]] = [[] for _ in jobs]
+            codes: list[set[int]] = [set() for _ in jobs]
             for _ in range(runs):
-                for k, env in enumerate(envs):  # alternating: both trees see the same load
-                    w, c, rc = _once(argv, env)
+                for k, (a, env) in enumerate(jobs):  # alternating: every column sees the same load
+                    w, c, rc = _once(a, env)
                     walls[k].append(w)
                     cpus[k].append(c)
                     codes[k].add(rc)
@@ -138,7 +142,7 @@ def run(runs: int, only: list[str] | None = None, ab: Path | None = None) -> lis
                    "wall_min": min(walls[0]), "cpu_median": statistics.median(cpus[0]), "exit": sorted(codes[0])}
             if ab is not None:
                 row.update(ab_wall_median=statistics.median(walls[1]), ab_cpu_median=statistics.median(cpus[1]),
-                           ab_exit=sorted(codes[1]))
+                           ab_exit=sorted(codes[1]), pass_cpu_median=statistics.median(cpus[2]))
             rows.append(row)
     return rows
 
@@ -160,12 +164,13 @@ def main() -> None:
     w = max(len(r["command"]) for r in rows)
     print(f"whole-process time, median of {args.runs} runs, entry {args.entry} (python {sys.version.split()[0]}, "
           f"{os.cpu_count()} cores, load average {load0:.1f} before, {os.getloadavg()[0]:.1f} after)")
-    extra = f" {args.ab} CPU s | {args.ab} wall s |" if args.ab else ""
+    extra = f" {args.ab} CPU s | {args.ab} wall s | `pass` CPU s, same rounds |" if args.ab else ""
     print(f"| {'command':<{w}} | wall s (median) | wall s (min) | CPU s (median) | exit |{extra}")
     print(f"|{'-' * (w + 2)}|----------------:|-------------:|---------------:|-----:|"
-          + ("---:|---:|" if args.ab else ""))
+          + ("---:|---:|---:|" if args.ab else ""))
     for r in rows:
-        tail = f" {r['ab_cpu_median']:.3f} | {r['ab_wall_median']:.3f} |" if args.ab else ""
+        tail = (f" {r['ab_cpu_median']:.3f} | {r['ab_wall_median']:.3f} | {r['pass_cpu_median']:.3f} |"
+                if args.ab else "")
         print(f"| {r['command']:<{w}} | {r['wall_median']:15.3f} | {r['wall_min']:12.3f} | {r['cpu_median']:14.3f} | "
               f"{','.join(map(str, r['exit'])):>4} |{tail}")
     if args.json:
