@@ -142,7 +142,6 @@ class PlainState:
         a product above the budget to it."""
         n, k = len(self.val), 0
         pre = [self.check(p) for p in em.pre]
-        total = 0.0
         degs = [[len(r) for r in rows] for rows in self.succ]
         cand = [0.0] * len(self.succ)
         for e in range(len(em.events)):
@@ -151,9 +150,8 @@ class PlainState:
                     k += 1
                     for i, a in enumerate(self.engine.agents):
                         cand[i] += degs[i][w] * len(em.rows[a][e])
-        total = k * (8.0 * 4 + len(self.engine.props)) + sum(16.0 * k + 48.0 * c + 16.0 * sum(d)
-                                                             for c, d in zip(cand, degs, strict=True))
-        return total
+        return k * (8.0 * 4 + len(self.engine.props)) + sum(16.0 * k + 48.0 * c + 16.0 * sum(d)
+                                                            for c, d in zip(cand, degs, strict=True))
 
     def product(self, em: PlainEvents) -> PlainState:
         """M ⊗ E, as ``KripkeModel.product`` builds it (see the module docstring)."""
