@@ -9,9 +9,13 @@ warm-up run leaves ``.pyc`` files and the timed runs do not recompile delkit's s
 interpreter and ``import numpy``. The plan/check inputs are ``CB_simple__pl_2`` from
 ``../shared/benchmarks/mastar`` (skipped if absent) and ``specs/coin_in_the_box``; ``Coin_in_the_Box__pl_3`` (mA*)
 and plank's EPDDL (2026) Coin-in-the-Box ``problem_2`` are planned too. ``--runs 11`` for the figures in
-``bench/RESULTS-planner.md``.
+``bench/RESULTS-planner.md``. ``--ab DIR`` times a second checkout (e.g. ``git worktree add --detach /tmp/old
+COMMIT``) in the same run, its runs alternating with this tree's (same inputs, same load): an A/B column.
+With ``--ab`` every round of a row also runs the bare interpreter (a per-row baseline column, same load).
+``--entry run`` runs the console script's entry point instead (``delkit.cli.run``: what ``delkit`` and ``python -m
+delkit`` run; it leaves with ``os._exit``, so the interpreter's teardown — ≈ 10 ms — is not in the process).
 
-    .venv/bin/python bench/startup.py [--runs 7] [--json out.json] [--only plan,check]
+    .venv/bin/python bench/startup.py [--runs 7] [--json out.json] [--only plan,check] [--ab DIR] [--entry run]
 """
 
 from __future__ import annotations
@@ -31,6 +35,11 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 _MAIN = "import sys; from delkit.cli import main; sys.exit(main())"
+# ``--entry run``: what the ``delkit`` console script (and ``python -m delkit``) runs — delkit.cli.run, which
+# leaves with os._exit after flushing (no interpreter teardown) and arms the --timeout watchdog thread
+_RUN = "from delkit.cli import run; run()"
+_ENTRY = {"main": _MAIN, "run": _RUN}
+ENTRY = _MAIN
 
 _MODEL = {
     "delkit": "kripke-model", "version": 1, "props": ["m1", "m2"], "agents": ["c1", "c2"],
@@ -89,33 +98,52 @@ def cases(tmp: Path) -> list[tuple[str, list[str]]]:
 
 
 def _once(argv: list[str], env: dict[str, str]) -> tuple[float, float, int]:
-    cmd = [sys.executable, "-c", argv[1]] if argv and argv[0] == "<python>" else [sys.executable, "-c", _MAIN, *argv]
+    """One run of ``argv`` in a fresh process (``python -c`` puts the working directory first on ``sys.path``: it
+    is the checkout on ``PYTHONPATH``, so that checkout's code runs): (wall s, CPU s, exit status)."""
+    cmd = [sys.executable, "-c", argv[1]] if argv and argv[0] == "<python>" else [sys.executable, "-c", ENTRY, *argv]
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    proc = subprocess.run(cmd, env=env, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
+    proc = subprocess.run(cmd, env=env, cwd=env["PYTHONPATH"].split(os.pathsep)[0], stdout=subprocess.DEVNULL,
+                          stderr=subprocess.DEVNULL, check=False)
     wall = time.perf_counter() - t0
     r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
     return wall, cpu, proc.returncode
 
 
-def run(runs: int, only: list[str] | None = None) -> list[dict]:
-    env = dict(os.environ, PYTHONPATH=str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", ""))
+def _env(root: Path) -> dict[str, str]:
+    env = dict(os.environ, PYTHONPATH=str(root) + os.pathsep + os.environ.get("PYTHONPATH", ""))
     env.pop("PYTHONDONTWRITEBYTECODE", None)  # as an installed package: the warm-up run leaves .pyc files
+    return env
+
+
+def run(runs: int, only: list[str] | None = None, ab: Path | None = None) -> list[dict]:
+    """One row per command; with ``ab`` each round also runs the other checkout and the bare interpreter, in
+    alternation, so that every row has its own same-load A/B and baseline (``pass_cpu_median``)."""
+    envs = [_env(ROOT)] + ([_env(ab)] if ab is not None else [])
     rows = []
     with tempfile.TemporaryDirectory() as d:
         for label, argv in cases(Path(d)):
             if only and not any(o in label for o in only):
                 continue
-            _once(argv, env)  # warm-up: page cache, parser cache
-            walls, cpus, codes = [], [], set()
+            jobs = [(argv, env) for env in envs] + ([(["<python>", "pass"], envs[0])] if ab is not None else [])
+            for a, env in jobs:
+                _once(a, env)  # warm-up: page cache, parser cache, .pyc files
+            walls: list[list[float]] = [[] for _ in jobs]
+            cpus: list[list[float]] = [[] for _ in jobs]
+            codes: list[set[int]] = [set() for _ in jobs]
             for _ in range(runs):
-                w, c, rc = _once(argv, env)
-                walls.append(w)
-                cpus.append(c)
-                codes.add(rc)
-            rows.append({"command": label, "argv": argv, "runs": runs, "wall_median": statistics.median(walls),
-                         "wall_min": min(walls), "cpu_median": statistics.median(cpus), "exit": sorted(codes)})
+                for k, (a, env) in enumerate(jobs):  # alternating: every column sees the same load
+                    w, c, rc = _once(a, env)
+                    walls[k].append(w)
+                    cpus[k].append(c)
+                    codes[k].add(rc)
+            row = {"command": label, "argv": argv, "runs": runs, "wall_median": statistics.median(walls[0]),
+                   "wall_min": min(walls[0]), "cpu_median": statistics.median(cpus[0]), "exit": sorted(codes[0])}
+            if ab is not None:
+                row.update(ab_wall_median=statistics.median(walls[1]), ab_cpu_median=statistics.median(cpus[1]),
+                           ab_exit=sorted(codes[1]), pass_cpu_median=statistics.median(cpus[2]))
+            rows.append(row)
     return rows
 
 
@@ -124,16 +152,27 @@ def main() -> None:
     ap.add_argument("--runs", type=int, default=7)
     ap.add_argument("--only", default="", help="comma-separated substrings of the command labels to run")
     ap.add_argument("--json", type=Path, default=None)
+    ap.add_argument("--ab", type=Path, default=None, help="a second checkout, timed in alternation (A/B)")
+    ap.add_argument("--entry", choices=sorted(_ENTRY), default="main",
+                    help="main: python -c 'sys.exit(delkit.cli.main())' (the interpreter's teardown included, the "
+                         "protocol of the earlier figures); run: the console script's delkit.cli.run")
     args = ap.parse_args()
-    rows = run(args.runs, [s for s in args.only.split(",") if s] or None)
+    global ENTRY
+    ENTRY = _ENTRY[args.entry]
+    load0 = os.getloadavg()[0]
+    rows = run(args.runs, [s for s in args.only.split(",") if s] or None, args.ab)
     w = max(len(r["command"]) for r in rows)
-    print(f"whole-process time, median of {args.runs} runs (python {sys.version.split()[0]}, {os.cpu_count()} cores, "
-          f"load average {os.getloadavg()[0]:.1f})")
-    print(f"| {'command':<{w}} | wall s (median) | wall s (min) | CPU s (median) | exit |")
-    print(f"|{'-' * (w + 2)}|----------------:|-------------:|---------------:|-----:|")
+    print(f"whole-process time, median of {args.runs} runs, entry {args.entry} (python {sys.version.split()[0]}, "
+          f"{os.cpu_count()} cores, load average {load0:.1f} before, {os.getloadavg()[0]:.1f} after)")
+    extra = f" {args.ab} CPU s | {args.ab} wall s | `pass` CPU s, same rounds |" if args.ab else ""
+    print(f"| {'command':<{w}} | wall s (median) | wall s (min) | CPU s (median) | exit |{extra}")
+    print(f"|{'-' * (w + 2)}|----------------:|-------------:|---------------:|-----:|"
+          + ("---:|---:|---:|" if args.ab else ""))
     for r in rows:
+        tail = (f" {r['ab_cpu_median']:.3f} | {r['ab_wall_median']:.3f} | {r['pass_cpu_median']:.3f} |"
+                if args.ab else "")
         print(f"| {r['command']:<{w}} | {r['wall_median']:15.3f} | {r['wall_min']:12.3f} | {r['cpu_median']:14.3f} | "
-              f"{','.join(map(str, r['exit'])):>4} |")
+              f"{','.join(map(str, r['exit'])):>4} |{tail}")
     if args.json:
         args.json.write_text(json.dumps(rows, indent=2))
 

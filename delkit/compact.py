@@ -37,7 +37,6 @@ from __future__ import annotations
 
 from collections.abc import Hashable, Mapping, Sequence
 from operator import itemgetter
-from typing import TYPE_CHECKING, Any
 
 from delkit.errors import ModelError
 from delkit.formula import (
@@ -56,6 +55,10 @@ from delkit.formula import (
     Prop,
     Top,
 )
+
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
+if TYPE_CHECKING:
+    from typing import Any
 
 if TYPE_CHECKING:  # numpy (with delkit.kripke/events/relation) is imported only by the conversions that need it
     from delkit.events import EventModel
@@ -994,7 +997,6 @@ class CompactEngine:
         for a in full:
             masks[a] = tuple(m & same[w] for w, m in enumerate(masks[a]))
         return _generated_quotient(s.val, masks, s.points)
-
 
 
 def _okm(rows: Sequence[Sequence[int]]) -> list[int]:

@@ -23,11 +23,16 @@ from __future__ import annotations
 
 import re
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any, Protocol
 
+from delkit._records import DataclassFields, frozen_delattr, frozen_setattr
 from delkit.errors import ParseError
+
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
+if TYPE_CHECKING:
+    from typing import Any, Protocol
+else:
+    Protocol = object  # EventModelLike is a typing.Protocol for the type checkers
 
 __all__ = [
     "Dkw", "Ckw",
@@ -52,14 +57,52 @@ class EventModelLike(Protocol):
     def post(self) -> Sequence[Mapping[str, Formula]]: ...
 
 
+_init = object.__setattr__  # the records' own __init__ (their __setattr__ refuses)
+
+
+def _cached_hash(self: Formula) -> int:
+    """The hash of the fields' tuple, computed once per object; subformulas without a cached hash are hashed
+    first, bottom-up without recursion, so that deeply nested formulas (a stack of 400 announcements)
+    hash in linear time and without RecursionError."""
+    h = getattr(self, "_hash", None)  # a missing slot is an AttributeError caught in C (a raise here costs ~1 µs)
+    if h is not None:
+        return h
+    try:  # subformulas usually have their hash already: one step
+        h = self._field_hash()
+    except RecursionError:  # a deep chain of fresh subformulas: bottom-up below
+        pass
+    else:
+        _init(self, "_hash", h)
+        return h
+    stack: list[tuple[Formula, bool]] = [(self, False)]
+    while stack:
+        f, ready = stack.pop()
+        if ready:
+            if not hasattr(f, "_hash"):
+                _init(f, "_hash", f._field_hash())
+            continue
+        stack.append((f, True))
+        stack.extend((c, False) for c in children(f) if not hasattr(c, "_hash"))
+    return self._hash
+
+
 class Formula:
     """Base class of all formulas. Supports ``~f``, ``f & g``, ``f | g``, ``f >> g`` (implication).
 
+    Formulas are immutable (assigning raises ``dataclasses.FrozenInstanceError``), compared and hashed by
+    their fields, printed by ``repr`` as ``K(agent='a', arg=Prop(name='p'))`` and pickled by their fields; the
+    :mod:`dataclasses` functions (``fields``, ``replace``, ``is_dataclass``) work on them. The classes are
+    written by hand rather than with ``@dataclass`` (start-up time: see :mod:`delkit._records`).
+
     Hashes are computed once per object and cached (slot ``_hash``): formulas are dictionary keys in the
-    evaluators' caches, and without the cache hashing a deep formula is linear in its size each time.
+    evaluators' caches, and without the cache hashing a deep formula is linear in its size each time. The
+    value is that of the tuple of the fields (as a frozen dataclass's).
     """
 
     __slots__ = ("_hash",)
+    __match_args__: tuple[str, ...] = ()
+    __setattr__ = frozen_setattr
+    __delattr__ = frozen_delattr
 
     def __invert__(self) -> Formula:
         return Not(self)
@@ -76,174 +119,295 @@ class Formula:
     def __str__(self) -> str:
         return show(self)
 
+    __hash__ = _cached_hash
 
-@dataclass(frozen=True, slots=True)
-class Top(Formula):
+    def __repr__(self) -> str:
+        inner = ", ".join(f"{n}={getattr(self, n)!r}" for n in self.__match_args__)
+        return f"{type(self).__name__}({inner})"
+
+    def __reduce__(self) -> tuple:
+        return (type(self), tuple(getattr(self, n) for n in self.__match_args__))
+
+
+class _Nullary(Formula):
+    __slots__ = ()
+    __dataclass_fields__ = DataclassFields()
+
+    def __init__(self) -> None:
+        pass
+
+    def __eq__(self, other: object) -> bool:
+        return True if other.__class__ is self.__class__ else NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash(())
+
+
+class Top(_Nullary):
     """⊤, true everywhere."""
 
+    __slots__ = ()
 
-@dataclass(frozen=True, slots=True)
-class Bot(Formula):
+
+class Bot(_Nullary):
     """⊥, false everywhere."""
+
+    __slots__ = ()
 
 
 TOP = Top()
 BOT = Bot()
 
 
-@dataclass(frozen=True, slots=True)
 class Prop(Formula):
     """An atomic proposition."""
 
+    __slots__ = ("name",)
+    __match_args__ = ("name",)
+    __dataclass_fields__ = DataclassFields("name")
     name: str
 
+    def __init__(self, name: str) -> None:
+        _init(self, "name", name)
 
-@dataclass(frozen=True, slots=True)
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            return self is other or self.name == other.name  # type: ignore[attr-defined]
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.name,))
+
+
 class Not(Formula):
+    __slots__ = ("arg",)
+    __match_args__ = ("arg",)
+    __dataclass_fields__ = DataclassFields("arg")
     arg: Formula
 
+    def __init__(self, arg: Formula) -> None:
+        _init(self, "arg", arg)
 
-@dataclass(frozen=True, slots=True)
-class And(Formula):
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            a, b = self.arg, other.arg  # type: ignore[attr-defined]
+            return a is b or a == b
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.arg,))
+
+
+class _Nary(Formula):
+    __slots__ = ("args",)
+    __match_args__ = ("args",)
+    __dataclass_fields__ = DataclassFields("args")
+    args: tuple[Formula, ...]
+
+    def __init__(self, args: Iterable[Formula]) -> None:
+        _init(self, "args", tuple(args))
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            return self is other or self.args == other.args  # type: ignore[attr-defined]
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.args,))
+
+
+class And(_Nary):
     """Conjunction of any number of formulas (the empty conjunction is ⊤)."""
 
-    args: tuple[Formula, ...]
-
-    def __init__(self, args: Iterable[Formula]) -> None:
-        object.__setattr__(self, "args", tuple(args))
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
-class Or(Formula):
+class Or(_Nary):
     """Disjunction of any number of formulas (the empty disjunction is ⊥)."""
 
-    args: tuple[Formula, ...]
-
-    def __init__(self, args: Iterable[Formula]) -> None:
-        object.__setattr__(self, "args", tuple(args))
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
-class Implies(Formula):
+class _Binary(Formula):
+    __slots__ = ("left", "right")
+    __match_args__ = ("left", "right")
+    __dataclass_fields__ = DataclassFields("left", "right")
     left: Formula
     right: Formula
 
+    def __init__(self, left: Formula, right: Formula) -> None:
+        _init(self, "left", left)
+        _init(self, "right", right)
 
-@dataclass(frozen=True, slots=True)
-class Iff(Formula):
-    left: Formula
-    right: Formula
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            a, b = self.left, other.left  # type: ignore[attr-defined]
+            if a is b or a == b:
+                a, b = self.right, other.right  # type: ignore[attr-defined]
+                return a is b or a == b
+            return False
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.left, self.right))
 
 
-@dataclass(frozen=True, slots=True)
-class K(Formula):
+class Implies(_Binary):
+    __slots__ = ()
+
+
+class Iff(_Binary):
+    __slots__ = ()
+
+
+class _Agent(Formula):
+    __slots__ = ("agent", "arg")
+    __match_args__ = ("agent", "arg")
+    __dataclass_fields__ = DataclassFields("agent", "arg")
+    agent: str
+    arg: Formula
+
+    def __init__(self, agent: str, arg: Formula) -> None:
+        _init(self, "agent", agent)
+        _init(self, "arg", arg)
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            if self.agent != other.agent:  # type: ignore[attr-defined]
+                return False
+            a, b = self.arg, other.arg  # type: ignore[attr-defined]
+            return a is b or a == b
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.agent, self.arg))
+
+
+class K(_Agent):
     """K_a φ: φ holds in every world agent a considers possible (belief on KD45 models)."""
 
-    agent: str
-    arg: Formula
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
-class Kw(Formula):
+class Kw(_Agent):
     """Kw_a φ = K_a φ ∨ K_a ¬φ: agent a knows whether φ."""
 
-    agent: str
-    arg: Formula
+    __slots__ = ()
 
 
 def _group(agents: Iterable[str]) -> tuple[str, ...]:
     return tuple(sorted(set(agents)))
 
 
-@dataclass(frozen=True, slots=True)
-class E(Formula):
+class _Group(Formula):
+    __slots__ = ("group", "arg")
+    __match_args__ = ("group", "arg")
+    __dataclass_fields__ = DataclassFields("group", "arg")
+    group: tuple[str, ...]
+    arg: Formula
+
+    def __init__(self, group: Iterable[str], arg: Formula) -> None:
+        _init(self, "group", _group(group))
+        _init(self, "arg", arg)
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            if self.group != other.group:  # type: ignore[attr-defined]
+                return False
+            a, b = self.arg, other.arg  # type: ignore[attr-defined]
+            return a is b or a == b
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.group, self.arg))
+
+
+class E(_Group):
     """E_G φ = ⋀_{a∈G} K_a φ: everybody in G knows φ."""
 
-    group: tuple[str, ...]
-    arg: Formula
-
-    def __init__(self, group: Iterable[str], arg: Formula) -> None:
-        object.__setattr__(self, "group", _group(group))
-        object.__setattr__(self, "arg", arg)
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
-class C(Formula):
+class C(_Group):
     """C_G φ: φ holds in every world reachable in one or more steps of ⋃_{a∈G} R_a."""
 
-    group: tuple[str, ...]
-    arg: Formula
-
-    def __init__(self, group: Iterable[str], arg: Formula) -> None:
-        object.__setattr__(self, "group", _group(group))
-        object.__setattr__(self, "arg", arg)
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
-class D(Formula):
+class D(_Group):
     """D_G φ: φ holds in every world reachable by ⋂_{a∈G} R_a (distributed knowledge)."""
 
-    group: tuple[str, ...]
-    arg: Formula
-
-    def __init__(self, group: Iterable[str], arg: Formula) -> None:
-        object.__setattr__(self, "group", _group(group))
-        object.__setattr__(self, "arg", arg)
+    __slots__ = ()
 
 
-@dataclass(frozen=True, slots=True)
 class Announce(Formula):
     """[!φ]ψ: if φ is true, ψ holds after φ is publicly announced."""
 
+    __slots__ = ("announced", "arg")
+    __match_args__ = ("announced", "arg")
+    __dataclass_fields__ = DataclassFields("announced", "arg")
     announced: Formula
     arg: Formula
 
+    def __init__(self, announced: Formula, arg: Formula) -> None:
+        _init(self, "announced", announced)
+        _init(self, "arg", arg)
 
-@dataclass(frozen=True, slots=True)
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            return (self.announced, self.arg) == (other.announced, other.arg)  # type: ignore[attr-defined]
+        return NotImplemented
+
+    __hash__ = _cached_hash
+
+    def _field_hash(self) -> int:
+        return hash((self.announced, self.arg))
+
+
 class Update(Formula):
     """[E,e]ψ: if pre(e) holds, ψ holds after the update with event model E at event e.
 
     ``event`` is an event index or name of ``model``; ``name`` is how the model is written in text.
     """
 
+    __slots__ = ("model", "event", "arg", "name")
+    __match_args__ = ("model", "event", "arg", "name")
+    __dataclass_fields__ = DataclassFields("model", "event", "arg", ("name", "E"))
     model: EventModelLike
     event: int
     arg: Formula
-    name: str = "E"
+    name: str
 
+    def __init__(self, model: EventModelLike, event: int, arg: Formula, name: str = "E") -> None:
+        _init(self, "model", model)
+        _init(self, "event", event)
+        _init(self, "arg", arg)
+        _init(self, "name", name)
 
-_FIELD_HASH: dict[type, Any] = {}
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            return ((self.model, self.event, self.arg, self.name)
+                    == (other.model, other.event, other.arg, other.name))  # type: ignore[attr-defined]
+        return NotImplemented
 
+    __hash__ = _cached_hash
 
-def _cached_hash(self: Formula) -> int:
-    """The dataclass field hash, computed once per object; subformulas without a cached hash are hashed
-    first, bottom-up without recursion, so that deeply nested formulas (a stack of 400 announcements)
-    hash in linear time and without RecursionError."""
-    h = getattr(self, "_hash", None)  # a missing slot is an AttributeError caught in C (a raise here costs ~1 µs)
-    if h is not None:
-        return h
-    try:  # subformulas usually have their hash already: one step
-        h = _FIELD_HASH[type(self)](self)
-    except RecursionError:  # a deep chain of fresh subformulas: bottom-up below
-        pass
-    else:
-        object.__setattr__(self, "_hash", h)
-        return h
-    stack: list[tuple[Formula, bool]] = [(self, False)]
-    while stack:
-        f, ready = stack.pop()
-        if ready:
-            if not hasattr(f, "_hash"):
-                object.__setattr__(f, "_hash", _FIELD_HASH[type(f)](f))
-            continue
-        stack.append((f, True))
-        stack.extend((c, False) for c in children(f) if not hasattr(c, "_hash"))
-    return self._hash
-
-
-for _cls in (Top, Bot, Prop, Not, And, Or, Implies, Iff, K, Kw, E, C, D, Announce, Update):
-    _FIELD_HASH[_cls] = _cls.__hash__
-    _cls.__hash__ = _cached_hash
+    def _field_hash(self) -> int:
+        return hash((self.model, self.event, self.arg, self.name))
 
 
 # ----------------------------------------------------------------------------- helpers
@@ -384,14 +548,14 @@ def substitute(f: Formula, mapping: Mapping[str, Formula]) -> Formula:
 
 # ----------------------------------------------------------------------------- printing
 
-_SIMPLE_AGENT = re.compile(r"^[A-Za-z0-9]+$")
-_EVENT_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_.']*$")
+_EVENT_NAME = r"^[A-Za-z_][A-Za-z0-9_.']*$"  # compiled on first use (re's cache): start-up
 _PREC = {Iff: 1, Implies: 2, Or: 3, And: 4}
 _ATOMIC = 9
 
 
 def _agent(a: str) -> str:
-    return f"_{a}" if _SIMPLE_AGENT.match(a) else "{" + a + "}"
+    x = a[:-1] if a.endswith("\n") else a  # as re.match(r"^[A-Za-z0-9]+$", a), without compiling it at import
+    return f"_{a}" if x.isascii() and x.isalnum() else "{" + a + "}"
 
 
 def _group_text(g: tuple[str, ...]) -> str:
@@ -412,7 +576,7 @@ def show(f: Formula, *, diamonds: bool = False) -> str:
 
 def _event_text(f: Update) -> str:
     ev = f.model.events[f.event]
-    if not _EVENT_NAME.match(ev):
+    if not re.match(_EVENT_NAME, ev):
         import json
 
         ev = json.dumps(ev)
@@ -554,14 +718,15 @@ def parse(text: str, *, events: Mapping[str, EventModelLike] | None = None, sour
     ``events`` maps names used in ``[E,e]`` to event models. Errors raise :class:`ParseError` with the
     line and column in ``source`` (offsets let callers report positions inside a larger file).
     """
-    from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
-
     if not text.strip():
         raise ParseError("empty formula; write e.g. 'K_a p & ~K_b p'", source=source,
                          line=1 + line_offset, column=1 + column_offset)
+    fast = _fast_parse(text)
+    if fast is not None:
+        return fast
     try:
         tree = _parser().parse(text)
-    except UnexpectedToken as exc:
+    except _lark_errors()[0] as exc:
         tok = exc.token
         expected = sorted({_token_name(t) for t in exc.expected})
         if tok.type == "$END":
@@ -572,18 +737,176 @@ def parse(text: str, *, events: Mapping[str, EventModelLike] | None = None, sour
         raise ParseError(f"unexpected {shown}", source=source, line=line + line_offset,
                          column=column + (column_offset if line == 1 else 0),
                          expected=expected) from None
-    except UnexpectedCharacters as exc:
+    except _lark_errors()[1] as exc:
         raise ParseError(f"unexpected character {text[exc.pos_in_stream]!r}", source=source,
                          line=exc.line + line_offset,
                          column=exc.column + (column_offset if exc.line == 1 else 0)) from None
-    except UnexpectedEOF as exc:
+    except _lark_errors()[2] as exc:
         lines = text.splitlines() or [""]
         raise ParseError("formula ends too early", source=source, line=len(lines) + line_offset,
                          column=len(lines[-1]) + 1,
                          expected=sorted({_token_name(t) for t in exc.expected})) from None
-    except UnexpectedInput as exc:  # pragma: no cover - other lark errors
+    except _lark_errors()[3] as exc:  # pragma: no cover - other lark errors
         raise ParseError(str(exc), source=source) from None
     return _Build(events or {}, source).build(tree)
+
+
+def _lark_errors() -> tuple:
+    from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+
+    return UnexpectedToken, UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
+
+
+# ----------------------------------------------------------------------------- the fast reader
+# Most formulas a user types (properties of `delkit check -p`, goals, formulas in specs) use the connectives,
+# K/B/Kw/M with an agent, E/C/D/Dkw/Ckw with a group and <a>; for those text :func:`_fast_parse` builds the
+# formula the grammar's parser would, by recursive descent over the same tokens, without importing lark
+# (≈ 0.1 s of a small `delkit check -p` run). It reads the grammar's tokens as lark's contextual lexer does
+# (terminals tried in lark's order: priority, then length; NAME where only an agent name may follow), and
+# answers None — and the lark parser reads the text — for anything else: announcements, [E,e], <!φ>, <{…}>,
+# quoted names, and every text with an error (so the error messages stay lark's). tests/cli/test_startup.py
+# checks it against the lark parser on random formulas and random token strings.
+_FAST_TOKEN = (r"[ \t\r\n]+|#[^\n]*|(?P<kw>Kw_[A-Za-z0-9]+)|(?P<brace>(?:Dkw|Ckw|Kw|[KBECDM])\{)"
+               r"|(?P<k>[KB]_[A-Za-z0-9]+)|(?P<m>M_[A-Za-z0-9]+)|(?P<dia><[A-Za-z0-9]+>)|(?P<name>[A-Za-z_][A-Za-z0-9_.']*)|(?P<sym><->|->|[~!¬&|()])")
+_FAST_NAME = r"(?:[ \t\r\n]+|#[^\n]*)*([A-Za-z_][A-Za-z0-9_.']*)(?:[ \t\r\n]+|#[^\n]*)*"
+_KEYWORDS = {"T": TOP, "F": BOT, "true": TOP, "false": BOT}
+
+
+class _NotFast(Exception):
+    """The fast reader does not take this text: the lark parser reads it."""
+
+
+def _fast_parse(text: str) -> Formula | None:
+    """The formula of ``text`` as :func:`parse` builds it, or None (see the comment above)."""
+    try:
+        return _FastReader(text).read()
+    except (_NotFast, RecursionError):
+        return None
+
+
+class _FastReader:
+    """Recursive descent over the tokens, lexed on demand from ``pos`` (agent names in braces by NAME alone)."""
+
+    __slots__ = ("text", "pos", "kind", "tok", "end", "_lex")
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+        self._lex = re.compile(_FAST_TOKEN).match
+        self.pos = 0
+        self.kind, self.tok, self.end = self._next(0)
+
+    def _next(self, pos: int) -> tuple[str, str, int]:
+        """The kind of the token at or after ``pos`` (its regex group; '' at the end), its text, its end."""
+        text, n = self.text, len(self.text)
+        while pos < n:
+            m = self._lex(text, pos)
+            if m is None:
+                raise _NotFast
+            if m.lastgroup is not None:
+                return m.lastgroup, m.group(m.lastgroup), m.end()
+            pos = m.end()
+        return "", "", n
+
+    def read(self) -> Formula:
+        f = self.iff()
+        if self.tok:
+            raise _NotFast
+        return f
+
+    def peek(self) -> str:
+        return self.tok
+
+    def advance(self) -> None:
+        self.pos = self.end
+        self.kind, self.tok, self.end = self._next(self.end)
+
+    def take(self) -> tuple[str, str]:
+        kind, t = self.kind, self.tok
+        if not t:
+            raise _NotFast
+        self.advance()
+        return kind, t
+
+    def iff(self) -> Formula:
+        out = self.imp()
+        while self.peek() == "<->":
+            self.advance()
+            out = Iff(out, self.imp())
+        return out
+
+    def imp(self) -> Formula:
+        left = self.disj()
+        if self.peek() == "->":
+            self.advance()
+            return Implies(left, self.imp())
+        return left
+
+    def disj(self) -> Formula:
+        parts = [self.conj()]
+        while self.peek() == "|":
+            self.advance()
+            parts.append(self.conj())
+        return parts[0] if len(parts) == 1 else Or(parts)
+
+    def conj(self) -> Formula:
+        parts = [self.unary()]
+        while self.peek() == "&":
+            self.advance()
+            parts.append(self.unary())
+        return parts[0] if len(parts) == 1 else And(parts)
+
+    def agents(self, several: bool) -> list[str]:
+        """The agent names after a brace token (just taken), through the closing ``}``: NAME tokens, as the
+        contextual lexer reads them there; ``several``: a comma-separated group (at least one)."""
+        text, pos = self.text, self.pos
+        name = re.compile(_FAST_NAME).match
+        names = []
+        while True:
+            m = name(text, pos)
+            if m is None or m.group(1) in _KEYWORDS:
+                raise _NotFast
+            names.append(m.group(1))
+            pos = m.end()
+            if several and text.startswith(",", pos):
+                pos += 1
+                continue
+            if not text.startswith("}", pos):
+                raise _NotFast
+            break
+        self.pos = pos + 1
+        self.kind, self.tok, self.end = self._next(pos + 1)
+        return names
+
+    def unary(self) -> Formula:  # noqa: C901 - one clause per operator, as _Build
+        kind, t = self.take()
+        if kind == "name":
+            return _KEYWORDS.get(t) or Prop(t)
+        if t in ("~", "!", "¬"):
+            return Not(self.unary())
+        if kind == "k":
+            return K(t[2:], self.unary())
+        if kind == "kw":
+            return Kw(t[3:], self.unary())
+        if kind == "m":
+            return Not(K(t[2:], Not(self.unary())))
+        if kind == "dia":
+            return Not(K(t[1:-1], Not(self.unary())))
+        if kind == "brace":
+            if t in ("K{", "B{", "Kw{", "M{"):
+                (agent,) = self.agents(False)
+                arg = self.unary()
+                if t == "M{":
+                    return Not(K(agent, Not(arg)))
+                return Kw(agent, arg) if t == "Kw{" else K(agent, arg)
+            group = self.agents(True)
+            arg = self.unary()
+            return {"E{": E, "C{": C, "D{": D, "Dkw{": Dkw, "Ckw{": Ckw}[t](group, arg)
+        if t == "(":
+            f = self.iff()
+            if self.take()[1] != ")":
+                raise _NotFast
+            return f
+        raise _NotFast
 
 
 class _Build:

@@ -12,9 +12,10 @@ The estimates are upper bounds of the peak of the named structure, not of the wh
 
 from __future__ import annotations
 
+import _thread
 import os
 import resource
-import threading
+import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 
@@ -158,7 +159,15 @@ _GRACE = 0.2                 # seconds after the deadline before the watchdog en
 _BEGUN_PID: int | None = None
 
 
-class _PerThread(threading.local):
+def _on_main_thread() -> bool:
+    """``threading.current_thread() is threading.main_thread()``, without importing threading when no thread
+    was ever started through it (≈ 1 ms of start-up): threading takes the thread that first imports it for the
+    main thread, so until then the current thread is the one it would call main."""
+    threading = sys.modules.get("threading")
+    return threading is None or threading.current_thread() is threading.main_thread()
+
+
+class _PerThread(_thread._local):  # threading.local
     """The limit state of the command running in this thread (a Dask worker runs tasks in several threads of
     one process: each task's deadline and start are its own)."""
 
@@ -197,7 +206,7 @@ def begin_command() -> None:
 
     global _BEGUN_PID
     pid = os.getpid()
-    first = _BEGUN_PID != pid and threading.current_thread() is threading.main_thread()
+    first = _BEGUN_PID != pid and _on_main_thread()
     _LOCAL.t0 = process_start() if first else time.monotonic()
     if first:
         _BEGUN_PID = pid
@@ -348,8 +357,7 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
     ``alarm=False``: no SIGALRM (for a body that runs a C library through ctypes, e.g. z3, whose wrappers
     turn an exception raised inside them into another one or print it as "Exception ignored"): only the
     explicit checks (:func:`check_time`, :func:`remaining`) and, in the console script, the watchdog."""
-    import signal
-    import threading
+    import _signal as signal  # the C module: the signal module's enums cost ≈ 2 ms of start-up
     import time
 
     limit = parse_timeout(seconds, option)
@@ -364,7 +372,7 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
         yield
         return
     local.deadline, local.message = when, message
-    if not alarm or threading.current_thread() is not threading.main_thread():
+    if not alarm or not _on_main_thread():
         try:
             with _Watchdog(when + _GRACE, message):
                 yield

@@ -29,12 +29,13 @@ import sys
 import time
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from delkit._lazy import lazy_module
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:
     import json
+    from typing import Any
 else:
     json = lazy_module("json")  # a single small task never needs it (start-up)
 
@@ -85,7 +86,7 @@ def _check_jobs(jobs: int | None, command: str) -> None:
 
         raise ParseError(f"--jobs {jobs}: use a number of worker processes ≥ 1", source=command)
 
-_PROBLEM = re.compile(r"\(\s*define\s*\(\s*problem\b", re.I)
+_PROBLEM = r"(?i)\(\s*define\s*\(\s*problem\b"  # compiled on first use (re's cache): start-up
 
 
 def is_batch(pos: Sequence[Path], kw: dict[str, Any], command: str = "plan") -> bool:
@@ -114,7 +115,7 @@ def _role(path: Path) -> str:
     if dialect == "mastar":
         return "mastar"
     lisp = "\n".join(ln.split(";", 1)[0] for ln in text.splitlines())
-    return "problem" if _PROBLEM.search(lisp) and "(domain" not in lisp.replace(" ", "")[:200] else "domain"
+    return "problem" if re.search(_PROBLEM, lisp) and "(domain" not in lisp.replace(" ", "")[:200] else "domain"
 
 
 def plan_units(files: Sequence[Path]) -> list[tuple[Path, Path | None]]:

@@ -12,10 +12,10 @@ from __future__ import annotations
 import sys
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from delkit._lazy import lazy_module
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:
     import json
 else:

@@ -21,33 +21,43 @@ from __future__ import annotations
 
 import functools
 import gc
-import heapq
 import resource
 import time
 from collections import deque
 from collections.abc import Callable, Hashable, Iterator
-from dataclasses import dataclass
-from typing import Any, Literal, Protocol
 
+from delkit._records import DataclassFields, Record
 from delkit.errors import PlanningError
 from planners.spaces import CompactSpace, DelSpace, make_space
 from planners.task import Task, goal_conjuncts, has_event_actions
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
+if TYPE_CHECKING:
+    from typing import Any, Literal, Protocol
+else:
+    Protocol = object  # StateSpace is a typing.Protocol for the type checkers
+
 __all__ = ["SearchResult", "Limits", "DelSpace", "CompactSpace", "make_space", "plan", "bfs", "best_first",
            "StateSpace", "goal_conjuncts"]
 
-Status = Literal["solved", "unsolvable", "limit"]
+if TYPE_CHECKING:
+    Status = Literal["solved", "unsolvable", "limit"]
+else:
+    Status = str
 
 
-@dataclass(frozen=True)
-class Limits:
-    """Resource limits of a search: wall seconds, expanded nodes, resident memory (MiB)."""
+class Limits(Record):
+    """Resource limits of a search: wall seconds, expanded nodes, resident memory (MiB). (This module's records
+    are frozen dataclass-compatible records written by hand for start-up time: :mod:`delkit._records`.)"""
 
-    timeout: float | None = 60.0
-    max_expanded: int | None = None
-    max_memory_mb: float | None = 8192.0
+    __dataclass_fields__ = DataclassFields(("timeout", 60.0), ("max_expanded", None), ("max_memory_mb", 8192.0))
+    timeout: float | None
+    max_expanded: int | None
+    max_memory_mb: float | None
 
-    def __post_init__(self) -> None:
+    def __init__(self, timeout: float | None = 60.0, max_expanded: int | None = None,
+                 max_memory_mb: float | None = 8192.0) -> None:
+        self.__dict__.update(timeout=timeout, max_expanded=max_expanded, max_memory_mb=max_memory_mb)
         for name, value, rule in (("timeout", self.timeout, ">= 0 (seconds)"),
                                   ("max_expanded", self.max_expanded, ">= 0 (nodes)"),
                                   ("max_memory_mb", self.max_memory_mb, "> 0 (MiB)")):
@@ -58,20 +68,26 @@ class Limits:
                                     f"no limit (CLI: --timeout, --max-nodes, --max-memory)")
 
 
-@dataclass(frozen=True)
-class SearchResult:
+class SearchResult(Record):
     """Outcome of a search. ``status`` is "solved" (``plan`` is a plan), "unsolvable" (the reachable
     state space was exhausted: no plan exists) or "limit" (a limit was hit: *no plan within limits*)."""
 
+    __dataclass_fields__ = DataclassFields("status", "plan", "expanded", "generated", "seconds", "search",
+                                           ("reason", ""), ("dead_ends", 0), ("distinct_states", 0))
     status: Status
     plan: tuple[str, ...] | None
     expanded: int
     generated: int
     seconds: float
     search: str
-    reason: str = ""
-    dead_ends: int = 0
-    distinct_states: int = 0
+    reason: str
+    dead_ends: int
+    distinct_states: int
+
+    def __init__(self, status: Status, plan: tuple[str, ...] | None, expanded: int, generated: int, seconds: float,
+                 search: str, reason: str = "", dead_ends: int = 0, distinct_states: int = 0) -> None:
+        self.__dict__.update(status=status, plan=plan, expanded=expanded, generated=generated, seconds=seconds,
+                             search=search, reason=reason, dead_ends=dead_ends, distinct_states=distinct_states)
 
     @property
     def solved(self) -> bool:
@@ -214,6 +230,8 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
         from planners.heuristics import h_gc, h_pdb
 
         h = h_gc(space) if kind == "gbfs" else h_pdb(space)
+    from heapq import heappop, heappush  # here: BFS, the default, needs no heap (start-up)
+
     s0, k0 = space.initial()
     best_g: dict[Hashable, int] = {k0: 0}
     parent: dict[Hashable, Any] = {k0: None}
@@ -233,7 +251,7 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
         if why:
             return SearchResult("limit", None, expanded, generated, budget.seconds, kind,
                                 "no plan within limits: " + why, space.dead_ends, len(parent))
-        _, tg, _, state, key = heapq.heappop(heap)
+        _, tg, _, state, key = heappop(heap)
         g = tg * tie
         if key in closed:
             continue
@@ -254,7 +272,7 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
             if hv == float("inf"):
                 continue
             f = hv if kind == "gbfs" else ng + hv
-            heapq.heappush(heap, (f, tie * ng, counter, nxt, nkey))
+            heappush(heap, (f, tie * ng, counter, nxt, nkey))
     return SearchResult("unsolvable", None, expanded, generated, budget.seconds, kind,
                         "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
 

@@ -61,10 +61,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import Any
 
 from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Prop, is_propositional, props_of
 from planners.task import Task, goal_conjuncts
+
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
+if TYPE_CHECKING:
+    from typing import Any
 
 __all__ = ["h_gc", "h_01", "h_cover", "h_epi", "h_chain", "h_elim", "h_pdb", "transparent_props", "dead_end_test",
            "cover_sets", "prop_blocks", "content_conjuncts", "make_heuristic"]

@@ -26,34 +26,49 @@ agent has no accessible world at a designated world (it believes ⊥) is a dead 
 from __future__ import annotations
 
 from collections.abc import Hashable, Iterator
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal
 
+from delkit._records import DataclassFields
 from delkit.compact import CompactEngine, CompactState, PlainEvents, bit_positions, state_of_key
 from delkit.errors import PlanningError
 from delkit.formula import And, Formula, Top, is_propositional, props_of
 from delkit.resources import ALARM_SLACK, check_time
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, goal_conjuncts, plain_event_model
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:  # numpy: the compact space of a small task never imports it (start-up)
+    from typing import Any, Literal
+
     from delkit.events import EventModel
     from delkit.kripke import KripkeModel
 
 __all__ = ["CompactSpace", "DelSpace", "make_space"]
 
 
-@dataclass
 class DelSpace:
-    """The generic state space on :class:`KripkeModel` via ``delkit`` (reference semantics)."""
+    """The generic state space on :class:`KripkeModel` via ``delkit`` (reference semantics). A plain class
+    compatible with ``@dataclass`` (fields ``task``, ``allow_inconsistent``, ``dead_ends``), written by hand for
+    start-up time (:mod:`delkit._records`)."""
 
-    task: Task
-    allow_inconsistent: bool = False
-    dead_ends: int = 0
-    _conj: tuple[Formula, ...] = field(default=(), init=False)
+    __dataclass_fields__ = DataclassFields("task", ("allow_inconsistent", False), ("dead_ends", 0), frozen=False)
+    __match_args__ = ("task", "allow_inconsistent", "dead_ends")
+    __hash__ = None  # type: ignore[assignment]  # mutable, compared by its fields
 
-    def __post_init__(self) -> None:
-        self._conj = goal_conjuncts(self.task.goal)
+    def __init__(self, task: Task, allow_inconsistent: bool = False, dead_ends: int = 0) -> None:
+        self.task = task
+        self.allow_inconsistent = allow_inconsistent
+        self.dead_ends = dead_ends
+        self._conj: tuple[Formula, ...] = goal_conjuncts(self.task.goal)
         self._groups = task_groups(self.task)
+
+    def __repr__(self) -> str:
+        return (f"DelSpace(task={self.task!r}, allow_inconsistent={self.allow_inconsistent!r}, "
+                f"dead_ends={self.dead_ends!r}, _conj={self._conj!r})")
+
+    def __eq__(self, other: object) -> bool:
+        if other.__class__ is self.__class__:
+            return ((self.task, self.allow_inconsistent, self.dead_ends, self._conj)
+                    == (other.task, other.allow_inconsistent, other.dead_ends, other._conj))  # type: ignore[attr-defined]
+        return NotImplemented
 
     def _key(self, m: KripkeModel) -> tuple[KripkeModel, Hashable]:
         """(state, key): contracted, keyed by its canonical form. With groups whose D matters the state is
@@ -608,8 +623,6 @@ def _group_d_formulas(task: Task) -> list[Formula]:
     """D_G subformulas with |G| ≥ 2 anywhere in the task (goal, executability, effects, observability, the
     declared designated preconditions of event actions). Each distinct formula node is visited once: grounded
     actions share most of their subformulas."""
-    import dataclasses
-
     from delkit.formula import D, children
 
     found: list[Formula] = []
@@ -642,7 +655,12 @@ def _group_d_formulas(task: Task) -> list[Formula]:
         elif isinstance(x, dict):
             for y in x.values():
                 walk(y)
-        elif dataclasses.is_dataclass(x) and not isinstance(x, type):
+        elif isinstance(x, (ActionSpec, MacroSpec)):  # hand-written records: their fields, without dataclasses
+            for y in x._key(x):
+                walk(y)
+        elif hasattr(type(x), "__dataclass_fields__") and not isinstance(x, type):
+            import dataclasses
+
             fs = names.get(type(x))
             if fs is None:
                 fs = names[type(x)] = tuple(fld.name for fld in dataclasses.fields(x))

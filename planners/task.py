@@ -23,39 +23,55 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal
 
+from delkit._records import DataclassFields, Factory, Record
 from delkit.compact import PlainEvents, PlainModel
 from delkit.errors import PlanningError
 from delkit.formula import BOT, TOP, Formula, Not, Or, Prop, conj, show
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:  # numpy: imported by the reference semantics only (start-up of small tasks, see _Initial)
+    from typing import Any, Literal
+
     from delkit.events import EventModel
     from delkit.kripke import KripkeModel
 
 __all__ = ["ActionSpec", "MacroSpec", "EventAction", "Task", "ActionKind", "goal_conjuncts"]
 
-ActionKind = Literal["ontic", "sensing", "announcement"]
+if TYPE_CHECKING:
+    ActionKind = Literal["ontic", "sensing", "announcement"]
+else:
+    ActionKind = str
 
 
-@dataclass(frozen=True)
-class ActionSpec:
+class ActionSpec(Record):
     """A grounded mA* action.
 
     ``effects`` (ontic): ``(fluent, value, condition)``; ``sensed`` (sensing/announcement):
     ``(formula, condition)``; ``full``/``partial``: ``(agent, condition)`` observability statements.
     Several statements for one agent are read as a disjunction of their conditions.
+
+    The task's records are frozen and compared, hashed, printed and replaced (``dataclasses.replace``) as
+    ``@dataclass(frozen=True)`` records are; they are written by hand for start-up time (:mod:`delkit._records`).
     """
 
+    __dataclass_fields__ = DataclassFields("name", ("kind", "ontic"), ("executable", TOP), ("effects", ()),
+                                           ("sensed", ()), ("full", ()), ("partial", ()), ("where", ""))
     name: str
-    kind: ActionKind = "ontic"
-    executable: Formula = TOP
-    effects: tuple[tuple[str, bool, Formula], ...] = ()
-    sensed: tuple[tuple[Formula, Formula], ...] = ()
-    full: tuple[tuple[str, Formula], ...] = ()
-    partial: tuple[tuple[str, Formula], ...] = ()
-    where: str = ""
+    kind: ActionKind
+    executable: Formula
+    effects: tuple[tuple[str, bool, Formula], ...]
+    sensed: tuple[tuple[Formula, Formula], ...]
+    full: tuple[tuple[str, Formula], ...]
+    partial: tuple[tuple[str, Formula], ...]
+    where: str
+
+    def __init__(self, name: str, kind: ActionKind = "ontic", executable: Formula = TOP,
+                 effects: tuple[tuple[str, bool, Formula], ...] = (), sensed: tuple[tuple[Formula, Formula], ...] = (),
+                 full: tuple[tuple[str, Formula], ...] = (), partial: tuple[tuple[str, Formula], ...] = (),
+                 where: str = "") -> None:
+        self.__dict__.update(name=name, kind=kind, executable=executable, effects=effects, sensed=sensed, full=full,
+                             partial=partial, where=where)
 
     def observers(self, model: KripkeModel, agents: tuple[str, ...]) -> tuple[frozenset[str], frozenset[str]]:
         """(fully, partially) observant agents, conditions evaluated at the pointed world(s)."""
@@ -68,8 +84,7 @@ class ActionSpec:
         return tuple(f for f, cond in self.sensed if model.holds(cond))
 
 
-@dataclass(frozen=True)
-class EventAction:
+class EventAction(Record):
     """A grounded action given as a general event model (EPDDL action types, hand-made event models).
 
     Its event model may depend on the state only through the truth of ``conditions`` in the state (a formula
@@ -85,20 +100,28 @@ class EventAction:
     against each model built (:meth:`Task.event_model_for_bits`).
     """
 
+    __dataclass_fields__ = DataclassFields("name", "build", ("conditions", ()), ("executable", TOP), ("where", ""),
+                                           ("kind", "event"), ("designated_pre", None), ("event_labels", None))
     name: str
     build: Callable[[tuple[bool, ...]], EventModel]
-    conditions: tuple[Formula, ...] = ()
-    executable: Formula = TOP
-    where: str = ""
-    kind: str = "event"
-    designated_pre: tuple[Formula, ...] | None = None
+    conditions: tuple[Formula, ...]
+    executable: Formula
+    where: str
+    kind: str
+    designated_pre: tuple[Formula, ...] | None
     #: the user's name of each event of the event models ``build`` returns (EPDDL: the domain's events with
     #: their arguments, where the event model names the action type's event parameters), for messages
-    event_labels: tuple[str, ...] | None = None
+    event_labels: tuple[str, ...] | None
+
+    def __init__(self, name: str, build: Callable[[tuple[bool, ...]], EventModel],
+                 conditions: tuple[Formula, ...] = (), executable: Formula = TOP, where: str = "", kind: str = "event",
+                 designated_pre: tuple[Formula, ...] | None = None,
+                 event_labels: tuple[str, ...] | None = None) -> None:
+        self.__dict__.update(name=name, build=build, conditions=conditions, executable=executable, where=where,
+                             kind=kind, designated_pre=designated_pre, event_labels=event_labels)
 
 
-@dataclass(frozen=True)
-class MacroSpec:
+class MacroSpec(Record):
     """A macro-action (seed 004, Definition 4.1): the grounded steps ``A_1; …; A_n`` offered to the planner as
     one action whose transition is Φ(A_n, … Φ(A_1, s)).
 
@@ -108,10 +131,14 @@ class MacroSpec:
     composition equal to its sequence with z3); plans are flattened back to ``steps``' names.
     """
 
+    __dataclass_fields__ = DataclassFields("name", "steps", ("where", ""), ("kind", "macro"))
     name: str
     steps: tuple[ActionSpec, ...]
-    where: str = ""
-    kind: str = "macro"
+    where: str
+    kind: str
+
+    def __init__(self, name: str, steps: tuple[ActionSpec, ...], where: str = "", kind: str = "macro") -> None:
+        self.__dict__.update(name=name, steps=steps, where=where, kind=kind)
 
     @property
     def step_names(self) -> tuple[str, ...]:
@@ -128,7 +155,7 @@ class _Initial:
 
     def __get__(self, obj: Any, objtype: Any = None) -> Any:
         if obj is None:
-            raise AttributeError(self.slot)  # no default (dataclasses ask the class)
+            raise AttributeError(self.slot)  # no class-level value
         v = obj.__dict__[self.slot]
         if isinstance(v, PlainModel):
             v = v.kripke()
@@ -138,18 +165,26 @@ class _Initial:
         obj.__dict__[self.slot] = value
 
 
-@dataclass(frozen=True)
-class Task:
+class Task(Record):
     """A grounded epistemic planning task (``initial``: a KripkeModel, or a PlainModel read as one)."""
 
+    __dataclass_fields__ = DataclassFields("name", "props", "agents", "initial", "actions", "goal",
+                                           ("source", "<task>"),
+                                           ("_cache", Factory(dict, repr=False, compare=False, hash=False)))
     name: str
     props: tuple[str, ...]
     agents: tuple[str, ...]
     initial: KripkeModel = _Initial()  # type: ignore[assignment]
     actions: tuple[ActionSpec | MacroSpec | EventAction, ...]
     goal: Formula
-    source: str = "<task>"
-    _cache: dict = field(default_factory=dict, repr=False, compare=False, hash=False)
+    source: str
+    _cache: dict
+
+    def __init__(self, name: str, props: tuple[str, ...], agents: tuple[str, ...], initial: KripkeModel | PlainModel,
+                 actions: tuple[ActionSpec | MacroSpec | EventAction, ...], goal: Formula, source: str = "<task>",
+                 _cache: dict | None = None) -> None:
+        self.__dict__.update(name=name, props=props, agents=agents, _initial=initial, actions=actions, goal=goal,
+                             source=source, _cache={} if _cache is None else _cache)
 
     @property
     def plain_initial(self) -> PlainModel | None:
@@ -233,14 +268,11 @@ def has_event_actions(task: Task) -> bool:
     return any(isinstance(a, EventAction) for a in task.actions)
 
 
-def uncovered_worlds(em: EventModel, model: KripkeModel) -> list[int]:
-    """The designated worlds of ``model`` where no designated event of ``em`` has its precondition true."""
-    import numpy as np
-
-    ok = np.zeros(model.n_worlds, dtype=bool)
-    for e in em.designated:
-        ok |= model.check(em.pre[e])
-    return [int(w) for w in model.designated if not ok[int(w)]]
+def uncovered_worlds(em: EventModel | PlainEvents, model: KripkeModel) -> list[int]:
+    """The designated worlds of ``model`` where no designated event of ``em`` has its precondition true (``model``
+    anything with ``designated`` and a per-world ``check``: also the checker's numpy-free states)."""
+    checks = [model.check(em.pre[e]) for e in em.designated]
+    return [int(w) for w in model.designated if not any(c[int(w)] for c in checks)]
 
 
 def applicable(em: EventModel, model: KripkeModel) -> bool:

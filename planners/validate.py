@@ -3,7 +3,10 @@
 The replay uses the numpy backend (``delkit.update.product_update`` and ``delkit.bisimulation.contract``, which
 keeps every formula's truth and keeps the replay small; no contraction at all when the task mentions
 distributed knowledge of a group), not the planner's compact backend, so a plan found by the planner is
-checked independently of the planner's own state code. A macro is replayed as its steps.
+checked independently of the planner's own state code. A small task (an initial state the reader built
+without numpy, every replayed state small enough to stay uncontracted) is replayed with the same product
+update written with plain lists (:mod:`planners.replay`: no numpy, which is most of a small check's start-up),
+falling back to the numpy replay for anything else. A macro is replayed as its steps.
 For each step A_i the checker verifies, in order:
 
 1. the action exists;
@@ -19,52 +22,71 @@ and finally the goal on M_n. The first failure is reported with its step (0 = in
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, Literal
 
-import numpy as np
-
-from delkit.bisimulation import quotient, refine
+from delkit._records import DataclassFields, Factory, Record
 from delkit.errors import DelkitError, ParseError, io_reason
-from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Or, Prop, show, subformulas
-from delkit.kripke import KripkeModel
-from delkit.resources import check_time, product_update_bytes, require
-from delkit.update import product_update
+from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Or, Prop, agents_of, props_of, show, subformulas
+from delkit.resources import TimeLimit, check_time
+from planners.replay import NeedNumpy, PlainState
+from planners.replay import event_model as plain_events
+from planners.replay import initial_state as plain_initial
+from planners.replay import usable as plain_usable
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, has_event_actions, uncovered_worlds
+
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
+if TYPE_CHECKING:
+    from typing import Any, Literal
+
+    from delkit.kripke import KripkeModel
+
+    PropertyKind = Literal["always", "eventually", "at end"]
+else:
+    PropertyKind = str
 
 __all__ = ["Property", "CheckResult", "check_plan", "parse_property", "read_plan", "parse_plan_text", "explain"]
 
-PropertyKind = Literal["always", "eventually", "at end"]
 
+class Property(Record):
+    """A temporal property over the states M_0..M_n of a plan's execution (this module's records are frozen
+    dataclass-compatible records written by hand for start-up time: :mod:`delkit._records`)."""
 
-@dataclass(frozen=True)
-class Property:
-    """A temporal property over the states M_0..M_n of a plan's execution."""
-
+    __dataclass_fields__ = DataclassFields("kind", "formula", ("text", ""))
     kind: PropertyKind
     formula: Formula
-    text: str = ""
+    text: str
+
+    def __init__(self, kind: PropertyKind, formula: Formula, text: str = "") -> None:
+        self.__dict__.update(kind=kind, formula=formula, text=text)
 
     def __str__(self) -> str:
         return self.text or f"{self.kind} {show(self.formula)}"
 
 
-@dataclass(frozen=True)
-class CheckResult:
+class CheckResult(Record):
     """``valid`` or the first failure: its step (0 = initial state), action, kind and reason."""
 
+    __dataclass_fields__ = DataclassFields("valid", "steps", ("step", None), ("action", None), ("kind", None),
+                                           ("reason", ""), ("agent", None), ("world", None),
+                                           ("details", Factory(dict)), ("inconsistent_beliefs", ()))
     valid: bool
     steps: int
-    step: int | None = None
-    action: str | None = None
-    kind: str | None = None
-    reason: str = ""
-    agent: str | None = None
-    world: str | None = None
-    details: dict = field(default_factory=dict)
+    step: int | None
+    action: str | None
+    kind: str | None
+    reason: str
+    agent: str | None
+    world: str | None
+    details: dict
     #: EPDDL semantics keeps states where an agent believes ⊥: each such (step, action, agent, world)
-    inconsistent_beliefs: tuple[dict, ...] = ()
+    inconsistent_beliefs: tuple[dict, ...]
+
+    def __init__(self, valid: bool, steps: int, step: int | None = None, action: str | None = None,
+                 kind: str | None = None, reason: str = "", agent: str | None = None, world: str | None = None,
+                 details: dict | None = None, inconsistent_beliefs: tuple[dict, ...] = ()) -> None:
+        self.__dict__.update(valid=valid, steps=steps, step=step, action=action, kind=kind, reason=reason, agent=agent,
+                             world=world, details={} if details is None else details,
+                             inconsistent_beliefs=inconsistent_beliefs)
 
     def warnings(self) -> list[str]:
         """One line per state where EPDDL semantics kept an agent believing ⊥ (empty: none)."""
@@ -157,7 +179,7 @@ def parse_formula(body: str, task: Task, *, source: str = "<formula>") -> Formul
                          f"the fluent to check properties about it", source=source)
     try:
         f = parse(body, source=source)
-        task.initial.validate_symbols(f)
+        _validate_symbols(task, f)
         return f
     except DelkitError as first:
         try:
@@ -173,17 +195,34 @@ def parse_formula(body: str, task: Task, *, source: str = "<formula>") -> Formul
             raise type(first)(f"{body!r}: {first}") from None
 
 
+def _validate_symbols(task: Task, f: Formula) -> None:
+    """``task.initial.validate_symbols(f)`` (the same errors), without building a numpy initial state."""
+    m = task.plain_initial
+    if m is None:
+        task.initial.validate_symbols(f)
+        return
+    from delkit.errors import UnknownSymbolError
+
+    bad_p = sorted(props_of(f) - set(m.props))
+    if bad_p:
+        raise UnknownSymbolError(f"formula mentions unknown proposition(s) {bad_p}; the model has {list(m.props)}")
+    bad_a = sorted(agents_of(f) - set(m.agents))
+    if bad_a:
+        raise UnknownSymbolError(f"formula mentions unknown agent(s) {bad_a}; the model has {list(m.agents)}")
+
+
 # ----------------------------------------------------------------------------- explanations
 
-def _world_text(m: KripkeModel, w: int) -> str:
+def _world_text(m: KripkeModel | PlainState, w: int) -> str:
     """A world by its name (the user's, for an explicit EPDDL initial state; ``w3`` otherwise) and its
     true fluents — the same name :meth:`KripkeModel.world_name` gives everywhere else in a message."""
     true = sorted(m.true_props(w))
     return f"{m.world_name(w)}{{{', '.join(true)}}}"
 
 
-def explain(m: KripkeModel, f: Formula, w: int, depth: int = 0) -> tuple[str, str | None, str | None]:
-    """Why ``f`` is false at world ``w`` of ``m``: (text, agent, world) naming whose belief and which world."""
+def explain(m: KripkeModel | PlainState, f: Formula, w: int, depth: int = 0) -> tuple[str, str | None, str | None]:
+    """Why ``f`` is false at world ``w`` of ``m``: (text, agent, world) naming whose belief and which world
+    (``m`` a KripkeModel, or the plain replay's :class:`~planners.replay.PlainState`)."""
     if depth > 6:
         return f"{show(f)} is false at {_world_text(m, w)}", None, _world_text(m, w)
     if isinstance(f, And):
@@ -216,7 +255,7 @@ def explain(m: KripkeModel, f: Formula, w: int, depth: int = 0) -> tuple[str, st
                             f"{inner}", a, _world_text(m, int(v)))
         if reach is not None:
             good = m.check(f.arg)
-            bad = [int(v) for v in np.flatnonzero(reach & ~good) if v != w]
+            bad = [v for v in range(m.n_worlds) if reach[v] and not good[v] and v != w]
             if bad:
                 return (f"{show(f)} fails: {_world_text(m, bad[0])} is reachable through the beliefs of "
                         f"{', '.join(f.group)} and there {show(f.arg)} is false", None, _world_text(m, bad[0]))
@@ -227,7 +266,7 @@ def explain(m: KripkeModel, f: Formula, w: int, depth: int = 0) -> tuple[str, st
 
 # ----------------------------------------------------------------------------- replay
 
-def _failing_world(m: KripkeModel, f: Formula) -> int:
+def _failing_world(m: KripkeModel | PlainState, f: Formula) -> int:
     """The first designated world where ``f`` fails (a multi-pointed state fails where one of them fails)."""
     vec = m.check(f)
     return next((int(w) for w in m.designated if not vec[int(w)]), int(m.designated[0]))
@@ -237,10 +276,11 @@ def _failing_world(m: KripkeModel, f: Formula) -> int:
 _CONTRACT_ABOVE = 64
 
 
-def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, model: KripkeModel,
-                allow_inconsistent: bool, kept: list | None = None) -> CheckResult | KripkeModel:
+def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, model: KripkeModel | PlainState,
+                allow_inconsistent: bool, kept: list | None = None) -> CheckResult | KripkeModel | PlainState:
     """One (non-macro) action at step ``i``: the new model, or the CheckResult saying why it fails.
-    ``kept`` (EPDDL semantics): a state where an agent believes ⊥ is kept and recorded there instead."""
+    ``kept`` (EPDDL semantics): a state where an agent believes ⊥ is kept and recorded there instead. A
+    :class:`~planners.replay.PlainState` is updated by the plain replay (no numpy)."""
     check_time()
     point = model.designated[0]
     if not model.holds(act.executable):
@@ -249,9 +289,20 @@ def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, mod
         return CheckResult(False, n, i, name, "precondition",
                            f"step {i} ({label}) is not executable: precondition {show(act.executable)} fails — "
                            f"{why}", ag, wd, {"precondition": show(act.executable)})
-    em = task.event_model(act, model)
-    # estimate before allocating (the replayed states are contracted, so this only trips on huge actions)
-    require(product_update_bytes(model, em), f"replaying step {i} ({label})", "check a shorter plan or a smaller task")
+    plain = isinstance(model, PlainState)
+    if plain:
+        from delkit.resources import memory_budget
+
+        em = plain_events(task, act, model)
+        if model.product_bytes_bound(em) > memory_budget()[0]:
+            raise NeedNumpy("the numpy replay's memory estimate decides")  # it refuses with its own figure
+    else:
+        from delkit.resources import product_update_bytes, require
+
+        em = task.event_model(act, model)
+        # estimate before allocating (the replayed states are contracted, so this only trips on huge actions)
+        require(product_update_bytes(model, em), f"replaying step {i} ({label})",
+                "check a shorter plan or a smaller task")
     uncovered = uncovered_worlds(em, model) if isinstance(act, EventAction) else []
     if uncovered:
         # plank's updater: every designated world needs a designated event whose precondition holds there;
@@ -263,7 +314,12 @@ def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, mod
         return CheckResult(False, n, i, name, "not-applicable",
                            f"step {i} ({label}) is not applicable: at designated world {wname} no designated "
                            f"event's precondition holds ({'; '.join(whys)})", None, wname)
-    new = product_update(model, em)
+    if plain:
+        new = model.product(em)
+    else:
+        from delkit.update import product_update
+
+        new = product_update(model, em)
     if not new.designated:
         sensed = ", ".join(show(f) for f in act.active_sensed(model)) if isinstance(act, ActionSpec) else ""
         return CheckResult(False, n, i, name, "not-applicable",
@@ -301,12 +357,25 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
     if epddl is None:
         epddl = has_event_actions(task)
     kept: list[dict] = []
-    res = _check(task, plan, properties, allow_inconsistent, require_goal, plan_source, epddl, kept)
-    return replace(res, inconsistent_beliefs=tuple(kept)) if kept else res
+    res = None
+    if plain_usable(task, [p.formula for p in properties], _CONTRACT_ABOVE):
+        try:
+            res = _check(task, plan, properties, allow_inconsistent, require_goal, plan_source, epddl, kept, True)
+        except TimeLimit:
+            raise
+        except DelkitError:  # NeedNumpy, or an error the numpy replay reports in its own words
+            kept.clear()
+    if res is None:
+        res = _check(task, plan, properties, allow_inconsistent, require_goal, plan_source, epddl, kept, False)
+    if not kept:
+        return res
+    return CheckResult(res.valid, res.steps, res.step, res.action, res.kind, res.reason, res.agent, res.world,
+                       res.details, tuple(kept))
 
 
 def _contract(m: KripkeModel, groups: tuple[tuple[str, ...], ...]) -> KripkeModel:
     """The bisimulation contraction of ``m`` keeping its world names; for ``groups``, the collective one."""
+    from delkit.bisimulation import quotient, refine
     from planners.spaces import with_group_relations
 
     g = m.generated()
@@ -328,7 +397,9 @@ def _contract(m: KripkeModel, groups: tuple[tuple[str, ...], ...]) -> KripkeMode
 
 
 def _check(task: Task, plan, properties, allow_inconsistent: bool, require_goal: bool, plan_source: str,
-           epddl: bool, kept: list[dict]) -> CheckResult:
+           epddl: bool, kept: list[dict], plain: bool = False) -> CheckResult:
+    """The replay; ``plain``: on :class:`~planners.replay.PlainState` s, raising NeedNumpy (the caller then
+    replays on numpy) as soon as a state grows past ``_CONTRACT_ABOVE`` worlds."""
     names = {a.name for a in task.actions}
     for i, name in enumerate(plan, 1):
         if name not in names:
@@ -344,13 +415,16 @@ def _check(task: Task, plan, properties, allow_inconsistent: bool, require_goal:
     groups = tuple(sorted(set(task_groups(task)) | {tuple(sorted(set(g.group))) for pr in properties
                                                      for g in subformulas(pr.formula)
                                                      if isinstance(g, D) and len(set(g.group)) > 1}))
-    model = task.initial
-    if model.n_worlds > _CONTRACT_ABOVE:
-        model = _contract(model, groups)
+    if plain:
+        model = plain_initial(task, groups)
+    else:
+        model = task.initial
+        if model.n_worlds > _CONTRACT_ABOVE:
+            model = _contract(model, groups)
     n = len(plan)
     seen_eventually = [False] * len(properties)
 
-    def props_at(step: int, m: KripkeModel, act: str | None) -> CheckResult | None:
+    def props_at(step: int, m: KripkeModel | PlainState, act: str | None) -> CheckResult | None:
         for j, pr in enumerate(properties):
             ok = m.holds(pr.formula)
             if pr.kind == "always" and not ok:
@@ -381,7 +455,12 @@ def _check(task: Task, plan, properties, allow_inconsistent: bool, require_goal:
         # preconditions) and keeps the replay small: without it a 15-step plan doubled to 2^15 worlds; for
         # distributed knowledge the collective one (see _contract). Not for small models (contraction needs
         # scipy, whose import costs more than such a replay)
-        model = new if new.n_worlds <= _CONTRACT_ABOVE else _contract(new, groups)
+        if new.n_worlds <= _CONTRACT_ABOVE:
+            model = new
+        elif plain:
+            raise NeedNumpy(f"step {i}: {new.n_worlds} worlds")
+        else:
+            model = _contract(new, groups)
         bad = props_at(i, model, name)
         if bad:
             return bad

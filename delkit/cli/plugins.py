@@ -29,9 +29,12 @@ from __future__ import annotations
 import os
 import sys
 from collections.abc import Callable
-from typing import Any
 
 from delkit.errors import require_extra  # re-exported: the plugins' way to name a missing extra
+
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
+if TYPE_CHECKING:
+    from typing import Any
 
 __all__ = ["COMMANDS", "FAST", "plugin_modules", "group", "demo_sections", "plugin_puzzles", "fast_entry",
            "require_extra"]

@@ -5,9 +5,12 @@ point ``planners``; ``plan`` and ``check`` also have a typer-free fast path (``d
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
 from planners.cli.plan_cmd import fast_args
+
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
+if TYPE_CHECKING:
+    from typing import Any
 
 __all__ = ["register", "fast_args", "DEMO_SECTIONS", "VIEWERS", "PUZZLES"]
 

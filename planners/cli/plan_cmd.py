@@ -21,12 +21,13 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from delkit._lazy import lazy_module
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:
     import json
+    from typing import Any
 
     import typer
 else:
@@ -161,8 +162,8 @@ def register(app: typer.Typer) -> None:
 
 
 # ---------------------------------------------------------------------------------------------- fast path
-_NUM = re.compile(r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)\Z")
-_INT = re.compile(r"[0-9]+\Z")
+_NUM = r"(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)\Z"  # compiled on first use (re's cache): start-up
+_INT = r"[0-9]+\Z"
 
 # option -> (keyword, kind); kind: flag, str, float, int, path, list
 _BATCH_OPTS = {"--jobs": ("jobs", "int"), "-j": ("jobs", "int"), "--scheduler": ("scheduler", "str")}  # batch.py
@@ -182,7 +183,7 @@ _CHECK_OPTS = {"--property": ("prop", "list"), "-p": ("prop", "list"), "--proper
 def _value(kind: str, text: str) -> Any:
     """The option value, or raise ValueError for anything but its plain well-formed spelling."""
     if kind in ("float", "int"):
-        if not (_INT if kind == "int" else _NUM).match(text):
+        if not re.match(_INT if kind == "int" else _NUM, text):
             raise ValueError(text)
         return int(text) if kind == "int" else float(text)
     if not text or text.startswith("-"):

@@ -15,20 +15,27 @@ from __future__ import annotations
 
 import re
 from pathlib import Path
-from typing import Literal
 
 from delkit.errors import ParseError, io_reason
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
+if TYPE_CHECKING:
+    from typing import Literal
+
 __all__ = ["Dialect", "detect", "detect_text"]
 
-Dialect = Literal["mastar", "epddl2021", "epddl2026"]
+if TYPE_CHECKING:
+    Dialect = Literal["mastar", "epddl2021", "epddl2026"]
+else:
+    Dialect = str
 
-_E2026 = re.compile(r"\(\s*action-type-library\b|:action-type\b|\(\s*:event\b|:observability-conditions\b|"
-                    r":facts-init\b|\[\s*C\.|\bKw\.|\(\s*:init\s+:worlds\b|\(\s*:init\s*\(\s*:and\b|"
-                    r":action-type-libraries\b|:finitary-S5-theories\b")
-_E2021 = re.compile(r":act_type\b|:p_observers\b|:observers\b|\(\s*:depth\b|:effect\b")
-_MASTAR = re.compile(r"^\s*(fluent|action|agent|initially|goal|executable)\b|\b(causes|observes|aware_of|"
-                     r"determines|announces)\b", re.M)
+# patterns, compiled on first use (re's cache): a file needs one branch's only (start-up)
+_E2026 = (r"\(\s*action-type-library\b|:action-type\b|\(\s*:event\b|:observability-conditions\b|"
+          r":facts-init\b|\[\s*C\.|\bKw\.|\(\s*:init\s+:worlds\b|\(\s*:init\s*\(\s*:and\b|"
+          r":action-type-libraries\b|:finitary-S5-theories\b")
+_E2021 = r":act_type\b|:p_observers\b|:observers\b|\(\s*:depth\b|:effect\b"
+_MASTAR = (r"(?m)^\s*(fluent|action|agent|initially|goal|executable)\b|\b(causes|observes|aware_of|"
+           r"determines|announces)\b")
 
 
 def _strip(text: str, comment: str) -> str:
@@ -42,13 +49,13 @@ def detect_text(text: str, source: str = "<text>") -> tuple[Dialect, str]:
         if not re.match(r"\s*\(\s*define\b", lisp):
             raise ParseError("not an mA*, E-PDDL (2021) or EPDDL (2026) file: it starts with '(' but not "
                              "'(define'", source=source)
-        m = _E2026.search(lisp)
+        m = re.search(_E2026, lisp)
         if m:
             return "epddl2026", f"EPDDL (2026) construct {m.group().strip()!r}"
-        m = _E2021.search(lisp)
+        m = re.search(_E2021, lisp)
         return "epddl2021", (f"E-PDDL (2021) construct {m.group().strip()!r}" if m
                              else "a (define ...) form with no EPDDL (2026) construct")
-    m = _MASTAR.search(_strip(text, "%"))
+    m = re.search(_MASTAR, _strip(text, "%"))
     if m:
         return "mastar", f"mA* statement {m.group().strip()!r}"
     first = next((ln.strip() for ln in text.splitlines() if ln.strip()), "")

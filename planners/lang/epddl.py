@@ -22,9 +22,9 @@ from __future__ import annotations
 
 import itertools
 import re
-from dataclasses import dataclass
 from pathlib import Path
 
+from delkit._records import DataclassFields, Record
 from delkit.errors import ParseError, io_reason
 from delkit.formula import TOP, C, Formula, Implies, K, Not, Or, Prop, conj
 from planners.lang.initial import finitary_s5
@@ -37,18 +37,30 @@ __all__ = ["parse_epddl", "load_epddl", "SExp", "EXTENSION_SECTIONS"]
 EXTENSION_SECTIONS = frozenset({":macro"})
 
 
-@dataclass(frozen=True)
-class Atom:
+class Atom(Record):
+    """A symbol of an s-expression (a frozen record, :mod:`delkit._records`)."""
+
+    __dataclass_fields__ = DataclassFields("text", "line", "col")
     text: str
     line: int
     col: int
 
+    def __init__(self, text: str, line: int, col: int) -> None:
+        d = self.__dict__  # item by item: faster than update(**kw) (one per token)
+        d["text"], d["line"], d["col"] = text, line, col
 
-@dataclass(frozen=True)
-class SList:
+
+class SList(Record):
+    """A parenthesised list of s-expressions (a frozen record)."""
+
+    __dataclass_fields__ = DataclassFields("items", "line", "col")
     items: tuple[SExp, ...]
     line: int
     col: int
+
+    def __init__(self, items: tuple[SExp, ...], line: int, col: int) -> None:
+        d = self.__dict__
+        d["items"], d["line"], d["col"] = items, line, col
 
 
 SExp = Atom | SList

@@ -35,10 +35,8 @@ from __future__ import annotations
 import itertools
 import time
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass
 from operator import itemgetter
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 from delkit._lazy import lazy_module
 from delkit.compact import PlainEvents
@@ -47,6 +45,7 @@ from delkit.formula import BOT, TOP, And, Bot, C, Formula, Iff, Implies, K, Kw, 
 from planners.lang.initial import LoadTimeout
 from planners.lang.sexpr import Node, Sym, read
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:
     import numpy as np
 else:  # only an explicit initial state needs numpy
@@ -812,24 +811,24 @@ def _keyed(sec: Node, g: _Ground) -> dict[str, object]:
 
 
 # ----------------------------------------------------------------------------- the reader
-@dataclass
 class _Event:
-    name: str
-    params: Node | list
-    pre: object
-    effects: object
-    line: int
+    """An event declared in a domain (written without ``@dataclass``: start-up time, :mod:`delkit._records`)."""
+
+    __slots__ = ("name", "params", "pre", "effects", "line")
+
+    def __init__(self, name: str, params: Node | list, pre: object, effects: object, line: int) -> None:
+        self.name, self.params, self.pre, self.effects, self.line = name, params, pre, effects, line
 
 
-@dataclass
 class _ActType:
-    name: str
-    events: list[str]
-    obs_types: list[str]
-    relations: Node | None
-    designated: list[str]
-    line: int
-    source: str
+    """An action type of a library."""
+
+    __slots__ = ("name", "events", "obs_types", "relations", "designated", "line", "source")
+
+    def __init__(self, name: str, events: list[str], obs_types: list[str], relations: Node | None,
+                 designated: list[str], line: int, source: str) -> None:
+        self.name, self.events, self.obs_types, self.relations = name, events, obs_types, relations
+        self.designated, self.line, self.source = designated, line, source
 
 
 _BASIC_TYPE = _ActType(BASIC, ["?e"], ["Fully"], None, ["?e"], 0, "<built-in>")

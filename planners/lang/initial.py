@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Sequence
-from typing import TYPE_CHECKING
 
 from delkit._lazy import lazy_module
 from delkit.compact import CompactEngine, PlainModel
@@ -57,6 +56,7 @@ from delkit.formula import (
     substitute,
 )
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:
     import numpy as np
 

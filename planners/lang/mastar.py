@@ -20,9 +20,9 @@ Formulas: ``f``, ``-φ``, ``φ & ψ``, ``φ | ψ``, ``φ , ψ`` (conjunction, lo
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
 from pathlib import Path
 
+from delkit._records import DataclassFields, Record
 from delkit.errors import ParseError, io_reason
 from delkit.formula import TOP, C, D, E, Formula, K, Not, Or, Prop, conj
 from planners.lang.initial import finitary_s5
@@ -31,12 +31,18 @@ from planners.task import ActionSpec, Task, merge_observers
 __all__ = ["parse_mastar", "load_mastar", "parse_mastar_formula", "Tok", "tokenize"]
 
 
-@dataclass(frozen=True)
-class Tok:
+class Tok(Record):
+    """A token (a frozen record, :mod:`delkit._records`)."""
+
+    __dataclass_fields__ = DataclassFields("kind", "text", "line", "col")
     kind: str  # "id", "punct", "eof"
     text: str
     line: int
     col: int
+
+    def __init__(self, kind: str, text: str, line: int, col: int) -> None:
+        d = self.__dict__  # item by item: faster than update(**kw) (one Tok per token)
+        d["kind"], d["text"], d["line"], d["col"] = kind, text, line, col
 
 
 _TOKEN = re.compile(r"\s+|%[^\n]*|[A-Za-z_][A-Za-z0-9_]*|[(),;\[\]&|\-]|.", re.S)
@@ -77,15 +83,16 @@ class _Parser:
         self.warnings: list[str] = []
         self.toks = tokenize(text, source)
         self.i = 0
+        self.tok = self.toks[0]  # the current token, self.toks[self.i] (an attribute: read at every step)
         self.fluents: list[str] = []
         self.actions: list[str] = []
         self.agents: list[str] = []
         self.decl_at: dict[str, Tok] = {}
 
     # ------------------------------------------------------------------ token helpers
-    @property
-    def tok(self) -> Tok:
-        return self.toks[self.i]
+    def seek(self, i: int) -> None:
+        self.i = i
+        self.tok = self.toks[i]
 
     def err(self, msg: str, tok: Tok | None = None, expected: list[str] | None = None) -> ParseError:
         t = tok or self.tok
@@ -97,11 +104,14 @@ class _Parser:
     def next(self) -> Tok:
         t = self.tok
         self.i += 1
+        self.tok = self.toks[self.i] if t.kind != "eof" else t  # (the parser never moves past end of file)
         return t
 
     def accept(self, text: str) -> bool:
-        if self.tok.text == text and self.tok.kind != "eof":
+        t = self.tok
+        if t.text == text and t.kind != "eof":
             self.i += 1
+            self.tok = self.toks[self.i]
             return True
         return False
 
@@ -212,7 +222,7 @@ class _Parser:
         # first pass: declarations (mA* files may use names before their declaration statement)
         self._declarations()
         self._fl, self._ag, self._ac = set(self.fluents), set(self.agents), set(self.actions)
-        self.i = 0
+        self.seek(0)
         exe: dict[str, list[Formula]] = {a: [] for a in self.actions}
         kind: dict[str, str] = {}
         kind_at: dict[str, Tok] = {}
@@ -339,7 +349,7 @@ class _Parser:
                     self.expect(",")
         if not self.agents:
             raise ParseError("no 'agent' statement", source=self.source)
-        self.i = 0
+        self.seek(0)
 
 
 def _warn(msg: str) -> None:

@@ -16,6 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import delkit.cli as cli
+from delkit.testing import formulas
 from planners.cli.plan_cmd import fast_args
 from planners.demo import specs_dir
 from planners.lang import shared_benchmarks
@@ -90,13 +91,13 @@ def test_fast_path_only_takes_plain_lines() -> None:
         assert fast_args(argv) is None, argv
 
 
-def _modules_after(argv: list[str]) -> set[str]:
+def _modules_after(argv: list[str], ok: tuple[int, ...] = (0,)) -> set[str]:
     code = ("import sys; from delkit.cli import main; rc = main(sys.argv[1:]); "
             "print('MODULES', ' '.join(sorted(sys.modules)), file=sys.stderr); sys.exit(rc)")
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     proc = subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True, env=env, check=False)
     line = [ln for ln in proc.stderr.splitlines() if ln.startswith("MODULES ")]
-    assert proc.returncode == 0 and line, proc.stderr
+    assert proc.returncode in ok and line, proc.stderr
     return {m.split(".")[0] for m in line[0].split()[1:]}
 
 
@@ -117,7 +118,8 @@ def test_plan_small_tasks_never_imports_numpy() -> None:
               str(plank / "domains" / "Coin-in-the-Box" / "instances" / "problem_2.epddl"),
               "-l", str(plank / "libraries" / "intermediate.epddl")]]
     for argv in lines:
-        assert not _modules_after(argv) & SMALL_PLAN_HEAVY, argv
+        # nor the dataclasses machinery (inspect, ast, ...) nor typing: hand-written records (delkit._records)
+        assert not _modules_after(argv) & (SMALL_PLAN_HEAVY | {"dataclasses", "inspect", "typing", "signal"}), argv
 
 
 @pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
@@ -246,3 +248,89 @@ def test_components_long_chain_uses_fallback() -> None:
     assert _components(n, [a, b]).max() == 0
     assert _components(n, [a, np.arange(n)]).max() == n // 2 - 1
     assert json.dumps(int(_components(1, [np.zeros(1, dtype=np.int64)])[0])) == "0"
+
+
+# ---------------------------------------------------------------------------------------------- fast formula reader
+def _lark_parse(text: str):
+    """The formula the grammar's (lark) parser builds, or the name of its exception."""
+    from delkit.formula import _Build, _parser
+
+    try:
+        return _Build({}, "<formula>").build(_parser().parse(text))
+    except Exception as exc:  # noqa: BLE001 - any failure is compared by its kind
+        return type(exc).__name__
+
+
+@settings(max_examples=300, deadline=None)
+@given(formulas(["p", "q_1", "r.s'", "K", "Kw", "true_", "_x"], ["a", "b2", "robot_1", "K_a", "Tx"], max_depth=4,
+                allow_common=True), st.booleans())
+def test_fast_formula_reader_reads_printed_formulas_as_lark(f, diamonds) -> None:
+    """Every printed formula without announcements or updates is read by the fast reader, to lark's formula."""
+    from delkit.formula import _fast_parse, show
+
+    text = show(f, diamonds=diamonds)
+    fast = _fast_parse(text)
+    assert fast is not None, text
+    assert fast == _lark_parse(text) == f
+
+
+_PIECES = ["p", "q", "K", "M", "E", "T", "F", "true", "false", "K_a", "K_a_b", "M_a_b", "Kw_a.b", "B_b'", "B_b", "Kw_a",
+           "M_a", "<a>", "<ab>",
+           "K{", "Kw{", "M{", "B{", "E{", "C{", "D{", "Dkw{", "Ckw{", "{", "}", ",", "a", "b", "robot_1", "(", ")",
+           "~", "!", "¬", "&", "|", "->", "<->", "<", ">", "[", "]", "[!", "<!", " ", "  ", "\t", "\n", "#c\n", "x'",
+           "p.q", "_", "1", "Kwx", "C{a,b}", "K{T}", "E{a, b}", "K_", "Kw_", "M_", "<a", "a>", "<{", "\"e\"", "é",
+           "\r", "\x0c", "Dkw", "Ckw{a}", "[E,e]", "=", "-", "T'", "B", "Kw"]
+
+
+_TRICKY = ["K_a_b p", "M_a_b p", "Kw_a.b p", "B_b' p", "<->p", "K_ p", "Kw_ p", "E{T} p", "K{K_a} p", "<a>p", "<a,b> p",
+           "K{a,b} p", "C{} p", "M{x}(p)", "p -> q -> r <-> s", "~!¬p", "T & true | F", "K_aK_b p", "C{a, b # x\n} p"]
+
+
+def test_fast_formula_reader_on_tricky_spellings() -> None:
+    from delkit.formula import _fast_parse
+
+    read = 0
+    for t in _TRICKY:
+        fast = _fast_parse(t)
+        if fast is not None:
+            read += 1
+            assert fast == _lark_parse(t), t
+    assert read >= 7  # the valid spellings in the subset
+
+
+@settings(max_examples=600, deadline=None)
+@given(st.lists(st.sampled_from(_PIECES), min_size=1, max_size=12), st.data())
+def test_fast_formula_reader_never_disagrees_with_lark(pieces, data) -> None:
+    """On any text — random pieces, a printed formula with pieces spliced in, the tricky spellings — the fast
+    reader either declines (None: lark reads it, errors included) or builds lark's formula."""
+    from delkit.formula import _fast_parse, show
+
+    f = data.draw(formulas(["p", "q"], ["a", "b"], max_depth=3))
+    text = show(f)
+    for piece in pieces[:3]:
+        at = data.draw(st.integers(0, len(text)))
+        text = text[:at] + piece + text[at:]
+    for t in ("".join(pieces), text):
+        fast = _fast_parse(t)
+        if fast is not None:
+            assert fast == _lark_parse(t), t
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_check_small_tasks_never_imports_numpy(tmp_path) -> None:
+    """``delkit check`` replays a small task without numpy (planners.replay), with or without properties in
+    the plain syntax (the fast formula reader: no lark either) — and the (cached) lark parser only for a
+    property the fast reader leaves to it."""
+    plan_file = tmp_path / "cb2.plan"
+    plan_file.write_text("peek_up_key_a\nopen_a\n")
+    plank = BENCH / "epddl2026" / "plank" / "domains" / "Coin-in-the-Box"
+    (tmp_path / "p2.plan").write_text("open_A\npeek_A\n")
+    for argv in (["check", CB2, str(plan_file)], ["check", CB2, str(plan_file), "-p", "at end opened"],
+                 ["check", CB2, str(plan_file), "-p", "always ~K_a ~has_key_a | K_a has_key_a", "--json"],
+                 ["check", DOM, PROB, PLAN, "--properties", PROPS],
+                 ["check", str(plank / "cb.epddl"), str(plank / "instances" / "problem_2.epddl"),
+                  str(tmp_path / "p2.plan"), "-l", str(BENCH / "epddl2026" / "plank" / "libraries" /
+                                                       "intermediate.epddl")]):
+        got = _modules_after(argv, ok=(0, 1))
+        assert not got & (SMALL_PLAN_HEAVY | {"dataclasses", "inspect"}), (argv, got & SMALL_PLAN_HEAVY)
+    assert "lark" in _modules_after(["check", CB2, str(plan_file), "-p", "at end [!opened] opened"])
