@@ -70,11 +70,49 @@ def _small_owner(val: tuple, points: tuple, fh: int) -> int:
     return ((((here ^ fh) * _MUL) & _LOW64) >> 32)
 
 
+class _Bound:
+    """The least goal path's parent found so far in the last layer, shared by the parts of local processes
+    (a lock-protected array of int64: a version, the path's length, the path): a part stops expanding its
+    frontier at the first state past it. Only a hint for speed — a part that has not seen it yet expands more
+    states than needed, never fewer — so the plan does not depend on when it is read."""
+
+    SIZE = 512  #: paths (layers) longer than this are not shared: the parts then expand their whole last layer
+
+    def __init__(self, array: Any) -> None:
+        self.array, self.raw, self.version, self.path = array, array.get_obj(), 0, None
+
+    @classmethod
+    def new(cls) -> Any:
+        import multiprocessing
+
+        return multiprocessing.get_context("spawn").Array("q", 2 + cls.SIZE, lock=True)
+
+    def read(self) -> tuple | None:
+        """The bound (a path) or None; the array is read under its lock only when its version changed."""
+        if self.raw[0] != self.version:
+            with self.array.get_lock():
+                self.version, length = self.raw[0], self.raw[1]
+                self.path = tuple(self.raw[2:2 + length])
+        return self.path
+
+    def offer(self, path: tuple) -> None:
+        """Publish ``path`` if it is less than the bound (or there is none)."""
+        if len(path) > self.SIZE:
+            return
+        with self.array.get_lock():
+            raw = self.raw
+            if raw[0] and raw[1] == len(path) and tuple(raw[2:2 + raw[1]]) <= path:
+                return
+            raw[2:2 + len(path)] = path
+            raw[1] = len(path)
+            raw[0] += 1
+
+
 class _Part:
     """One part of the search (module docstring): its visited set, its frontier, the layer being built."""
 
     def __init__(self, me: int, n: int, spec: str, problem: str | None, library: list[str], strict: bool,
-                 engine: str, allow_inconsistent: bool, built: tuple | None = None) -> None:
+                 engine: str, allow_inconsistent: bool, bound: Any = None, built: tuple | None = None) -> None:
         from planners.heuristics import dead_end_test
 
         if built is None:
@@ -87,12 +125,13 @@ class _Part:
         else:
             task, space = built
         self.me, self.n, self.space = me, n, space
+        self.bound = None if bound is None else _Bound(bound)
         self.dead = dead_end_test(space)  # as serial BFS: proven dead ends are seen but not expanded
         self.nact = len(task.actions)
         self.aindex = {a.name: i for i, a in enumerate(task.actions)}
         self.seen: set = set()
-        self.cur: dict = {}  # key -> [least path, state (None: a goal or a pruned dead end)] of this layer
-        self.goals: list = []  # keys of this layer's goal states
+        self.cur: dict = {}  # key -> [least path, state (None: a pruned dead end)] of the layer being built
+        self.goal: tuple | None = None  # the least goal path this part generated (in the last layer)
         self.fhash: dict[int, int] = {}  # local frame number -> hash of the frame
         self.sent: list[set] = [set() for _ in range(n)]  # keys sent to each part
         self.fsent: list[set] = [set() for _ in range(n)]  # frame numbers each part has been sent
@@ -103,6 +142,7 @@ class _Part:
         self.seen.add(k0)
         self.frontier: list = [((), s0)] if self._owner(s0) == me else []
         self.pos = 0
+        self.chunk = len(self.frontier)
         self.start_cpu = time.process_time()  # this process's CPU until the part is ready (its start-up)
 
     def _owner(self, s: Any) -> int:
@@ -111,46 +151,58 @@ class _Part:
             fh = self.fhash[s.fid] = _mix(hash((s.masks, s.points)))
         return (fh if len(s.val) > FRAME_WORLDS else _small_owner(s.val, s.points, fh)) % self.n
 
-    def _new(self, key: Any, path: tuple, s: Any) -> None:
-        if self.space.is_goal(s):
-            self.cur[key] = [path, None]
-            self.goals.append(key)
-        elif self.dead is not None and self.dead(s):
-            self.cur[key] = [path, None]
-            self.pruned += 1
-        else:
-            self.cur[key] = [path, s]
-
-    def size(self) -> int:
-        return len(self.frontier) - self.pos
-
     def started(self) -> tuple[int, float]:
         """(frontier size, the process's CPU seconds until the part was ready)."""
-        return self.size(), self.start_cpu
+        return len(self.frontier), self.start_cpu
 
-    def expand(self, count: int | None, upto: tuple | None, deadline: float) -> tuple[list, int, int, bool, float]:
-        """Expand the next ``count`` states of the frontier (or, ``upto``: those whose path is ≤ it), in path
-        order, until the wall-clock ``deadline`` (``time.time()``); the successors owned here are merged at once.
-        Returns (per part the pickled successors it owns, or None), states expanded, states left, deadline hit,
-        CPU seconds."""
+    def step(self, inbox: list[tuple[int, bytes]], new_layer: bool, rounds: int, budget: int | None,
+             upto: tuple | None, deadline: float) -> tuple[list, int, int, tuple | None, bool, int, float]:
+        """One phase: merge the successors other parts sent (``(sender, bytes)``: states of the layer being
+        built); if ``new_layer``, the layer built becomes the frontier (in path order; its states expanded in
+        ``rounds`` slices); then expand the frontier's next slice (at most ``budget`` states; with ``upto``,
+        exactly the states whose path is ≤ it), in path order, up to the shared bound and until the wall-clock
+        ``deadline`` (``time.time()``). Successors owned here are merged at once; a goal among the successors
+        (tested by the part that generates it) is not kept. Returns (per part the pickled successors it owns,
+        or None), states expanded, states left, the least goal path generated so far, deadline hit, frontier
+        size, CPU seconds."""
         c0 = time.process_time()
+        if inbox:
+            self._merge(inbox)
+        if new_layer:
+            self.frontier = sorted(((e[0], e[1]) for e in self.cur.values() if e[1] is not None),
+                                   key=itemgetter(0))
+            self.cur = {}
+            self.pos = 0
+            self.chunk = max(MIN_ROUND, -(-len(self.frontier) // max(1, rounds)))
         me, n, nact, aindex, big, mix, small = self.me, self.n, self.nact, self.aindex, FRAME_WORLDS, _mix, _small_owner
         seen, cur, fhash, sent, fsent = self.seen, self.cur, self.fhash, self.sent, self.fsent
-        new, succ, front = self._new, self.space.successors, self.frontier
+        succ, front, is_goal, dead, bound = (self.space.successors, self.frontier, self.space.is_goal, self.dead,
+                                             self.bound)
         out: list[list] = [[] for _ in range(n)]
         frames: list[list] = [[] for _ in range(n)]
-        i, end = self.pos, len(front) if count is None else min(len(front), self.pos + count)
+        i = self.pos
+        end = len(front) if upto is not None else min(len(front), i + self.chunk)
+        if budget is not None:
+            end = min(end, i + max(0, budget))
         late = False
-        gen = 0
+        gen = done = 0
+        stops = [p for p in (upto, None if self.goal is None else self.goal[:-1]) if p is not None]
+        stop = min(stops) if stops else None  # expand no state past this path (None: no goal known yet)
         while i < end:
             path, s = front[i]
-            if upto is not None and path > upto:
+            if bound is not None:
+                b = bound.read()
+                if b is not None and (stop is None or b < stop):
+                    stop = b
+            if stop is not None and path > stop:
+                i = len(front)  # the states left need no expansion: the goal's layer ends here
                 break
             if time.time() > deadline:
                 late = True
                 break
             front[i] = None  # the state is not needed any more
             i += 1
+            done += 1
             j = 0
             for name, nxt, key in succ(s):
                 elem = j * nact + aindex[name]
@@ -169,32 +221,43 @@ class _Part:
                                 e[0] = p
                         continue
                     seen.add(key)
-                    new(key, path + (elem,), nxt)
+                else:
+                    so = sent[o]
+                    if key in so:  # sent before, with a smaller path (this part expands in path order)
+                        continue
+                    so.add(key)
+                if is_goal(nxt):  # goal test at generation, as serial BFS (the least path: the first one here)
+                    if self.goal is None:
+                        self.goal = path + (elem,)
+                        if bound is not None:
+                            bound.offer(path)
+                        if stop is None or path < stop:
+                            stop = path
                     continue
-                so = sent[o]
-                if key in so:  # sent before, with a smaller path (this part expands in path order)
+                if o == me:
+                    if dead is not None and dead(nxt):
+                        cur[key] = [path + (elem,), None]
+                        self.pruned += 1
+                    else:
+                        cur[key] = [path + (elem,), nxt]
                     continue
-                so.add(key)
                 if fid not in fsent[o]:
                     fsent[o].add(fid)
                     frames[o].append((fid, nxt.masks, nxt.points))
                 out[o].append((nxt.val, fid, path, elem))
             gen += j
-        done = i - self.pos
         self.expanded += done
         self.generated += gen
         self.pos = i
         blobs = [None if o == me or not out[o] else pickle.dumps((frames[o], out[o]), pickle.HIGHEST_PROTOCOL)
                  for o in range(n)]
-        return blobs, done, len(front) - i, late, time.process_time() - c0
+        return blobs, done, len(front) - i, self.goal, late, len(front), time.process_time() - c0
 
-    def merge(self, blobs: list[tuple[int, bytes]]) -> tuple[tuple | None, float]:
-        """Merge the successors other parts sent (``(sender, bytes)``); the least path of this layer's goals
-        and the CPU seconds."""
-        c0 = time.process_time()
+    def _merge(self, blobs: list[tuple[int, bytes]]) -> None:
+        """Merge the successors other parts sent (``(sender, bytes)``; none is a goal: its sender tested it)."""
         from delkit.compact import CompactState, frame_id
 
-        seen, cur, new, fast = self.seen, self.cur, self._new, self.fast_key
+        seen, cur, fast, dead = self.seen, self.cur, self.fast_key, self.dead
         for src, blob in blobs:
             frames, recs = pickle.loads(blob)
             fm = self.fmap[src]
@@ -216,15 +279,13 @@ class _Part:
                             e[0] = p
                     continue
                 seen.add(key)
-                new(key, ppath + (elem,), s if s is not None else CompactState(val, masks, points, lf))
-        return min((cur[k][0] for k in self.goals), default=None), time.process_time() - c0
-
-    def next_layer(self) -> int:
-        """The new states (not goals, not dead ends) become the frontier, in path order; its size."""
-        self.frontier = sorted(((e[0], e[1]) for e in self.cur.values() if e[1] is not None), key=itemgetter(0))
-        self.cur = {}
-        self.pos = 0
-        return len(self.frontier)
+                if s is None:
+                    s = CompactState(val, masks, points, lf)
+                if dead is not None and dead(s):
+                    cur[key] = [ppath + (elem,), None]
+                    self.pruned += 1
+                else:
+                    cur[key] = [ppath + (elem,), s]
 
     def stats(self) -> tuple[int, int, int, int]:
         """(expanded, generated, dead ends: believes ⊥ + pruned, distinct states seen)."""
@@ -234,16 +295,20 @@ class _Part:
 def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float | None = 60.0,
                  max_nodes: int | None = None, engine: str = "auto", allow_inconsistent: bool = False,
                  library: list[Path] | None = None, strict: bool = False, scheduler: str | None = None,
-                 stats: dict | None = None):
+                 stats: dict | None = None, rounds: int | None = None, share_goal: bool | None = None):
     """BFS of one task in ``jobs`` parts (this process and ``jobs - 1`` local processes, or actors of the Dask
     cluster at ``scheduler``); a :class:`planners.epistemic.SearchResult` (``search`` = ``"bfs"``) and the
     task, or (None, task) when the task runs on the numpy backend (the caller then searches serially).
 
+    ``share_goal``: the parts share the least goal's parent as soon as one generates it (:class:`_Bound`; by
+    default with local processes, not on Dask). ``rounds``: the phases a layer is expanded in (default: 1 when
+    the parts share the goal, else :data:`ROUNDS`: a round's barrier is where they learn of a goal).
+
     ``stats`` (a dict) receives ``start_cpu`` (each part's process CPU seconds until it was ready: its
     start-up; the helpers' runs alongside the caller's), ``parts_cpu`` (each part's CPU seconds in the
-    search's phases), ``phases`` (expand and merge phases, each a barrier) and ``critical_cpu``: the sum over
-    phases of the slowest part's CPU — the search's length on idle cores, whatever the machine's load (the
-    caller's own coordination and the start-up are outside it)."""
+    search's phases), ``phases`` (each a barrier), ``layers`` and ``critical_cpu``: the sum over phases of the
+    slowest part's CPU — the search's length on idle cores, whatever the machine's load (the caller's own
+    coordination and the start-up are outside it)."""
     from delkit.executors import actors
     from delkit.resources import keep_alive
     from planners.epistemic import SearchResult
@@ -255,8 +320,11 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
     limit = float("inf") if timeout is None else timeout
     wall_end = time.time() + limit
     jobs = max(1, int(jobs))
+    bound = _Bound.new() if (not scheduler if share_goal is None else share_goal) else None
+    if rounds is None:
+        rounds = ROUNDS if bound is None else 1
     args = (str(spec), str(problem) if problem else None, [str(p) for p in library or ()], strict, engine,
-            allow_inconsistent)
+            allow_inconsistent, bound)
     was = gc.isenabled()
     gc.disable()  # as serial BFS (planners.epistemic._gc_paused): many long-lived objects, no cycles per node
     try:
@@ -278,52 +346,30 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
             except TimeoutError:  # a worker still starting (a loaded machine) when the time is up
                 return SearchResult("limit", None, 0, 1, time.perf_counter() - t0, "bfs",
                                     f"no plan within limits: time limit {limit:g} s reached", 0, 1), task
-            sizes = [r[0] for r in ready]
             if stats is not None:
                 stats["start_cpu"] = [round(r[1], 3) for r in ready]
-            return _coordinate(me, helpers, sizes, task, t0, limit, wall_end, max_nodes,
+            return _coordinate(me, helpers, task, t0, limit, wall_end, max_nodes, rounds,
                                {} if stats is None else stats), task
     finally:
         if was:
             gc.enable()
 
 
-def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float, limit: float, wall_end: float,
-                max_nodes: int | None, stats: dict):
+def _coordinate(me: _Part, helpers: list, task: Any, t0: float, limit: float, wall_end: float,
+                max_nodes: int | None, rounds: int, stats: dict):
     from delkit.resources import TimeLimit
     from planners.epistemic import SearchResult
 
     n = 1 + len(helpers)
     expanded = 0
+    busy = [0.0] * n
+    stats.update(critical_cpu=0.0, phases=0, layers=1, parts_cpu=busy)  # (start_cpu: set by parallel_bfs)
 
     def run_all(method: str, per_part: list[tuple]) -> list:
         pending = [h.call(method, *per_part[i + 1]) for i, h in enumerate(helpers)]
         first = getattr(me, method)(*per_part[0])
         # a part checks the deadline between states: its reply comes at most one expansion after it
         return [first] + [p.result(max(1.0, wall_end - time.time() + 1.0)) for p in pending]
-
-    def phase(cpus: list[float]) -> None:
-        # a phase lasts as long as its slowest part: the rest of the parts' CPU ran alongside it
-        for i, c in enumerate(cpus):
-            busy[i] += c
-        stats["critical_cpu"] += max(cpus)
-        stats["phases"] += 1
-
-    def expand_merge(per_part: list[tuple]) -> tuple[tuple | None, list[int], bool]:
-        nonlocal expanded
-        res = run_all("expand", per_part)
-        phase([r[4] for r in res])
-        expanded += sum(r[1] for r in res)
-        if any(r[3] for r in res):  # the time is up: no merge
-            return None, [r[2] for r in res], True
-        goals = run_all("merge", [([(src, res[src][0][d]) for src in range(n) if res[src][0][d] is not None],)
-                                  for d in range(n)])
-        phase([g[1] for g in goals])
-        best = min((g[0] for g in goals if g[0] is not None), default=None)
-        return best, [r[2] for r in res], any(r[3] for r in res)
-
-    busy = [0.0] * n
-    stats.update(critical_cpu=0.0, phases=0, parts_cpu=busy)  # (start_cpu: set by parallel_bfs)
 
     def done(status: str, plan: tuple | None, reason: str) -> SearchResult:
         st = run_all("stats", [()] * n)
@@ -333,44 +379,40 @@ def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float
                             sum(s[2] for s in st), sum(s[3] for s in st) - (n - 1))  # the initial state: once
 
     time_out = f"no plan within limits: time limit {limit:g} s reached"
-    try:
-        return _layers(me, sizes, task, t0, limit, wall_end, max_nodes, run_all, expand_merge, done, time_out,
-                       lambda: expanded)
-    except TimeLimit:  # the caller's alarm stopped an expansion of part 0: the workers may be mid-call
-        _e, gen, dead, seen = me.stats()
-        return SearchResult("limit", None, expanded, gen, time.perf_counter() - t0, "bfs", time_out, dead, seen)
-
-
-def _layers(me: _Part, sizes: list[int], task: Any, t0: float, limit: float, wall_end: float,
-            max_nodes: int | None, run_all: Any, expand_merge: Any, done: Any, time_out: str, count: Any):
-    """The layers and rounds of :func:`_coordinate` (``count()``: the states expanded so far)."""
-    n = len(sizes)
     names = [a.name for a in task.actions]
-    while sum(sizes):
-        rounds = max(1, min(ROUNDS, sum(sizes) // (MIN_ROUND * n)))
-        chunk = [-(-sz // rounds) for sz in sizes]
+    inbox: list[list] = [[] for _ in range(n)]
+    new_layer, upto = False, None
+    try:
         while True:
             if time.perf_counter() - t0 > limit:
                 return done("limit", None, time_out)
-            expanded = count()
             if max_nodes is not None and expanded >= max_nodes:
                 return done("limit", None, f"no plan within limits: expanded-node limit {max_nodes} reached")
-            step = chunk if max_nodes is None else [min(c, -(-(max_nodes - expanded) // n)) for c in chunk]
-            goal, left, late = expand_merge([(c, None, wall_end) for c in step])
-            if late:
+            budget = None if max_nodes is None else -(-(max_nodes - expanded) // n)
+            res = run_all("step", [(inbox[d], new_layer, rounds, budget, upto, wall_end) for d in range(n)])
+            cpus = [r[6] for r in res]  # a phase lasts as long as its slowest part: the others ran alongside it
+            for i, c in enumerate(cpus):
+                busy[i] += c
+            stats["critical_cpu"] += max(cpus)
+            stats["phases"] += 1
+            expanded += sum(r[1] for r in res)
+            if any(r[4] for r in res):
                 return done("limit", None, time_out)
-            if goal is not None:
-                # serial BFS's first goal: also expand every state that comes before the best goal's parent
-                more, _left, late = expand_merge([(None, goal[:-1], wall_end)] * n)
-                if late:
-                    return done("limit", None, time_out)
-                goal = more if more is not None else goal  # the least goal path: ≤ the one found first
-                nact = len(names)
+            if new_layer and not any(r[5] for r in res):
+                return done("unsolvable", None, "the reachable state space is exhausted: no plan exists")
+            inbox = [[(src, res[src][0][d]) for src in range(n) if res[src][0][d] is not None] for d in range(n)]
+            goal = min((r[3] for r in res if r[3] is not None), default=None)
+            if goal is not None and (upto is not None or not any(r[2] for r in res)):
+                nact = len(names)  # every state up to the least goal's parent is expanded: serial BFS's plan
                 return done("solved", tuple(names[e % nact] for e in goal), "")
-            if not any(left):
-                break
-        sizes = run_all("next_layer", [()] * n)
-    return done("unsolvable", None, "the reachable state space is exhausted: no plan exists")
+            if goal is not None:  # (rounds: the parts did not all see the goal) expand up to its parent
+                upto, inbox, new_layer = goal[:-1], [[] for _ in range(n)], False
+                continue
+            new_layer = not any(r[2] for r in res)
+            stats["layers"] += new_layer
+    except TimeLimit:  # the caller's alarm stopped an expansion of part 0: the workers may be mid-call
+        _e, gen, dead, seen = me.stats()
+        return SearchResult("limit", None, expanded, gen, time.perf_counter() - t0, "bfs", time_out, dead, seen)
 
 
 def run_plan_parallel(spec: Path, problem: Path | None = None, *, jobs: int = 2, search: str = "bfs",
