@@ -17,21 +17,25 @@ Same plan as serial :func:`planners.epistemic.bfs`: serial BFS gives each state 
 successor position) that generates it and stops at the first goal generated, i.e. the lexicographically
 least sequence of successor positions among shortest paths (through non-pruned states). Every state here
 carries that sequence (its *path*: position × number of actions + action index, so the plan is read off
-it); a part keeps the least path of every new state, the next frontier is sorted by it, and the frontier is
-expanded in rounds (contiguous slices in path order). When a round's merge finds goals, every part also
-expands its remaining states whose path is at most the best goal's parent's, and the least goal path after
-that is serial BFS's plan. Goal test at generation, the same dead-end pruning (h_epi's dead ends are seen
-but not expanded) and the same believes-⊥ rule, as the parts run the serial search's state space.
+it); a part keeps the least path of every new state and its frontier is sorted by it. The goal test is the
+generating part's (at generation, as serially; a goal is not sent), and the first goal a part generates is
+its least; it publishes the goal's parent's path at once (:class:`_Bound`, shared memory), and every part
+stops its layer at its first state past the least published bound — having expanded all of its states up to
+the least goal's parent, so the least goal path of all parts is serial BFS's plan. A layer is therefore one
+phase (one barrier): a part merges what the others sent it during the previous layer, sorts its new
+frontier and expands it. (Dask's actors do not share the bound: their layers are expanded in rounds,
+and after a round that finds a goal, one more round expands every part's states up to the goal's parent.)
+Goal test at generation, the same dead-end pruning (h_epi's dead ends are seen but not expanded) and the same
+believes-⊥ rule, as the parts run the serial search's state space.
 
-What limits the speed-up (measured in ``bench/RESULTS-planner.md`` §10): the caches of the state space and
-the compact engine are per process, so each part fills its own — the candidate actions per designated
-valuation, the transition tables, and above all the product *shapes* per frame, whose look-ups the engine
-turns off for an event model while fewer than a quarter of them hit: split between parts, the states of a
-task hit at different rates and one part may lose its hits (Grapevine_5 pl6: +20 % product refinements in
-all); each part's own start-up (reading the task, overlapped with the caller's); a barrier per phase (the
-slowest part); the successors sent between parts (pickled once, unpickled once, a frame only the first time
-a part sends it); the work past the goal in the last round; and the commutation memo of the serial space (a
-sensing's successor predicted from two known transitions), which sees only its own part's transitions.
+What limits the speed-up (measured in ``bench/RESULTS-planner.md`` §10, §15): the caches of the state space
+and the compact engine are per process, so each part fills its own — the candidate actions per designated
+valuation, the transition tables, the product *shapes* per frame (whose look-ups the engine turns off while
+few of them hit) and the commutation memo of the serial space (a sensing's successor predicted from two
+known transitions: it sees only its own part's transitions — on the CC task the parts apply ≈ 20 % more
+products than serial BFS); each part's own start-up (reading the task, overlapped with the caller's); the
+imbalance of the parts in each layer; and the successors sent between parts (pickled once, unpickled once, a
+frame only the first time a part sends it).
 """
 
 from __future__ import annotations
