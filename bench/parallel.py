@@ -1,6 +1,6 @@
 """Parallel BFS of one task against serial BFS: ``delkit plan TASK --json`` vs ``delkit plan TASK --jobs N --json``.
 
-Each run is a fresh process (``python -c "from delkit.cli import main; ..."``, the console script's body);
+Each run is a fresh process (``python -c "from delkit.cli import run; run()"``: the ``delkit`` console script);
 the timed region is the whole process — interpreter start, imports, reading the task, the search (and in
 the parallel run its worker processes' start-up and the whole search), exit. Wall seconds by the clock
 around the process; CPU seconds are user + system of the process *and its children* (``RUSAGE_CHILDREN``: the
@@ -36,7 +36,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-_MAIN = "import sys; from delkit.cli import main; sys.exit(main())"
+_MAIN = "from delkit.cli import run; run()"  # the console script (it leaves by os._exit, as `delkit` does)
 
 
 def instances(tmp: Path) -> dict[str, list[str]]:

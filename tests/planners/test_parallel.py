@@ -103,3 +103,36 @@ def test_cli_one_task_jobs_and_scheduler_is_a_parallel_search_on_the_cluster() -
     assert "summary" not in out and out.get("processes", out.get("jobs")) == 2, out
     ser = bfs(space_for(load_task(path)), Limits(timeout=120))
     assert out["plan"] == list(ser.plan)
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_local_parts_expand_a_layer_in_one_phase() -> None:
+    """Local parts share the goal bound: one phase (barrier) per layer, the goal's layer included; Dask-like
+    unshared rounds need more phases."""
+    path = BENCH / "mastar" / "Coin_In_The_Box" / "Coin_in_the_Box__pl_7.txt"
+    ser = bfs(space_for(load_task(path)), Limits(timeout=120))
+    st: dict = {}
+    par, _ = parallel_bfs(path, None, 2, timeout=120, stats=st)
+    assert par.plan == ser.plan and st["phases"] == st["layers"] == len(ser.plan)
+    assert len(st["parts_cpu"]) == len(st["start_cpu"]) == 2
+    st2: dict = {}
+    par2, _ = parallel_bfs(path, None, 2, timeout=120, stats=st2, rounds=4, share_goal=False)
+    assert par2.plan == ser.plan and st2["phases"] > st2["layers"]
+
+
+def test_the_shared_goal_bound_keeps_the_least_path() -> None:
+    """:class:`planners.parallel._Bound`: what one process offers another reads; only a lesser path replaces
+    the bound; a path longer than the array is not shared."""
+    from planners.parallel import _Bound
+
+    array = _Bound.new()
+    writer, reader = _Bound(array), _Bound(array)
+    assert reader.read() is None
+    writer.offer((3, 1, 4))
+    assert reader.read() == (3, 1, 4)
+    writer.offer((3, 2, 0))  # greater: ignored
+    assert reader.read() == (3, 1, 4)
+    reader.offer((2, 9, 9))  # lesser: kept, whoever offers it
+    assert writer.read() == reader.read() == (2, 9, 9)
+    writer.offer(tuple(range(_Bound.SIZE + 1)))
+    assert reader.read() == (2, 9, 9)
