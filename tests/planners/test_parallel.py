@@ -136,3 +136,24 @@ def test_the_shared_goal_bound_keeps_the_least_path() -> None:
     assert writer.read() == reader.read() == (2, 9, 9)
     writer.offer(tuple(range(_Bound.SIZE + 1)))
     assert reader.read() == (2, 9, 9)
+
+
+@pytest.mark.skipif(BENCH is None, reason="../shared/benchmarks is not available")
+def test_a_part_records_the_commuting_transitions_another_part_computed() -> None:
+    """A part's state space memoises the transitions of commuting actions (it predicts a sensing's successor
+    from them); the transitions another part computed toward this part's states are sent along and recorded."""
+    from delkit.compact import state_of_key
+    from planners.parallel import _Part
+
+    path = BENCH / "mastar" / "Grapevine" / "Grapevine_3" / "Grapevine_3__pl_3.txt"
+    parts = [_Part(i, 2, str(path), None, [], False, "auto", False) for i in range(2)]
+    assert parts[0].commute and parts[1].commute
+    inbox: list[list] = [[], []]
+    for layer in range(2):
+        res = [p.step(inbox[p.me], layer > 0, 1, None, None, float("inf")) for p in parts]
+        inbox = [[(src, res[src][0][d]) for src in range(2) if res[src][0][d] is not None] for d in range(2)]
+    for p in parts:
+        p.step(inbox[p.me], False, 1, 0, None, float("inf"))  # merge only
+    for me, other in ((0, 1), (1, 0)):
+        theirs = {k: z for k, z in parts[other].space._succ.items() if parts[other]._owner(state_of_key(z)) == me}
+        assert theirs and all(parts[me].space._succ.get(k) == z for k, z in theirs.items())
