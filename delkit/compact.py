@@ -913,7 +913,7 @@ class CompactEngine:
 
     def apply_compiled(self, s: CompactState, comp: tuple) -> CompactState | None:
         """:meth:`apply` with the event model already compiled (``comp = self.compile(em)``)."""
-        q, k, designated, others, tabs, _lits, npre, nposts, shapes, stat, _dlits, copy = comp
+        q, k, designated, others, tabs, _lits, npre, nposts, shapes, _stat, _dlits, copy = comp
         if k == 1 and len(s.val) > 64 and all(r[0] == (0,) for r in q):  # (smaller: the shape cache below)
             return self._apply_public(s, tabs[0], npre[0], nposts[0])
         val = s.val
@@ -939,24 +939,20 @@ class CompactEngine:
             rows[e] = row(s, tabs[e], npre[e], nposts[e])
         # the shape of the result (which pairs exist, how they are related and contracted, in which canonical
         # order) depends only on the frame of s, on which pairs (w, e) satisfy pre(e) and on the order of the
-        # new valuations: look it up (states of one search share a few hundred frames). Products over 32 pairs
-        # are looked up while at least a quarter of the look-ups hit (and every 16th time), since the key costs
-        # a sort of the new valuations
+        # new valuations: look it up (states of one search share a few hundred frames), up to 256 pairs. Always:
+        # the key costs a sort of the new valuations, a miss's refinement far more, and a gate on the hit rate
+        # (it was: while a quarter of the look-ups hit, else every 16th time) starved itself — a shape is stored
+        # only when looked up (Grapevine-5 pl6: 66,083 refinements with it, 35,125 without) — and depended on
+        # which states a process sees (the parts of a parallel search)
         skey: Any = None
         n = len(s.val)
-        big = n * k > 32
-        if big:
-            stat[2] += 1
-        if s.fid >= 0 and n * k <= 256 and (not big or stat[1] * 4 >= stat[0] or not stat[2] & 15):
+        if s.fid >= 0 and n * k <= 256:
             flat = rows[0] if k == 1 else [x for r in rows for x in r]
             u = sorted(set(flat))
             off = 1 if u[0] < 0 else 0
             rk = {v: i - off for i, v in enumerate(u)}
             skey = (s.fid, tuple(map(rk.__getitem__, flat)))
             hit = shapes.get(skey)
-            if big:
-                stat[0] += 1
-                stat[1] += hit is not None
             if hit is not None:
                 pick, rmasks, cps, fid = hit
                 return CompactState(pick(flat), rmasks, cps, fid)

@@ -3,10 +3,11 @@
 Hash-distributed, layer-synchronous BFS on the compact backend, in N *parts*: the calling process is part 0
 and N-1 actors (:func:`delkit.executors.actors`: spawned local processes, or actors of a Dask cluster with
 ``scheduler``) are the others; each reads the task once and keeps its own compact engine. A state belongs to
-the part its canonical record hashes to (``hash((valuations, hash(frame))) % N`` — ints and tuples of ints
-hash alike in every process); each part keeps the visited set of its own states, expands its own frontier
-and deduplicates what it is sent, so expansion *and* duplicate detection run in parallel and the caller only
-coordinates the layers and forwards the bytes between parts.
+the part its canonical record hashes to (by its frame if it has more than :data:`FRAME_WORLDS` worlds, else by
+the set of its worlds' valuations — ints and tuples of ints hash alike in every process); each part keeps
+the visited set of its own states, expands its own frontier and deduplicates what it is sent, so expansion
+*and* duplicate detection run in parallel and the caller only coordinates the layers and forwards the bytes
+between parts.
 
 A successor owned by another part travels as (valuations, frame number, the parent's path, step) with the
 frames (successor masks, designated worlds) that part has not been sent before — a frame is shared by many
@@ -17,21 +18,27 @@ Same plan as serial :func:`planners.epistemic.bfs`: serial BFS gives each state 
 successor position) that generates it and stops at the first goal generated, i.e. the lexicographically
 least sequence of successor positions among shortest paths (through non-pruned states). Every state here
 carries that sequence (its *path*: position × number of actions + action index, so the plan is read off
-it); a part keeps the least path of every new state, the next frontier is sorted by it, and the frontier is
-expanded in rounds (contiguous slices in path order). When a round's merge finds goals, every part also
-expands its remaining states whose path is at most the best goal's parent's, and the least goal path after
-that is serial BFS's plan. Goal test at generation, the same dead-end pruning (h_epi's dead ends are seen
-but not expanded) and the same believes-⊥ rule, as the parts run the serial search's state space.
+it); a part keeps the least path of every new state and its frontier is sorted by it. The goal test is the
+generating part's (at generation, as serially; a goal is not sent), and the first goal a part generates is
+its least; it publishes the goal's parent's path at once (:class:`_Bound`, shared memory), and every part
+stops its layer at its first state past the least published bound — having expanded all of its states up to
+the least goal's parent, so the least goal path of all parts is serial BFS's plan. A layer is therefore one
+phase (one barrier): a part merges what the others sent it during the previous layer, sorts its new
+frontier and expands it. (Dask's actors do not share the bound: their layers are expanded in rounds,
+and after a round that finds a goal, one more round expands every part's states up to the goal's parent.)
+Goal test at generation, the same dead-end pruning (h_epi's dead ends are seen but not expanded) and the same
+believes-⊥ rule, as the parts run the serial search's state space.
 
-What limits the speed-up (measured in ``bench/RESULTS-planner.md`` §10): the caches of the state space and
-the compact engine are per process, so each part fills its own — the candidate actions per designated
-valuation, the transition tables, and above all the product *shapes* per frame, whose look-ups the engine
-turns off for an event model while fewer than a quarter of them hit: split between parts, the states of a
-task hit at different rates and one part may lose its hits (Grapevine_5 pl6: +20 % product refinements in
-all); each part's own start-up (reading the task, overlapped with the caller's); a barrier per phase (the
-slowest part); the successors sent between parts (pickled once, unpickled once, a frame only the first time
-a part sends it); the work past the goal in the last round; and the commutation memo of the serial space (a
-sensing's successor predicted from two known transitions), which sees only its own part's transitions.
+What limits the speed-up (measured in ``bench/RESULTS-planner.md`` §10, §15): the caches of the state space
+and the compact engine are per process, so each part fills its own — the candidate actions per designated
+valuation, the transition tables, the product *shapes* per frame (whose look-ups the engine turns off while
+few of them hit) and the commutation memo of the serial space (a sensing's successor predicted from two
+known transitions: a part sends the transitions it computes to the parts owning their successors,
+:meth:`_Part._forward`, but a sibling's transition computed by another part in the same layer comes too late
+— on the CC task the parts apply 7 % more products than serial BFS, 24 % without the forwarding); each part's
+own start-up (reading the task, overlapped with the caller's); the
+imbalance of the parts in each layer; and the successors sent between parts (pickled once, unpickled once, a
+frame only the first time a part sends it).
 """
 
 from __future__ import annotations
@@ -50,10 +57,14 @@ ROUNDS = 12
 #: at least this many states per part in a round (fewer rounds on small layers: a round costs a barrier)
 MIN_ROUND = 24
 #: states with more worlds than this belong to the part their frame hashes to (all states of a frame in one
-#: part: the compact engine caches a product's shape per frame); smaller ones by their frame and the
-#: valuation(s) of their designated world(s) (the state space caches the candidate actions per the latter:
-#: Selective-Communication's parts spend ~14 % less CPU than when owned by all valuations and the frame)
+#: part: the compact engine caches a product's shape per frame); smaller ones by the set of their worlds'
+#: valuations (the engine's tables per event and valuation, and the space's candidate actions per designated
+#: valuation, are filled once per process: Selective-Communication's parts compute 1.05 M table entries and
+#: 11,686 candidate lists, as serial BFS does, against 1.32 M and 15,122 when owned by frame and designated
+#: valuation — the parts' CPU −14 %)
 FRAME_WORLDS = 16
+#: send the transitions of commuting actions to the parts owning their successors (:meth:`_Part._forward`)
+FORWARD = True
 
 
 _MUL, _LOW64 = 0x9E3779B97F4A7C15, 0xFFFFFFFFFFFFFFFF
@@ -65,16 +76,49 @@ def _mix(h: int) -> int:
     return ((h * _MUL) & _LOW64) >> 32
 
 
-def _small_owner(val: tuple, points: tuple, fh: int) -> int:
-    here = hash(val[points[0]]) if len(points) == 1 else hash(frozenset([val[p] for p in points]))
-    return ((((here ^ fh) * _MUL) & _LOW64) >> 32)
+class _Bound:
+    """The least goal path's parent found so far in the last layer, shared by the parts of local processes
+    (a lock-protected array of int64: a version, the path's length, the path): a part stops expanding its
+    frontier at the first state past it. Only a hint for speed — a part that has not seen it yet expands more
+    states than needed, never fewer — so the plan does not depend on when it is read."""
+
+    SIZE = 512  #: paths (layers) longer than this are not shared: the parts then expand their whole last layer
+
+    def __init__(self, array: Any) -> None:
+        self.array, self.raw, self.version, self.path = array, array.get_obj(), 0, None
+
+    @classmethod
+    def new(cls) -> Any:
+        import multiprocessing
+
+        return multiprocessing.get_context("spawn").Array("q", 2 + cls.SIZE, lock=True)
+
+    def read(self) -> tuple | None:
+        """The bound (a path) or None; the array is read under its lock only when its version changed."""
+        if self.raw[0] != self.version:
+            with self.array.get_lock():
+                self.version, length = self.raw[0], self.raw[1]
+                self.path = tuple(self.raw[2:2 + length])
+        return self.path
+
+    def offer(self, path: tuple) -> None:
+        """Publish ``path`` if it is less than the bound (or there is none)."""
+        if len(path) > self.SIZE:
+            return
+        with self.array.get_lock():
+            raw = self.raw
+            if raw[0] and raw[1] == len(path) and tuple(raw[2:2 + raw[1]]) <= path:
+                return
+            raw[2:2 + len(path)] = path
+            raw[1] = len(path)
+            raw[0] += 1
 
 
 class _Part:
     """One part of the search (module docstring): its visited set, its frontier, the layer being built."""
 
     def __init__(self, me: int, n: int, spec: str, problem: str | None, library: list[str], strict: bool,
-                 engine: str, allow_inconsistent: bool, built: tuple | None = None) -> None:
+                 engine: str, allow_inconsistent: bool, bound: Any = None, built: tuple | None = None) -> None:
         from planners.heuristics import dead_end_test
 
         if built is None:
@@ -87,12 +131,13 @@ class _Part:
         else:
             task, space = built
         self.me, self.n, self.space = me, n, space
+        self.bound = None if bound is None else _Bound(bound)
         self.dead = dead_end_test(space)  # as serial BFS: proven dead ends are seen but not expanded
         self.nact = len(task.actions)
         self.aindex = {a.name: i for i, a in enumerate(task.actions)}
         self.seen: set = set()
-        self.cur: dict = {}  # key -> [least path, state (None: a goal or a pruned dead end)] of this layer
-        self.goals: list = []  # keys of this layer's goal states
+        self.cur: dict = {}  # key -> [least path, state (None: a pruned dead end)] of the layer being built
+        self.goal: tuple | None = None  # the least goal path this part generated (in the last layer)
         self.fhash: dict[int, int] = {}  # local frame number -> hash of the frame
         self.sent: list[set] = [set() for _ in range(n)]  # keys sent to each part
         self.fsent: list[set] = [set() for _ in range(n)]  # frame numbers each part has been sent
@@ -100,66 +145,91 @@ class _Part:
         self.expanded = self.generated = self.pruned = 0
         s0, k0 = space.initial()
         self.fast_key = k0 == (s0.val, s0.fid)  # the key is (valuations, frame number): built without a state
+        # the actions whose transitions the state space memoises (their keys must be (valuations, frame number))
+        self.commute = (getattr(space, "_commute", None) or None) if self.fast_key and FORWARD else None
         self.seen.add(k0)
         self.frontier: list = [((), s0)] if self._owner(s0) == me else []
         self.pos = 0
+        self.chunk = len(self.frontier)
         self.start_cpu = time.process_time()  # this process's CPU until the part is ready (its start-up)
 
     def _owner(self, s: Any) -> int:
+        if len(s.val) <= FRAME_WORLDS:
+            return _mix(hash(frozenset(s.val))) % self.n
         fh = self.fhash.get(s.fid)
         if fh is None:
             fh = self.fhash[s.fid] = _mix(hash((s.masks, s.points)))
-        return (fh if len(s.val) > FRAME_WORLDS else _small_owner(s.val, s.points, fh)) % self.n
-
-    def _new(self, key: Any, path: tuple, s: Any) -> None:
-        if self.space.is_goal(s):
-            self.cur[key] = [path, None]
-            self.goals.append(key)
-        elif self.dead is not None and self.dead(s):
-            self.cur[key] = [path, None]
-            self.pruned += 1
-        else:
-            self.cur[key] = [path, s]
-
-    def size(self) -> int:
-        return len(self.frontier) - self.pos
+        return fh % self.n
 
     def started(self) -> tuple[int, float]:
         """(frontier size, the process's CPU seconds until the part was ready)."""
-        return self.size(), self.start_cpu
+        return len(self.frontier), self.start_cpu
 
-    def expand(self, count: int | None, upto: tuple | None, deadline: float) -> tuple[list, int, int, bool, float]:
-        """Expand the next ``count`` states of the frontier (or, ``upto``: those whose path is ≤ it), in path
-        order, until the wall-clock ``deadline`` (``time.time()``); the successors owned here are merged at once.
-        Returns (per part the pickled successors it owns, or None), states expanded, states left, deadline hit,
-        CPU seconds."""
+    def step(self, inbox: list[tuple[int, bytes]], new_layer: bool, rounds: int, budget: int | None,
+             upto: tuple | None, deadline: float) -> tuple[list, int, int, tuple | None, bool, int, float]:
+        """One phase: merge the successors other parts sent (``(sender, bytes)``: states of the layer being
+        built); if ``new_layer``, the layer built becomes the frontier (in path order; its states expanded in
+        ``rounds`` slices); then expand the frontier's next slice (at most ``budget`` states; with ``upto``,
+        exactly the states whose path is ≤ it), in path order, up to the shared bound and until the wall-clock
+        ``deadline`` (``time.time()``). Successors owned here are merged at once; a goal among the successors
+        (tested by the part that generates it) is not kept. Returns (per part the pickled successors it owns,
+        or None), states expanded, states left, the least goal path generated so far, deadline hit, frontier
+        size, CPU seconds."""
         c0 = time.process_time()
-        me, n, nact, aindex, big, mix, small = self.me, self.n, self.nact, self.aindex, FRAME_WORLDS, _mix, _small_owner
+        if inbox:
+            self._merge(inbox)
+        if new_layer:
+            self.frontier = sorted(((e[0], e[1]) for e in self.cur.values() if e[1] is not None),
+                                   key=itemgetter(0))
+            self.cur = {}
+            self.pos = 0
+            self.chunk = max(MIN_ROUND, -(-len(self.frontier) // max(1, rounds)))
+        me, n, nact, aindex, big, mix = self.me, self.n, self.nact, self.aindex, FRAME_WORLDS, _mix
         seen, cur, fhash, sent, fsent = self.seen, self.cur, self.fhash, self.sent, self.fsent
-        new, succ, front = self._new, self.space.successors, self.frontier
+        succ, front, is_goal, dead, bound = (self.space.successors, self.frontier, self.space.is_goal, self.dead,
+                                             self.bound)
         out: list[list] = [[] for _ in range(n)]
         frames: list[list] = [[] for _ in range(n)]
-        i, end = self.pos, len(front) if count is None else min(len(front), self.pos + count)
+        mem: list[list] = [[] for _ in range(n)]  # per part: transitions of commuting actions (see _forward)
+        commute = self.commute
+        i = self.pos
+        end = len(front) if upto is not None else min(len(front), i + self.chunk)
+        if budget is not None:
+            end = min(end, i + max(0, budget))
         late = False
-        gen = 0
+        gen = done = 0
+        stops = [p for p in (upto, None if self.goal is None else self.goal[:-1]) if p is not None]
+        stop = min(stops) if stops else None  # expand no state past this path (None: no goal known yet)
         while i < end:
             path, s = front[i]
-            if upto is not None and path > upto:
+            if bound is not None:
+                b = bound.read()
+                if b is not None and (stop is None or b < stop):
+                    stop = b
+            if stop is not None and path > stop:
+                i = len(front)  # the states left need no expansion: the goal's layer ends here
                 break
             if time.time() > deadline:
                 late = True
                 break
             front[i] = None  # the state is not needed any more
             i += 1
+            done += 1
             j = 0
+            moved: list = []  # (action, successor, its part) of the commuting actions, for _forward
             for name, nxt, key in succ(s):
                 elem = j * nact + aindex[name]
                 j += 1
-                fid = nxt.fid
-                fh = fhash.get(fid)
-                if fh is None:
-                    fh = fhash[fid] = mix(hash((nxt.masks, nxt.points)))
-                o = (fh if len(nxt.val) > big else small(nxt.val, nxt.points, fh)) % n  # as _owner
+                fid, nval = nxt.fid, nxt.val
+                if len(nval) > big:  # as _owner
+                    fh = fhash.get(fid)
+                    if fh is None:
+                        fh = fhash[fid] = mix(hash((nxt.masks, nxt.points)))
+                    o = fh % n
+                else:
+                    o = (((hash(frozenset(nval)) * _MUL) & _LOW64) >> 32) % n
+                if commute is not None and name in commute:
+                    moved.append((name, nxt, o))
                 if o == me:
                     if key in seen:
                         e = cur.get(key)
@@ -169,37 +239,74 @@ class _Part:
                                 e[0] = p
                         continue
                     seen.add(key)
-                    new(key, path + (elem,), nxt)
+                else:
+                    so = sent[o]
+                    if key in so:  # sent before, with a smaller path (this part expands in path order)
+                        continue
+                    so.add(key)
+                if is_goal(nxt):  # goal test at generation, as serial BFS (the least path: the first one here)
+                    if self.goal is None:
+                        self.goal = path + (elem,)
+                        if bound is not None:
+                            bound.offer(path)
+                        if stop is None or path < stop:
+                            stop = path
                     continue
-                so = sent[o]
-                if key in so:  # sent before, with a smaller path (this part expands in path order)
+                if o == me:
+                    if dead is not None and dead(nxt):
+                        cur[key] = [path + (elem,), None]
+                        self.pruned += 1
+                    else:
+                        cur[key] = [path + (elem,), nxt]
                     continue
-                so.add(key)
                 if fid not in fsent[o]:
                     fsent[o].add(fid)
                     frames[o].append((fid, nxt.masks, nxt.points))
-                out[o].append((nxt.val, fid, path, elem))
+                out[o].append((nval, fid, path, elem))
             gen += j
-        done = i - self.pos
+            if moved:
+                self._forward(s, moved, mem, frames)
         self.expanded += done
         self.generated += gen
         self.pos = i
-        blobs = [None if o == me or not out[o] else pickle.dumps((frames[o], out[o]), pickle.HIGHEST_PROTOCOL)
-                 for o in range(n)]
-        return blobs, done, len(front) - i, late, time.process_time() - c0
+        blobs = [None if o == me or not (out[o] or mem[o])
+                 else pickle.dumps((frames[o], out[o], mem[o]), pickle.HIGHEST_PROTOCOL) for o in range(n)]
+        return blobs, done, len(front) - i, self.goal, late, len(front), time.process_time() - c0
 
-    def merge(self, blobs: list[tuple[int, bytes]]) -> tuple[tuple | None, float]:
-        """Merge the successors other parts sent (``(sender, bytes)``); the least path of this layer's goals
-        and the CPU seconds."""
-        c0 = time.process_time()
+    def _forward(self, s: Any, moved: list, mem: list, frames: list) -> None:
+        """Send the transitions of ``s`` by commuting actions to the parts that own their successors: the state
+        space predicts a sensing's successor from them (``CompactSpace._predicted``: s·a from p·b = s, p·a and
+        p·a·b), and a part records only the transitions it computes — so the owner of p·b would miss p's. The
+        receiver records them as its own (keys translated to its frame numbers)."""
+        me, fsent = self.me, self.fsent
+        for o in {o for _n, _x, o in moved if o != me}:
+            fs, fr = fsent[o], frames[o]
+            if s.fid not in fs:
+                fs.add(s.fid)
+                fr.append((s.fid, s.masks, s.points))
+            moves = []
+            for name, x, _o in moved:
+                if x.fid not in fs:
+                    fs.add(x.fid)
+                    fr.append((x.fid, x.masks, x.points))
+                moves.append((name, x.val, x.fid))
+            mem[o].append((s.val, s.fid, moves))
+
+    def _merge(self, blobs: list[tuple[int, bytes]]) -> None:
+        """Merge the successors other parts sent (``(sender, bytes)``; none is a goal: its sender tested it)."""
         from delkit.compact import CompactState, frame_id
 
-        seen, cur, new, fast = self.seen, self.cur, self._new, self.fast_key
+        seen, cur, fast, dead = self.seen, self.cur, self.fast_key, self.dead
         for src, blob in blobs:
-            frames, recs = pickle.loads(blob)
+            frames, recs, mems = pickle.loads(blob)
             fm = self.fmap[src]
             for rfid, masks, points in frames:
                 fm[rfid] = (frame_id(masks, points), masks, points)
+            remember = self.space._remember
+            for pval, prf, moves in mems:
+                kp = (pval, fm[prf][0])
+                for name, val, rfid in moves:
+                    remember(kp, name, (val, fm[rfid][0]))
             for val, rfid, ppath, elem in recs:
                 lf, masks, points = fm[rfid]
                 s = None
@@ -216,15 +323,13 @@ class _Part:
                             e[0] = p
                     continue
                 seen.add(key)
-                new(key, ppath + (elem,), s if s is not None else CompactState(val, masks, points, lf))
-        return min((cur[k][0] for k in self.goals), default=None), time.process_time() - c0
-
-    def next_layer(self) -> int:
-        """The new states (not goals, not dead ends) become the frontier, in path order; its size."""
-        self.frontier = sorted(((e[0], e[1]) for e in self.cur.values() if e[1] is not None), key=itemgetter(0))
-        self.cur = {}
-        self.pos = 0
-        return len(self.frontier)
+                if s is None:
+                    s = CompactState(val, masks, points, lf)
+                if dead is not None and dead(s):
+                    cur[key] = [ppath + (elem,), None]
+                    self.pruned += 1
+                else:
+                    cur[key] = [ppath + (elem,), s]
 
     def stats(self) -> tuple[int, int, int, int]:
         """(expanded, generated, dead ends: believes ⊥ + pruned, distinct states seen)."""
@@ -234,16 +339,20 @@ class _Part:
 def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float | None = 60.0,
                  max_nodes: int | None = None, engine: str = "auto", allow_inconsistent: bool = False,
                  library: list[Path] | None = None, strict: bool = False, scheduler: str | None = None,
-                 stats: dict | None = None):
+                 stats: dict | None = None, rounds: int | None = None, share_goal: bool | None = None):
     """BFS of one task in ``jobs`` parts (this process and ``jobs - 1`` local processes, or actors of the Dask
     cluster at ``scheduler``); a :class:`planners.epistemic.SearchResult` (``search`` = ``"bfs"``) and the
     task, or (None, task) when the task runs on the numpy backend (the caller then searches serially).
 
+    ``share_goal``: the parts share the least goal's parent as soon as one generates it (:class:`_Bound`; by
+    default with local processes, not on Dask). ``rounds``: the phases a layer is expanded in (default: 1 when
+    the parts share the goal, else :data:`ROUNDS`: a round's barrier is where they learn of a goal).
+
     ``stats`` (a dict) receives ``start_cpu`` (each part's process CPU seconds until it was ready: its
     start-up; the helpers' runs alongside the caller's), ``parts_cpu`` (each part's CPU seconds in the
-    search's phases), ``phases`` (expand and merge phases, each a barrier) and ``critical_cpu``: the sum over
-    phases of the slowest part's CPU — the search's length on idle cores, whatever the machine's load (the
-    caller's own coordination and the start-up are outside it)."""
+    search's phases), ``phases`` (each a barrier), ``layers`` and ``critical_cpu``: the sum over phases of the
+    slowest part's CPU — the search's length on idle cores, whatever the machine's load (the caller's own
+    coordination and the start-up are outside it)."""
     from delkit.executors import actors
     from delkit.resources import keep_alive
     from planners.epistemic import SearchResult
@@ -255,8 +364,11 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
     limit = float("inf") if timeout is None else timeout
     wall_end = time.time() + limit
     jobs = max(1, int(jobs))
+    bound = _Bound.new() if (not scheduler if share_goal is None else share_goal) else None
+    if rounds is None:
+        rounds = ROUNDS if bound is None else 1
     args = (str(spec), str(problem) if problem else None, [str(p) for p in library or ()], strict, engine,
-            allow_inconsistent)
+            allow_inconsistent, bound)
     was = gc.isenabled()
     gc.disable()  # as serial BFS (planners.epistemic._gc_paused): many long-lived objects, no cycles per node
     try:
@@ -278,52 +390,37 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
             except TimeoutError:  # a worker still starting (a loaded machine) when the time is up
                 return SearchResult("limit", None, 0, 1, time.perf_counter() - t0, "bfs",
                                     f"no plan within limits: time limit {limit:g} s reached", 0, 1), task
-            sizes = [r[0] for r in ready]
             if stats is not None:
                 stats["start_cpu"] = [round(r[1], 3) for r in ready]
-            return _coordinate(me, helpers, sizes, task, t0, limit, wall_end, max_nodes,
+            return _coordinate(me, helpers, task, t0, limit, wall_end, max_nodes, rounds,
                                {} if stats is None else stats), task
     finally:
         if was:
+            from delkit import resources
+
+            if resources.HARD_EXIT:
+                # the console script exits soon: the search's objects (allocated with the collector paused, so
+                # all still in its youngest generation) are never traversed — the next allocation would have the
+                # collector scan every one of them (Grapevine-5 pl6: 0.55 s of the caller's CPU)
+                gc.freeze()
             gc.enable()
 
 
-def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float, limit: float, wall_end: float,
-                max_nodes: int | None, stats: dict):
+def _coordinate(me: _Part, helpers: list, task: Any, t0: float, limit: float, wall_end: float,
+                max_nodes: int | None, rounds: int, stats: dict):
     from delkit.resources import TimeLimit
     from planners.epistemic import SearchResult
 
     n = 1 + len(helpers)
     expanded = 0
+    busy = [0.0] * n
+    stats.update(critical_cpu=0.0, phases=0, layers=1, parts_cpu=busy)  # (start_cpu: set by parallel_bfs)
 
     def run_all(method: str, per_part: list[tuple]) -> list:
         pending = [h.call(method, *per_part[i + 1]) for i, h in enumerate(helpers)]
         first = getattr(me, method)(*per_part[0])
         # a part checks the deadline between states: its reply comes at most one expansion after it
         return [first] + [p.result(max(1.0, wall_end - time.time() + 1.0)) for p in pending]
-
-    def phase(cpus: list[float]) -> None:
-        # a phase lasts as long as its slowest part: the rest of the parts' CPU ran alongside it
-        for i, c in enumerate(cpus):
-            busy[i] += c
-        stats["critical_cpu"] += max(cpus)
-        stats["phases"] += 1
-
-    def expand_merge(per_part: list[tuple]) -> tuple[tuple | None, list[int], bool]:
-        nonlocal expanded
-        res = run_all("expand", per_part)
-        phase([r[4] for r in res])
-        expanded += sum(r[1] for r in res)
-        if any(r[3] for r in res):  # the time is up: no merge
-            return None, [r[2] for r in res], True
-        goals = run_all("merge", [([(src, res[src][0][d]) for src in range(n) if res[src][0][d] is not None],)
-                                  for d in range(n)])
-        phase([g[1] for g in goals])
-        best = min((g[0] for g in goals if g[0] is not None), default=None)
-        return best, [r[2] for r in res], any(r[3] for r in res)
-
-    busy = [0.0] * n
-    stats.update(critical_cpu=0.0, phases=0, parts_cpu=busy)  # (start_cpu: set by parallel_bfs)
 
     def done(status: str, plan: tuple | None, reason: str) -> SearchResult:
         st = run_all("stats", [()] * n)
@@ -333,44 +430,40 @@ def _coordinate(me: _Part, helpers: list, sizes: list[int], task: Any, t0: float
                             sum(s[2] for s in st), sum(s[3] for s in st) - (n - 1))  # the initial state: once
 
     time_out = f"no plan within limits: time limit {limit:g} s reached"
-    try:
-        return _layers(me, sizes, task, t0, limit, wall_end, max_nodes, run_all, expand_merge, done, time_out,
-                       lambda: expanded)
-    except TimeLimit:  # the caller's alarm stopped an expansion of part 0: the workers may be mid-call
-        _e, gen, dead, seen = me.stats()
-        return SearchResult("limit", None, expanded, gen, time.perf_counter() - t0, "bfs", time_out, dead, seen)
-
-
-def _layers(me: _Part, sizes: list[int], task: Any, t0: float, limit: float, wall_end: float,
-            max_nodes: int | None, run_all: Any, expand_merge: Any, done: Any, time_out: str, count: Any):
-    """The layers and rounds of :func:`_coordinate` (``count()``: the states expanded so far)."""
-    n = len(sizes)
     names = [a.name for a in task.actions]
-    while sum(sizes):
-        rounds = max(1, min(ROUNDS, sum(sizes) // (MIN_ROUND * n)))
-        chunk = [-(-sz // rounds) for sz in sizes]
+    inbox: list[list] = [[] for _ in range(n)]
+    new_layer, upto = False, None
+    try:
         while True:
             if time.perf_counter() - t0 > limit:
                 return done("limit", None, time_out)
-            expanded = count()
             if max_nodes is not None and expanded >= max_nodes:
                 return done("limit", None, f"no plan within limits: expanded-node limit {max_nodes} reached")
-            step = chunk if max_nodes is None else [min(c, -(-(max_nodes - expanded) // n)) for c in chunk]
-            goal, left, late = expand_merge([(c, None, wall_end) for c in step])
-            if late:
+            budget = None if max_nodes is None else -(-(max_nodes - expanded) // n)
+            res = run_all("step", [(inbox[d], new_layer, rounds, budget, upto, wall_end) for d in range(n)])
+            cpus = [r[6] for r in res]  # a phase lasts as long as its slowest part: the others ran alongside it
+            for i, c in enumerate(cpus):
+                busy[i] += c
+            stats["critical_cpu"] += max(cpus)
+            stats["phases"] += 1
+            expanded += sum(r[1] for r in res)
+            if any(r[4] for r in res):
                 return done("limit", None, time_out)
-            if goal is not None:
-                # serial BFS's first goal: also expand every state that comes before the best goal's parent
-                more, _left, late = expand_merge([(None, goal[:-1], wall_end)] * n)
-                if late:
-                    return done("limit", None, time_out)
-                goal = more if more is not None else goal  # the least goal path: ≤ the one found first
-                nact = len(names)
+            if new_layer and not any(r[5] for r in res):
+                return done("unsolvable", None, "the reachable state space is exhausted: no plan exists")
+            inbox = [[(src, res[src][0][d]) for src in range(n) if res[src][0][d] is not None] for d in range(n)]
+            goal = min((r[3] for r in res if r[3] is not None), default=None)
+            if goal is not None and (upto is not None or not any(r[2] for r in res)):
+                nact = len(names)  # every state up to the least goal's parent is expanded: serial BFS's plan
                 return done("solved", tuple(names[e % nact] for e in goal), "")
-            if not any(left):
-                break
-        sizes = run_all("next_layer", [()] * n)
-    return done("unsolvable", None, "the reachable state space is exhausted: no plan exists")
+            if goal is not None:  # (rounds: the parts did not all see the goal) expand up to its parent
+                upto, inbox, new_layer = goal[:-1], [[] for _ in range(n)], False
+                continue
+            new_layer = not any(r[2] for r in res)
+            stats["layers"] += new_layer
+    except TimeLimit:  # the caller's alarm stopped an expansion of part 0: the workers may be mid-call
+        _e, gen, dead, seen = me.stats()
+        return SearchResult("limit", None, expanded, gen, time.perf_counter() - t0, "bfs", time_out, dead, seen)
 
 
 def run_plan_parallel(spec: Path, problem: Path | None = None, *, jobs: int = 2, search: str = "bfs",
