@@ -36,6 +36,7 @@ The differential tests in ``tests/delkit/test_backends.py`` compare this backend
 from __future__ import annotations
 
 from collections.abc import Hashable, Mapping, Sequence
+from itertools import compress
 from operator import itemgetter
 from typing import TYPE_CHECKING, Any
 
@@ -242,6 +243,8 @@ def _rows_relation(rows: Sequence[tuple[int, ...]]) -> Relation:
     return Relation.from_pairs(n, [(e, f) for e in range(n) for f in rows[e]])
 
 
+_NONNEG = (0).__le__  # x >= 0
+
 _BITS: dict[int, tuple[int, ...]] = {}
 
 
@@ -286,24 +289,48 @@ def state_of_key(key: tuple) -> CompactState:
     return CompactState(val, masks, points, fid)
 
 
+_POW2: list[int] = [1 << i for i in range(256)]
+
+
+def _pow2(n: int) -> list[int]:
+    """A list whose entry i is 1 << i, for i < n at least (grown on demand, shared)."""
+    if len(_POW2) < n:
+        _POW2.extend(1 << i for i in range(len(_POW2), 2 * n))
+    return _POW2
+
+
+def _list_masks(lists: list[list[int]], bit: list[int]) -> list[int]:
+    """Per successor list: the bit mask of its members' blocks (``bit[v]`` = 1 << block of v)."""
+    t = []
+    for lst in lists:
+        m = 0
+        for v in lst:
+            m |= bit[v]
+        t.append(m)
+    return t
+
+
 def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]],
             points: Sequence[int]) -> tuple[list[int], list[int], tuple, tuple[int, ...]]:
     """Partition refinement to the coarsest bisimulation (see :func:`refine_key`): (block of each world,
-    valuation of each block, successor masks per agent and block, designated blocks)."""
+    valuation of each block, successor masks per agent and block, designated blocks).
+
+    A round whose partition is discrete (every block one world — most products of a search are already
+    contracted) is the last to split: the next round's signatures are (b, the masks of b's world), all
+    distinct and sorted by b, so that round is read off without ranking it (the same output as ranking it)."""
     n = len(val)
     uniq = sorted(set(val))
     nb = len(uniq)
     if nb == 1:
         blk = [0] * n
     else:
-        rank = {v: i for i, v in enumerate(uniq)}
-        blk = [rank[v] for v in val]
-    if n == 1:
-        pick: list[Any] = [lambda t: (t[0],)] * len(cls)
-    else:
+        rank = dict(zip(uniq, range(nb), strict=True))
+        blk = list(map(rank.__getitem__, val))
+    pow2 = _pow2(n)
+    if nb < n:
         pick = [itemgetter(*c) for c in cls]
-    while True:
-        bit = [1 << b for b in blk]
+    while nb < n:
+        bit = list(map(pow2.__getitem__, blk))
         cols = []
         for a, lists in enumerate(dist):
             t = []
@@ -315,22 +342,20 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
             cols.append(pick[a](t))
         sigs = list(zip(blk, *cols, strict=True))
         us = sorted(set(sigs))
-        if len(us) == nb:
-            break
-        r = {sg: i for i, sg in enumerate(us)}
-        blk = [r[sg] for sg in sigs]
+        if len(us) == nb:  # stable: the rank of a signature equals its block, us[b] = (b, successor masks of b)
+            of = dict(zip(blk, val, strict=True))  # the worlds of a block share their valuation
+            cps = tuple(sorted({blk[p] for p in points}))
+            return blk, [of[b] for b in range(nb)], tuple(zip(*us, strict=True))[1:], cps
+        r = dict(zip(us, range(len(us)), strict=True))
+        blk = list(map(r.__getitem__, sigs))
         nb = len(us)
-    # stable round: the rank of a signature equals its block number, us[b] = (b, successor masks of b)
-    if nb == n:
-        cval = [0] * n
-        for w, b in enumerate(blk):
-            cval[b] = val[w]
-    else:
-        of = dict(zip(blk, val, strict=True))  # the worlds of a block share their valuation
-        cval = [of[b] for b in range(nb)]
-    masks = tuple(zip(*us, strict=True))[1:]
+    # discrete: world inv[b] is block b
+    inv = sorted(range(n), key=blk.__getitem__)
+    bit = list(map(pow2.__getitem__, blk))
+    masks = tuple(tuple(map(_list_masks(lists, bit).__getitem__, map(c.__getitem__, inv)))
+                  for lists, c in zip(dist, cls, strict=True))
     cps = tuple(sorted({blk[p] for p in points}))
-    return blk, cval, masks, cps
+    return blk, list(map(val.__getitem__, inv)), masks, cps
 
 
 #: products (and models) with at least this many worlds are refined by numpy (:mod:`delkit.compact_np`, the
@@ -408,6 +433,7 @@ class CompactEngine:
         self._pfn: list[Any] = []
         self._pslow: dict[int, Any] = {}
         self._compiled: dict[int, tuple] = {}
+        self._by_content: dict[tuple, tuple] = {}  # event model as data -> its compiled model (see compile)
         # per Relation object (event models of one action type share theirs): its successor rows
         self._rows: dict[int, tuple[Relation, list[tuple[int, ...]]]] = {}
         # the update's shape tables, shared by the event models of one frame (see apply_compiled)
@@ -686,15 +712,9 @@ class CompactEngine:
         if out is not None:
             return out
         tab = self._ptab[i]
-        if tab is not None:  # propositional: one truth-table look-up per world
-            out = 0
-            bit = 1
-            for v in s.val:
-                t = tab[v]
-                if t:
-                    out |= bit
-                bit <<= 1
-            memo[i] = out
+        if tab is not None:  # propositional: one truth-table look-up per world (the sum of distinct bits)
+            val = s.val
+            out = memo[i] = sum(compress(_pow2(len(val)), map(tab.__getitem__, val)))
             return out
         node = self._nodes[i]
         op = node[0]
@@ -769,6 +789,16 @@ class CompactEngine:
                 raise ModelError(f"event model {em.name!r} has no relation for agent(s) {missing}")
             q = [self._successor_rows(em.relations[ag], k) for ag in self.agents]
         q += [_group_rows([q[self.aidx[a]] for a in g], k) for g in self.groups]
+        # event models equal as data (the same events' preconditions, postconditions, relations and designated
+        # events; names aside) share one compiled model: an update depends on nothing else, so a caller may
+        # take equal compiled models (``is``) for equal updates of one state (mA* actions of different agents
+        # that announce one formula to one audience, say)
+        content = (k, tuple(em.pre), tuple(tuple(sorted(m.items())) for m in em.post), tuple(map(tuple, q)),
+                   tuple(em.designated))
+        same = self._by_content.get(content)
+        if same is not None:
+            self._compiled[id(em)] = (em, same)
+            return same
         tabs, lits, npre, nposts = [], [], [], []
         for e in range(k):
             posts = [(self.pidx[p], self.cid(f)) for p, f in em.post[e].items() if f != Prop(p)]
@@ -801,6 +831,7 @@ class CompactEngine:
         comp = (q, k, des, others, tabs, lits, npre, nposts, shared[0], shared[1], tuple(lits[e] for e in des),
                 self._copy_event(q, k, des, em))
         self._compiled[id(em)] = (em, comp)  # the model is kept alive so that its id is not reused
+        self._by_content[content] = comp
         return comp
 
     def _copy_event(self, q: list, k: int, des: tuple[int, ...], em: EventModel | PlainEvents) -> tuple | None:
@@ -999,16 +1030,8 @@ class CompactEngine:
 
 def _okm(rows: Sequence[Sequence[int]]) -> list[int]:
     """Per event: the worlds where its precondition holds (row entry ≥ 0), as a bit mask."""
-    okm = []
-    for r in rows:
-        m = 0
-        bit = 1
-        for x in r:
-            if x >= 0:
-                m |= bit
-            bit <<= 1
-        okm.append(m)
-    return okm
+    pow2 = _pow2(len(rows[0]) if rows else 0)
+    return [sum(compress(pow2, map(_NONNEG, r))) for r in rows]
 
 
 def _pair_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: int, rows: Sequence[Sequence[int]],

@@ -532,6 +532,7 @@ class CompactSpace:
         loop_ok: bool | None = None  # s itself as a successor: is it consistent? (decided on first use)
         commute, ks = self._commute, s.key
         holds = self.engine.holds_id
+        done: dict[int, Any] = {}  # id of a compiled event model -> the successor it gave (None: not applicable)
         for name, entry, comp, test, exe in cands:
             check_time(ALARM_SLACK)  # one clock read: a single expansion of a large state can take seconds
             if exe is not None and not holds(s, exe):
@@ -545,12 +546,17 @@ class CompactSpace:
             # a sensing or announcement that cannot change s (:meth:`_is_loop`) yields s itself: the search
             # sees the same key as the product would give, without the product being built
             if comp is not None:
-                if test is None:
-                    new = apply(s, comp)
-                elif test[3]:
-                    new = self._epistemic_successor(s, test)
-                else:
-                    new = s if self._is_loop(s, test) else apply(s, comp)
+                # actions whose event models are equal as data share one compiled model (CompactEngine.compile):
+                # their successors of s are one state, built once per expansion
+                new = done.get(id(comp), _MISSING)
+                if new is _MISSING:
+                    if test is None:
+                        new = apply(s, comp)
+                    elif test[3]:
+                        new = self._epistemic_successor(s, test)
+                    else:
+                        new = s if self._is_loop(s, test) else apply(s, comp)
+                    done[id(comp)] = new
             elif entry[0] == "spec" and entry[1].kind != "ontic" and not self._has_groups:  # type: ignore[index]
                 em = self.event_model(s, entry)  # type: ignore[arg-type]
                 if em is None:
