@@ -75,7 +75,7 @@ class CompactState:
     groups' intersection relations); ``succ``, ``cid`` and ``classes`` are derived from it on first use.
     """
 
-    __slots__ = ("val", "masks", "points", "fid", "key", "memo", "copies", "_succ", "_cid", "_classes")
+    __slots__ = ("val", "masks", "points", "fid", "key", "memo", "copies", "_succ", "_cid", "_classes", "_union")
 
     def __init__(self, val: tuple[int, ...], masks: tuple[tuple[int, ...], ...], points: tuple[int, ...],
                  fid: int = -1) -> None:
@@ -86,7 +86,7 @@ class CompactState:
         self.key: Hashable = (val, fid)
         self.memo: dict = {}
         self.copies: dict | None = None  # the product's copies of parts of this state (delkit.compact._copy_product)
-        self._succ = self._cid = self._classes = None
+        self._succ = self._cid = self._classes = self._union = None
 
     def __repr__(self) -> str:
         return f"CompactState(val={self.val}, masks={self.masks}, points={self.points})"
@@ -106,6 +106,16 @@ class CompactState:
         if self._succ is None:
             self._succ = tuple(tuple(bit_positions(m) for m in per) for per in self.masks)
         return self._succ
+
+    @property
+    def union(self) -> list[int]:
+        """Per world: the successors by any relation, as a bit mask (computed on first use)."""
+        if self._union is None:
+            u = list(self.masks[0])
+            for per in self.masks[1:]:
+                u = [x | y for x, y in zip(u, per, strict=True)]
+            self._union = u
+        return self._union
 
     @property
     def cid(self) -> tuple[tuple[int, ...], ...]:
@@ -677,7 +687,10 @@ class CompactEngine:
                 return _common_at(s, node[1], self.ev(s, node[2]))
             if node[0] in (_AND, _OR, _NOT, _K):  # only the designated worlds matter: evaluate there
                 at = self._at
-                return all(at(s, i, p) for p in s.points)
+                for p in s.points:
+                    if not at(s, i, p):
+                        return False
+                return True
             b = self.ev(s, i)
         for p in s.points:
             if not (b >> p) & 1:
@@ -696,9 +709,15 @@ class CompactEngine:
         node = self._nodes[i]
         op = node[0]
         if op == _AND:
-            return all(self._at(s, g, w) for g in node[1])
+            for g in node[1]:
+                if not self._at(s, g, w):
+                    return False
+            return True
         if op == _OR:
-            return any(self._at(s, g, w) for g in node[1])
+            for g in node[1]:
+                if self._at(s, g, w):
+                    return True
+            return False
         if op == _NOT:
             return not self._at(s, node[1], w)
         if op == _K and self._ptab[node[2]] is not None:
@@ -1113,7 +1132,8 @@ def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
     # per relation: (its successor masks, per event "ε only", its event rows, s's list of each world, the
     # memo (successor mask, event) -> list id, the new lists, the built pairs' list ids, the id of the first
     # new list)
-    rel = [(masks[a], only[a], q[a], cid[a], {}, nlists[a], ncls[a].append, base[a]) for a in range(nag)]
+    rel = [(masks[a], only[a], q[a], cid[a], [{} for _ in range(k)], nlists[a], ncls[a].append, base[a])
+           for a in range(nag)]
     push = order.append
     i = 0
     while i < len(order):
@@ -1126,8 +1146,8 @@ def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
                 entry |= mw
                 add(ca[w])
                 continue
-            mkey = mw * k + e
-            j = ma.get(mkey)
+            mae = ma[e]
+            j = mae.get(mw)
             if j is None:
                 lst = []
                 for f in qa[e]:
@@ -1144,7 +1164,7 @@ def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
                                 t = idx[pk] = n + len(order)
                                 push(pk)
                             lst.append(t)
-                j = ma[mkey] = ba + len(nl)
+                j = mae[mw] = ba + len(nl)
                 nl.append(lst)
             add(j)
     if not entry:
@@ -1155,12 +1175,12 @@ def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
         pm |= 1 << p
     reach = full
     if entry & pm != pm:  # X, the part of s the copy generates: all of s?
+        union = s.union
         seen = front = entry
-        while front:
+        while front and seen != full:
             nxt = 0
             for w in bit_positions(front):
-                for per in masks:
-                    nxt |= per[w]
+                nxt |= union[w]
             front = nxt & ~seen
             seen |= front
         reach = seen
