@@ -325,6 +325,9 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
     """Partition refinement to the coarsest bisimulation (see :func:`refine_key`): (block of each world,
     valuation of each block, successor masks per agent and block, designated blocks).
 
+    A round ranks the signatures by sorting the worlds by their signatures (comparisons only: the tuples of
+    big ints are not hashed) and numbering them in that order, a new number where a signature differs from
+    the one before — the rank of each signature among the distinct ones, as :func:`refine_key` defines it.
     A round whose partition is discrete (every block one world — most products of a search are already
     contracted) is the last to split: the next round's signatures are (b, the masks of b's world), all
     distinct and sorted by b, so that round is read off without ranking it (the same output as ranking it)."""
@@ -337,9 +340,12 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
         rank = dict(zip(uniq, range(nb), strict=True))
         blk = list(map(rank.__getitem__, val))
     pow2 = _pow2(n)
-    if nb < n:
+    inv: list[int] | None = None  # world of each block, once the partition is discrete
+    if nb == n:
+        inv = sorted(range(n), key=blk.__getitem__)
+    else:
         pick = [itemgetter(*c) for c in cls]
-    while nb < n:
+    while inv is None:
         bit = list(map(pow2.__getitem__, blk))
         cols = []
         for a, lists in enumerate(dist):
@@ -351,16 +357,24 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
                 t.append(m)
             cols.append(pick[a](t))
         sigs = list(zip(blk, *cols, strict=True))
-        us = sorted(set(sigs))
-        if len(us) == nb:  # stable: the rank of a signature equals its block, us[b] = (b, successor masks of b)
-            of = dict(zip(blk, val, strict=True))  # the worlds of a block share their valuation
+        order = sorted(range(n), key=sigs.__getitem__)
+        new = [0] * n
+        reps = []  # a world of each new block
+        prev = None
+        for w in order:
+            sg = sigs[w]
+            if sg != prev:
+                prev = sg
+                reps.append(w)
+            new[w] = len(reps) - 1
+        if len(reps) == nb:  # stable: the rank of a signature equals its block, reps[b]'s signature is (b, masks)
             cps = tuple(sorted({blk[p] for p in points}))
-            return blk, [of[b] for b in range(nb)], tuple(zip(*us, strict=True))[1:], cps
-        r = dict(zip(us, range(len(us)), strict=True))
-        blk = list(map(r.__getitem__, sigs))
-        nb = len(us)
+            return blk, list(map(val.__getitem__, reps)), tuple(zip(*map(sigs.__getitem__, reps), strict=True))[1:], cps
+        blk = new
+        nb = len(reps)
+        if nb == n:
+            inv = order
     # discrete: world inv[b] is block b
-    inv = sorted(range(n), key=blk.__getitem__)
     bit = list(map(pow2.__getitem__, blk))
     masks = tuple(tuple(map(_list_masks(lists, bit).__getitem__, map(c.__getitem__, inv)))
                   for lists, c in zip(dist, cls, strict=True))
