@@ -309,6 +309,13 @@ def _pow2(n: int) -> list[int]:
     return _POW2
 
 
+def _take(seq: Any, idx: Sequence[int]) -> tuple:
+    """``tuple(seq[i] for i in idx)`` by one C call (an itemgetter: no Python call per item)."""
+    if len(idx) > 1:
+        return itemgetter(*idx)(seq)
+    return tuple(seq[i] for i in idx)
+
+
 def _list_masks(lists: list[list[int]], bit: list[int]) -> list[int]:
     """Per successor list: the bit mask of its members' blocks (``bit[v]`` = 1 << block of v)."""
     t = []
@@ -338,7 +345,7 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
         blk = [0] * n
     else:
         rank = dict(zip(uniq, range(nb), strict=True))
-        blk = list(map(rank.__getitem__, val))
+        blk = _take(rank, val)
     pow2 = _pow2(n)
     inv: list[int] | None = None  # world of each block, once the partition is discrete
     if nb == n:
@@ -346,7 +353,7 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
     else:
         pick = [itemgetter(*c) for c in cls]
     while inv is None:
-        bit = list(map(pow2.__getitem__, blk))
+        bit = _take(pow2, blk)
         cols = []
         for a, lists in enumerate(dist):
             t = []
@@ -369,17 +376,22 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
             new[w] = len(reps) - 1
         if len(reps) == nb:  # stable: the rank of a signature equals its block, reps[b]'s signature is (b, masks)
             cps = tuple(sorted({blk[p] for p in points}))
-            return blk, list(map(val.__getitem__, reps)), tuple(zip(*map(sigs.__getitem__, reps), strict=True))[1:], cps
+            return list(blk), list(_take(val, reps)), tuple(zip(*_take(sigs, reps), strict=True))[1:], cps
         blk = new
         nb = len(reps)
         if nb == n:
             inv = order
     # discrete: world inv[b] is block b
-    bit = list(map(pow2.__getitem__, blk))
-    masks = tuple(tuple(map(_list_masks(lists, bit).__getitem__, map(c.__getitem__, inv)))
-                  for lists, c in zip(dist, cls, strict=True))
+    bit = _take(pow2, blk)
+    if n > 1:
+        at = itemgetter(*inv)
+        masks = tuple(_take(_list_masks(lists, bit), at(c)) for lists, c in zip(dist, cls, strict=True))
+        cval = list(at(val))
+    else:
+        masks = tuple((_list_masks(lists, bit)[c[0]],) for lists, c in zip(dist, cls, strict=True))
+        cval = list(val)
     cps = tuple(sorted({blk[p] for p in points}))
-    return blk, list(map(val.__getitem__, inv)), masks, cps
+    return list(blk), cval, masks, cps
 
 
 #: products (and models) with at least this many worlds are refined by numpy (:mod:`delkit.compact_np`, the
@@ -746,8 +758,7 @@ class CompactEngine:
             return out
         tab = self._ptab[i]
         if tab is not None:  # propositional: one truth-table look-up per world (the sum of distinct bits)
-            val = s.val
-            out = memo[i] = sum(compress(_pow2(len(val)), map(tab.__getitem__, val)))
+            out = memo[i] = sum(compress(_pow2(len(s.val)), _take(tab, s.val)))
             return out
         node = self._nodes[i]
         op = node[0]
@@ -949,7 +960,7 @@ class CompactEngine:
 
     def _row(self, s: CompactState, tab: dict, npre: int | None, nposts: tuple) -> list[int]:
         """One event at every world of ``s``: the new valuation, or -1 where its precondition fails."""
-        out = list(map(tab.__getitem__, s.val))
+        out: Sequence[int] = _take(tab, s.val)
         if npre is not None:
             pm = self.ev(s, npre)
             out = [x if (pm >> w) & 1 else -1 for w, x in enumerate(out)]
