@@ -153,3 +153,30 @@ def test_actions_sharing_a_compiled_model_have_their_own_successors() -> None:
             shared += sum(len(v) > 1 for v in comps.values())
         frontier = nxt
     assert shared > 0 and checked > 100
+
+
+@pytest.mark.skipif(BENCH is None, reason="the shared benchmarks are not available")
+@pytest.mark.parametrize("name", ["Grapevine/Grapevine_3/Grapevine_3__pl_4.txt",
+                                  "Grapevine/Grapevine_4/Grapevine_4__pl_4.txt",
+                                  "Coin_In_The_Box/Coin_in_the_Box__pl_5.txt"])
+def test_loop_test_memo_per_observer_set(name) -> None:
+    """The loop test's closure of the observers, memoised on the state: asked in any order for the actions
+    of a state, each answer is the one a fresh copy of the state (empty memo) gives."""
+    task = load_task(BENCH / "mastar" / name)
+    space = CompactSpace(task)
+    s0, k0 = space.initial()
+    seen, frontier, compared = {k0}, [s0], 0
+    for _ in range(4):
+        nxt = []
+        for s in frontier[:25]:
+            tests = [t for e in space._acts if (t := space._loop_test(s, e)) is not None and not t[3]]
+            for t in tests + tests[::-1]:
+                fresh = CompactState(s.val, s.masks, s.points, s.fid)
+                assert space._is_loop(s, t) == space._is_loop(fresh, t)
+                compared += 1
+            for _name, new, key in space.successors(s):
+                if key not in seen:
+                    seen.add(key)
+                    nxt.append(new)
+        frontier = nxt
+    assert compared > 0
