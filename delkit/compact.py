@@ -395,8 +395,10 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
 
 
 #: products (and models) with at least this many worlds are refined by numpy (:mod:`delkit.compact_np`, the
-#: same canonical output); below it the pure-Python :func:`_refine` is faster (bench/product_update.py)
-NP_REFINE_MIN = 2048
+#: same canonical output); below it the pure-Python :func:`_refine` is faster (bench/product_update.py: since
+#: its rounds rank by sorting, not by hashing tuples of big ints, Python is 10 % faster at 16,384 worlds and
+#: numpy 17 % faster at 32,768 — RESULTS-planner.md §14)
+NP_REFINE_MIN = 24576
 
 
 def _refine_any(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]],
