@@ -748,8 +748,20 @@ class CompactEngine:
             return False
         if op == _NOT:
             return not self._at(s, node[1], w)
-        if op == _K and self._ptab[node[2]] is not None:
-            return not s.masks[node[1]][w] & ~self.ev(s, node[2])
+        if op == _K:
+            tab = self._ptab[node[2]]
+            if tab is not None:  # φ propositional: w's successors' valuations decide K_a φ at w
+                m = s.masks[node[1]][w]
+                b = s.memo.get(node[2])
+                if b is not None:
+                    return not m & ~b
+                # no mask of φ yet (a state just generated: its goal and dead-end tests, most of whose states
+                # are never expanded): read w's successors only, not every world
+                val = s.val
+                for v in bit_positions(m):
+                    if not tab[val[v]]:
+                        return False
+                return True
         return bool((self.ev(s, i) >> w) & 1)
 
     def ev(self, s: CompactState, i: int) -> int:  # noqa: C901 - one clause per operator
