@@ -2,8 +2,8 @@
 
 Three ways to build the contracted, canonical s ⊗ E (all give the very same state; checked on every row):
 
-* **pairs + Python** — what main did: every pair (w, e) built one by one (``_pair_product``), refined by the
-  pure-Python ``_refine``;
+* **pairs + Python** — what main did before the ε copy (issue 24, sixth session): every pair (w, e) built one
+  by one (``_pair_product``), refined by the pure-Python ``_refine``;
 * **copy + Python** — the skip event's pairs (w, ε) are the old state's worlds with its own successor lists
   (``_copy_product``), refined by ``_refine`` (the default below ``NP_REFINE_MIN`` worlds);
 * **copy + numpy** — the same product refined by ``delkit.compact_np.refine`` (vectorised; the default from
@@ -136,8 +136,8 @@ def main() -> None:
     with open("/proc/loadavg") as fh:
         load0 = fh.read().split()[0]
     print(f"CPU s per product update (median of {args.repeat}); load average at start {load0}, 2 cores")
-    print("| states | worlds of s | worlds of the result | pairs + Python (main) | copy + Python | "
-          "copy + numpy | main / best |")
+    print("| states | worlds of s | worlds of the result | pairs + Python | copy + Python | "
+          "copy + numpy | pairs / best |")
     print("|---|--:|--:|--:|--:|--:|--:|")
     rng = random.Random(24)
     engine = CompactEngine(PROPS, AGENTS)

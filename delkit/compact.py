@@ -36,6 +36,7 @@ The differential tests in ``tests/delkit/test_backends.py`` compare this backend
 from __future__ import annotations
 
 from collections.abc import Hashable, Mapping, Sequence
+from itertools import compress
 from operator import itemgetter
 
 from delkit.errors import ModelError
@@ -77,7 +78,7 @@ class CompactState:
     groups' intersection relations); ``succ``, ``cid`` and ``classes`` are derived from it on first use.
     """
 
-    __slots__ = ("val", "masks", "points", "fid", "key", "memo", "copies", "_succ", "_cid", "_classes")
+    __slots__ = ("val", "masks", "points", "fid", "key", "memo", "copies", "_succ", "_cid", "_classes", "_union")
 
     def __init__(self, val: tuple[int, ...], masks: tuple[tuple[int, ...], ...], points: tuple[int, ...],
                  fid: int = -1) -> None:
@@ -88,7 +89,7 @@ class CompactState:
         self.key: Hashable = (val, fid)
         self.memo: dict = {}
         self.copies: dict | None = None  # the product's copies of parts of this state (delkit.compact._copy_product)
-        self._succ = self._cid = self._classes = None
+        self._succ = self._cid = self._classes = self._union = None
 
     def __repr__(self) -> str:
         return f"CompactState(val={self.val}, masks={self.masks}, points={self.points})"
@@ -108,6 +109,16 @@ class CompactState:
         if self._succ is None:
             self._succ = tuple(tuple(bit_positions(m) for m in per) for per in self.masks)
         return self._succ
+
+    @property
+    def union(self) -> list[int]:
+        """Per world: the successors by any relation, as a bit mask (computed on first use)."""
+        if self._union is None:
+            u = list(self.masks[0])
+            for per in self.masks[1:]:
+                u = [x | y for x, y in zip(u, per, strict=True)]
+            self._union = u
+        return self._union
 
     @property
     def cid(self) -> tuple[tuple[int, ...], ...]:
@@ -245,6 +256,8 @@ def _rows_relation(rows: Sequence[tuple[int, ...]]) -> Relation:
     return Relation.from_pairs(n, [(e, f) for e in range(n) for f in rows[e]])
 
 
+_NONNEG = (0).__le__  # x >= 0
+
 _BITS: dict[int, tuple[int, ...]] = {}
 
 
@@ -289,24 +302,61 @@ def state_of_key(key: tuple) -> CompactState:
     return CompactState(val, masks, points, fid)
 
 
+_POW2: list[int] = [1 << i for i in range(256)]
+
+
+def _pow2(n: int) -> list[int]:
+    """A list whose entry i is 1 << i, for i < n at least (grown on demand, shared)."""
+    if len(_POW2) < n:
+        _POW2.extend(1 << i for i in range(len(_POW2), 2 * n))
+    return _POW2
+
+
+def _take(seq: Any, idx: Sequence[int]) -> tuple:
+    """``tuple(seq[i] for i in idx)`` by one C call (an itemgetter: no Python call per item)."""
+    if len(idx) > 1:
+        return itemgetter(*idx)(seq)
+    return tuple(seq[i] for i in idx)
+
+
+def _list_masks(lists: list[list[int]], bit: list[int]) -> list[int]:
+    """Per successor list: the bit mask of its members' blocks (``bit[v]`` = 1 << block of v)."""
+    t = []
+    for lst in lists:
+        m = 0
+        for v in lst:
+            m |= bit[v]
+        t.append(m)
+    return t
+
+
 def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]],
             points: Sequence[int]) -> tuple[list[int], list[int], tuple, tuple[int, ...]]:
     """Partition refinement to the coarsest bisimulation (see :func:`refine_key`): (block of each world,
-    valuation of each block, successor masks per agent and block, designated blocks)."""
+    valuation of each block, successor masks per agent and block, designated blocks).
+
+    A round ranks the signatures by sorting the worlds by their signatures (comparisons only: the tuples of
+    big ints are not hashed) and numbering them in that order, a new number where a signature differs from
+    the one before — the rank of each signature among the distinct ones, as :func:`refine_key` defines it.
+    A round whose partition is discrete (every block one world — most products of a search are already
+    contracted) is the last to split: the next round's signatures are (b, the masks of b's world), all
+    distinct and sorted by b, so that round is read off without ranking it (the same output as ranking it)."""
     n = len(val)
     uniq = sorted(set(val))
     nb = len(uniq)
     if nb == 1:
         blk = [0] * n
     else:
-        rank = {v: i for i, v in enumerate(uniq)}
-        blk = [rank[v] for v in val]
-    if n == 1:
-        pick: list[Any] = [lambda t: (t[0],)] * len(cls)
+        rank = dict(zip(uniq, range(nb), strict=True))
+        blk = _take(rank, val)
+    pow2 = _pow2(n)
+    inv: list[int] | None = None  # world of each block, once the partition is discrete
+    if nb == n:
+        inv = sorted(range(n), key=blk.__getitem__)
     else:
         pick = [itemgetter(*c) for c in cls]
-    while True:
-        bit = [1 << b for b in blk]
+    while inv is None:
+        bit = _take(pow2, blk)
         cols = []
         for a, lists in enumerate(dist):
             t = []
@@ -317,28 +367,41 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
                 t.append(m)
             cols.append(pick[a](t))
         sigs = list(zip(blk, *cols, strict=True))
-        us = sorted(set(sigs))
-        if len(us) == nb:
-            break
-        r = {sg: i for i, sg in enumerate(us)}
-        blk = [r[sg] for sg in sigs]
-        nb = len(us)
-    # stable round: the rank of a signature equals its block number, us[b] = (b, successor masks of b)
-    if nb == n:
-        cval = [0] * n
-        for w, b in enumerate(blk):
-            cval[b] = val[w]
+        order = sorted(range(n), key=sigs.__getitem__)
+        new = [0] * n
+        reps = []  # a world of each new block
+        prev = None
+        for w in order:
+            sg = sigs[w]
+            if sg != prev:
+                prev = sg
+                reps.append(w)
+            new[w] = len(reps) - 1
+        if len(reps) == nb:  # stable: the rank of a signature equals its block, reps[b]'s signature is (b, masks)
+            cps = tuple(sorted({blk[p] for p in points}))
+            return list(blk), list(_take(val, reps)), tuple(zip(*_take(sigs, reps), strict=True))[1:], cps
+        blk = new
+        nb = len(reps)
+        if nb == n:
+            inv = order
+    # discrete: world inv[b] is block b
+    bit = _take(pow2, blk)
+    if n > 1:
+        at = itemgetter(*inv)
+        masks = tuple(_take(_list_masks(lists, bit), at(c)) for lists, c in zip(dist, cls, strict=True))
+        cval = list(at(val))
     else:
-        of = dict(zip(blk, val, strict=True))  # the worlds of a block share their valuation
-        cval = [of[b] for b in range(nb)]
-    masks = tuple(zip(*us, strict=True))[1:]
+        masks = tuple((_list_masks(lists, bit)[c[0]],) for lists, c in zip(dist, cls, strict=True))
+        cval = list(val)
     cps = tuple(sorted({blk[p] for p in points}))
-    return blk, cval, masks, cps
+    return list(blk), cval, masks, cps
 
 
 #: products (and models) with at least this many worlds are refined by numpy (:mod:`delkit.compact_np`, the
-#: same canonical output); below it the pure-Python :func:`_refine` is faster (bench/product_update.py)
-NP_REFINE_MIN = 2048
+#: same canonical output); below it the pure-Python :func:`_refine` is faster (bench/product_update.py: since
+#: its rounds rank by sorting, not by hashing tuples of big ints, Python is 10 % faster at 16,384 worlds and
+#: numpy 17 % faster at 32,768 — RESULTS-planner.md §14)
+NP_REFINE_MIN = 24576
 
 
 def _refine_any(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]],
@@ -411,6 +474,7 @@ class CompactEngine:
         self._pfn: list[Any] = []
         self._pslow: dict[int, Any] = {}
         self._compiled: dict[int, tuple] = {}
+        self._by_content: dict[tuple, tuple] = {}  # event model as data -> its compiled model (see compile)
         # per Relation object (event models of one action type share theirs): its successor rows
         self._rows: dict[int, tuple[Relation, list[tuple[int, ...]]]] = {}
         # the update's shape tables, shared by the event models of one frame (see apply_compiled)
@@ -654,7 +718,10 @@ class CompactEngine:
                 return _common_at(s, node[1], self.ev(s, node[2]))
             if node[0] in (_AND, _OR, _NOT, _K):  # only the designated worlds matter: evaluate there
                 at = self._at
-                return all(at(s, i, p) for p in s.points)
+                for p in s.points:
+                    if not at(s, i, p):
+                        return False
+                return True
             b = self.ev(s, i)
         for p in s.points:
             if not (b >> p) & 1:
@@ -673,13 +740,31 @@ class CompactEngine:
         node = self._nodes[i]
         op = node[0]
         if op == _AND:
-            return all(self._at(s, g, w) for g in node[1])
+            for g in node[1]:
+                if not self._at(s, g, w):
+                    return False
+            return True
         if op == _OR:
-            return any(self._at(s, g, w) for g in node[1])
+            for g in node[1]:
+                if self._at(s, g, w):
+                    return True
+            return False
         if op == _NOT:
             return not self._at(s, node[1], w)
-        if op == _K and self._ptab[node[2]] is not None:
-            return not s.masks[node[1]][w] & ~self.ev(s, node[2])
+        if op == _K:
+            tab = self._ptab[node[2]]
+            if tab is not None:  # φ propositional: w's successors' valuations decide K_a φ at w
+                m = s.masks[node[1]][w]
+                b = s.memo.get(node[2])
+                if b is not None:
+                    return not m & ~b
+                # no mask of φ yet (a state just generated: its goal and dead-end tests, most of whose states
+                # are never expanded): read w's successors only, not every world
+                val = s.val
+                for v in bit_positions(m):
+                    if not tab[val[v]]:
+                        return False
+                return True
         return bool((self.ev(s, i) >> w) & 1)
 
     def ev(self, s: CompactState, i: int) -> int:  # noqa: C901 - one clause per operator
@@ -689,15 +774,8 @@ class CompactEngine:
         if out is not None:
             return out
         tab = self._ptab[i]
-        if tab is not None:  # propositional: one truth-table look-up per world
-            out = 0
-            bit = 1
-            for v in s.val:
-                t = tab[v]
-                if t:
-                    out |= bit
-                bit <<= 1
-            memo[i] = out
+        if tab is not None:  # propositional: one truth-table look-up per world (the sum of distinct bits)
+            out = memo[i] = sum(compress(_pow2(len(s.val)), _take(tab, s.val)))
             return out
         node = self._nodes[i]
         op = node[0]
@@ -772,6 +850,16 @@ class CompactEngine:
                 raise ModelError(f"event model {em.name!r} has no relation for agent(s) {missing}")
             q = [self._successor_rows(em.relations[ag], k) for ag in self.agents]
         q += [_group_rows([q[self.aidx[a]] for a in g], k) for g in self.groups]
+        # event models equal as data (the same events' preconditions, postconditions, relations and designated
+        # events; names aside) share one compiled model: an update depends on nothing else, so a caller may
+        # take equal compiled models (``is``) for equal updates of one state (mA* actions of different agents
+        # that announce one formula to one audience, say)
+        content = (k, tuple(em.pre), tuple(tuple(sorted(m.items())) for m in em.post), tuple(map(tuple, q)),
+                   tuple(em.designated))
+        same = self._by_content.get(content)
+        if same is not None:
+            self._compiled[id(em)] = (em, same)
+            return same
         tabs, lits, npre, nposts = [], [], [], []
         for e in range(k):
             posts = [(self.pidx[p], self.cid(f)) for p, f in em.post[e].items() if f != Prop(p)]
@@ -804,18 +892,32 @@ class CompactEngine:
         comp = (q, k, des, others, tabs, lits, npre, nposts, shared[0], shared[1], tuple(lits[e] for e in des),
                 self._copy_event(q, k, des, em))
         self._compiled[id(em)] = (em, comp)  # the model is kept alive so that its id is not reused
+        self._by_content[content] = comp
         return comp
 
     def _copy_event(self, q: list, k: int, des: tuple[int, ...], em: EventModel | PlainEvents) -> tuple | None:
         """The event model's skip event, if it has one: an event ε, not designated, with precondition ⊤, no
         postconditions, that every relation (agents' and groups') maps to itself alone — mA*'s ε of the
         oblivious agents. Then the pairs (w, ε) of a product form a copy of the old state (see
-        :func:`_copy_product`). Returns (ε, per relation and event: whether ε is its only successor) or None."""
+        :func:`_copy_product`). Returns (ε, per relation and event: whether ε is its only successor, the
+        events other than ε and the designated ones that a product's pairs other than ε's can reach — the
+        others' rows are not needed by the copy product, the events' preconditions as node ids) or None."""
         for e in range(k):
             if e in des or em.post[e] or self._nodes[self.cid(em.pre[e])][0] != _TOP:
                 continue
             if all(tuple(rows[e]) == (e,) for rows in q):
-                return e, tuple(tuple(tuple(rows[f]) == (e,) for f in range(k)) for rows in q)
+                seen = set(des)
+                todo = list(des)
+                while todo:
+                    f = todo.pop()
+                    for rows in q:
+                        for g in rows[f]:
+                            if g != e and g not in seen:
+                                seen.add(g)
+                                todo.append(g)
+                live = tuple(f for f in range(k) if f in seen and f not in des)
+                return (e, tuple(tuple(tuple(rows[f]) == (e,) for f in range(k)) for rows in q), live,
+                        tuple(self.cid(p) for p in em.pre))
         return None
 
     def _successor_rows(self, r: Relation, k: int) -> list[tuple[int, ...]]:
@@ -876,7 +978,7 @@ class CompactEngine:
 
     def _row(self, s: CompactState, tab: dict, npre: int | None, nposts: tuple) -> list[int]:
         """One event at every world of ``s``: the new valuation, or -1 where its precondition fails."""
-        out = list(map(tab.__getitem__, s.val))
+        out: Sequence[int] = _take(tab, s.val)
         if npre is not None:
             pm = self.ev(s, npre)
             out = [x if (pm >> w) & 1 else -1 for w, x in enumerate(out)]
@@ -935,8 +1037,6 @@ class CompactEngine:
             if not here:
                 return None
             order.extend(here)
-        for e in others:
-            rows[e] = row(s, tabs[e], npre[e], nposts[e])
         # the shape of the result (which pairs exist, how they are related and contracted, in which canonical
         # order) depends only on the frame of s, on which pairs (w, e) satisfy pre(e) and on the order of the
         # new valuations: look it up (states of one search share a few hundred frames), up to 256 pairs. Always:
@@ -947,6 +1047,8 @@ class CompactEngine:
         skey: Any = None
         n = len(s.val)
         if s.fid >= 0 and n * k <= 256:
+            for e in others:
+                rows[e] = row(s, tabs[e], npre[e], nposts[e])
             flat = rows[0] if k == 1 else [x for r in rows for x in r]
             u = sorted(set(flat))
             off = 1 if u[0] < 0 else 0
@@ -956,8 +1058,18 @@ class CompactEngine:
             if hit is not None:
                 pick, rmasks, cps, fid = hit
                 return CompactState(pick(flat), rmasks, cps, fid)
-        built = None if copy is None else _copy_product(s, q, k, copy, rows, order)
+        built = None
+        if copy is not None:  # the copy product needs the rows of the events its new pairs can reach
+            for e in copy[2]:
+                if rows[e] is None:
+                    rows[e] = row(s, tabs[e], npre[e], nposts[e])
+            ev = self.ev  # pre(e)'s worlds: memoised on s, shared with the executability and other actions
+            okm = [0 if r is None else ev(s, c) for r, c in zip(rows, copy[3], strict=True)]
+            built = _copy_product(s, q, k, copy, rows, order, okm)
         if built is None:
+            for e in others:
+                if rows[e] is None:
+                    rows[e] = row(s, tabs[e], npre[e], nposts[e])
             built = _pair_product(s, q, k, rows, order)
         val, dist, cls, points, flat_at = built
         blk, cval, rmasks, cps = _refine_any(val, dist, cls, points)
@@ -996,17 +1108,10 @@ class CompactEngine:
 
 
 def _okm(rows: Sequence[Sequence[int]]) -> list[int]:
-    """Per event: the worlds where its precondition holds (row entry ≥ 0), as a bit mask."""
-    okm = []
-    for r in rows:
-        m = 0
-        bit = 1
-        for x in r:
-            if x >= 0:
-                m |= bit
-            bit <<= 1
-        okm.append(m)
-    return okm
+    """Per event: the worlds where its precondition holds (row entry ≥ 0), as a bit mask (0 for an event
+    whose row was not computed: None)."""
+    pow2 = _pow2(max((len(r) for r in rows if r is not None), default=0))
+    return [0 if r is None else sum(compress(pow2, map(_NONNEG, r))) for r in rows]
 
 
 def _pair_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: int, rows: Sequence[Sequence[int]],
@@ -1058,7 +1163,8 @@ def _pair_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
 
 
 def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: int, copy: tuple,
-                  rows: Sequence[Sequence[int]], order: list[int]) -> tuple | None:
+                  rows: Sequence[Sequence[int] | None], order: list[int], okm: list[int] | None = None
+                  ) -> tuple | None:
     """:func:`_pair_product` for an event model with a skip event ε (``copy`` = (ε, per relation and event:
     ε is its only successor), see :meth:`CompactEngine._copy_event`), built without rebuilding the copy.
 
@@ -1069,14 +1175,15 @@ def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
     generated by them), else X's worlds renumbered (the copy of X is built once per state and X, and shared
     by the actions that reach it). Returns None — the caller builds the pairs one by one — when no pair
     (w, ε) is reached."""
-    eps, only = copy
+    eps, only = copy[0], copy[1]
     n = len(s.val)
     order = list(order)  # the caller's list stays as it was, for a fallback
     npoints = len(order)
     idx = [-1] * (n * k)
     for t, code in enumerate(order):
         idx[code] = n + t
-    okm = _okm(rows)
+    if okm is None:  # (``okm``: per event the worlds where its precondition holds, if the caller has them)
+        okm = _okm(rows)
     nag = len(q)
     cid, classes, masks = s.cid, s.classes, s.masks
     # raw numbering while building: world w of s for (w, ε), n + t for the t-th other pair; successor list
@@ -1088,7 +1195,7 @@ def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
     # per relation: (its successor masks, per event "ε only", its event rows, s's list of each world, the
     # memo (successor mask, event) -> list id, the new lists, the built pairs' list ids, the id of the first
     # new list)
-    rel = [(masks[a], only[a], q[a], cid[a], {}, nlists[a], ncls[a].append, base[a]) for a in range(nag)]
+    rel = [(masks[a], only[a], q[a], cid[a], [None] * k, nlists[a], ncls[a].append, base[a]) for a in range(nag)]
     push = order.append
     i = 0
     while i < len(order):
@@ -1101,8 +1208,10 @@ def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
                 entry |= mw
                 add(ca[w])
                 continue
-            mkey = mw * k + e
-            j = ma.get(mkey)
+            mae = ma[e]
+            if mae is None:
+                mae = ma[e] = {}
+            j = mae.get(mw)
             if j is None:
                 lst = []
                 for f in qa[e]:
@@ -1119,7 +1228,7 @@ def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
                                 t = idx[pk] = n + len(order)
                                 push(pk)
                             lst.append(t)
-                j = ma[mkey] = ba + len(nl)
+                j = mae[mw] = ba + len(nl)
                 nl.append(lst)
             add(j)
     if not entry:
@@ -1130,12 +1239,12 @@ def _copy_product(s: CompactState, q: Sequence[Sequence[tuple[int, ...]]], k: in
         pm |= 1 << p
     reach = full
     if entry & pm != pm:  # X, the part of s the copy generates: all of s?
+        union = s.union
         seen = front = entry
-        while front:
+        while front and seen != full:
             nxt = 0
             for w in bit_positions(front):
-                for per in masks:
-                    nxt |= per[w]
+                nxt |= union[w]
             front = nxt & ~seen
             seen |= front
         reach = seen

@@ -188,3 +188,29 @@ def test_copy_reached_through_a_successor_set_no_world_of_the_copy_has() -> None
     engine, copy, r1, r2 = _both(m, em)
     _same(r1, r2)
     assert r1.n == 3 and bisimilar(engine.to_kripke(r1), product_update(m, em))
+
+
+@settings(max_examples=150, deadline=None)
+@given(data=st.data(), frame=st.sampled_from(["S5", "KD45", "K"]))
+def test_copy_product_with_undesignated_events(data, frame) -> None:
+    """mA* frames with some outcomes not designated (an announcement's "no" event): the copy product builds
+    the rows of the undesignated events its pairs reach (through partial observers) and only those."""
+    from delkit.events import action
+    from delkit.testing import formulas
+
+    m = data.draw(kripke_models(P, A, 5, frame=frame, designated="some"))
+    k = data.draw(st.integers(2, 3))
+    outcomes = [(f"e{i}", data.draw(formulas(P, (), max_depth=1)), {}) for i in range(k)]
+    kinds = [data.draw(st.sampled_from(["full", "partial", "oblivious"])) for _ in A]
+    des = data.draw(st.lists(st.sampled_from([o[0] for o in outcomes]), min_size=1, max_size=k - 1, unique=True))
+    em = action(A, outcomes, full=[a for a, kd in zip(A, kinds, strict=True) if kd == "full"],
+                partial=[a for a, kd in zip(A, kinds, strict=True) if kd == "partial"], designated=des)
+    engine = CompactEngine(P, A)
+    s = engine.from_kripke(m)
+    comp = engine.compile(em)
+    # scratch states (no frame number): the shape cache, which computes every event's row, is not consulted
+    r1 = engine.apply_compiled(compact.CompactState(s.val, s.masks, s.points), comp)
+    r2 = engine.apply_compiled(compact.CompactState(s.val, s.masks, s.points), comp[:11] + (None,))
+    _same(r1, r2)
+    if r1 is not None:
+        assert bisimilar(engine.to_kripke(r1), product_update(m, em))
