@@ -395,15 +395,9 @@ def parallel_bfs(spec: Path, problem: Path | None, jobs: int, *, timeout: float 
             return _coordinate(me, helpers, task, t0, limit, wall_end, max_nodes, rounds,
                                {} if stats is None else stats), task
     finally:
-        if was:
-            from delkit import resources
+        from planners.epistemic import resume_collector
 
-            if resources.HARD_EXIT:
-                # the console script exits soon: the search's objects (allocated with the collector paused, so
-                # all still in its youngest generation) are never traversed — the next allocation would have the
-                # collector scan every one of them (Grapevine-5 pl6: 0.55 s of the caller's CPU)
-                gc.freeze()
-            gc.enable()
+        resume_collector(was)  # console script: the search's objects frozen out of the collector first
 
 
 def _coordinate(me: _Part, helpers: list, task: Any, t0: float, limit: float, wall_end: float,

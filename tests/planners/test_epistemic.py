@@ -174,3 +174,26 @@ def test_group_distributed_knowledge_goals_are_planned_with_collective_bisimulat
             p = list(res["fast"].plan)
             assert check_plan(t2, p).valid
             assert all(not check_plan(t2, p[:k]).valid for k in range(len(p)))
+
+
+@pytest.mark.parametrize("hard_exit", [False, True])
+def test_search_leaves_the_collector_as_it_found_it(monkeypatch, hard_exit) -> None:
+    """After a search the collector is enabled again; only in the console script (HARD_EXIT: os._exit soon)
+    are the surviving objects frozen out of it, so that its next pass does not traverse the whole space."""
+    import gc
+
+    from delkit import resources
+    from planners.epistemic import bfs, make_space
+    from planners.lang import load_task
+
+    monkeypatch.setattr(resources, "HARD_EXIT", hard_exit)
+    space = make_space(load_task(specs_dir() / "coin_in_the_box" / "domain.epddl",
+                                 specs_dir() / "coin_in_the_box" / "problem.epddl"))
+    gc.collect()
+    before = gc.get_freeze_count()
+    try:
+        assert bfs(space).status == "solved"
+        assert gc.isenabled()
+        assert (gc.get_freeze_count() > before) == hard_exit
+    finally:
+        gc.unfreeze()
