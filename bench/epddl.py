@@ -17,7 +17,12 @@ Timed regions (CPU seconds are the figures to compare: the machine is shared; wa
   removed from the child's environment, so (as for an installed package) the warm-up leaves ``.pyc`` files and
   the timed runs do not recompile delkit's sources.
 
-plank's figures come from the same CSV row: ``plank_bfs_s`` is what plank's ``bfs_planner`` prints as
+``--plank-bin PATH`` (or ``$PLANK_BIN``; bench/peers/plank builds it) also runs plank's ``bfs_planner`` in the
+same run: one fresh plank process right before each timed delkit process (same round), its whole-process CPU
+(parsing, type checking, grounding, search, output; ``RUSAGE_CHILDREN``) beside delkit's whole process, with the
+search-only "Runtime" plank prints itself.
+
+Without it, plank's figures come from the same CSV row: ``plank_bfs_s`` is what plank's ``bfs_planner`` prints as
 "Runtime": wall time (``std::chrono``, millisecond resolution) of ``search::planner::solve`` only — the goal
 check of the initial state, its bisimulation contraction and the BFS. It excludes process start-up, parsing,
 type checking and grounding (``grounder_helper::build_ground_task``, run before ``solve``) and writing the plan.
@@ -78,6 +83,26 @@ def _whole(args: list[str], timeout: float) -> tuple[float, float, dict]:
     return p.wall, p.cpu, data
 
 
+def _plank_once(binary: Path, files: list[Path], libs: list[Path], timeout: float) -> tuple[float, float, dict]:
+    """One process of plank's ``bfs_planner -d DOMAIN -p PROBLEM [-l LIBRARY...]``: wall and CPU seconds of the whole
+    process (parsing, type checking, grounding, search, output), its answer (``status``, ``length``) and the
+    "Runtime" it prints itself (search only, the CSV's ``plank_bfs_s``). Run in a scratch directory."""
+    import tempfile
+
+    cmd = [str(binary), "-d", str(files[0]), "-p", str(files[1])] + ([ "-l", *map(str, libs)] if libs else [])
+    with tempfile.TemporaryDirectory(prefix="plank-") as cwd:
+        r = timed_run(cmd, cwd=cwd, timeout=timeout)
+    if r.timed_out:
+        return r.wall, r.cpu, {"status": "timeout", "length": None, "runtime": None}
+    lines = r.stdout.splitlines()
+    runtime = next((_num(ln.split(":", 1)[1].strip().rstrip(".")) for ln in lines if ln.startswith("Runtime:")), None)
+    if "Plan found:" in lines:
+        steps = [ln for ln in lines[lines.index("Plan found:") + 1:] if ln.split(".", 1)[0].strip().isdigit()]
+        return r.wall, r.cpu, {"status": "solved", "length": len(steps), "runtime": runtime}
+    status = "no-plan" if r.returncode == 0 else f"error (exit {r.returncode})"
+    return r.wall, r.cpu, {"status": status, "length": None, "runtime": runtime}
+
+
 def _median(runs: list[tuple[float, float]]) -> tuple[float, float]:
     return statistics.median(r[0] for r in runs), statistics.median(r[1] for r in runs)
 
@@ -88,7 +113,7 @@ def _timed(fn) -> tuple[float, float]:
     return time.perf_counter() - t0, time.process_time() - c0
 
 
-def run(repeat: int, timeout: float, only: str | None, process: bool = True) -> list[dict]:
+def run(repeat: int, timeout: float, only: str | None, process: bool = True, plank: Path | None = None) -> list[dict]:
     bench = shared_benchmarks()
     if bench is None:
         raise SystemExit("../shared/benchmarks is not available")
@@ -116,10 +141,17 @@ def run(repeat: int, timeout: float, only: str | None, process: bool = True) -> 
         res = found[0]
         args = [str(f) for f in files] + [x for lib in libs for x in ("--library", str(lib))]
         w, status = (float("nan"), float("nan")), None
+        same: list[tuple[float, float, dict]] = []
         if process:
             _whole(args, timeout)  # warm-up: writes the .pyc files
-            runs = [_whole(args, timeout) for _ in range(repeat if res.status != "limit" else 1)]
+            runs = []
+            for _ in range(repeat if res.status != "limit" else 1):
+                if plank is not None:  # plank's process right before delkit's, in the same round
+                    same.append(_plank_once(plank, files, libs, timeout))
+                runs.append(_whole(args, timeout))
             w, status = _median([(x[0], x[1]) for x in runs]), runs[-1][2].get("status")
+        elif plank is not None:
+            same = [_plank_once(plank, files, libs, timeout) for _ in range(repeat)]
         out.append({"problem": r["problem"].split("domains/")[1], "worlds": task.initial.n_worlds,
                     "actions": len(task.actions), "parse_s": parse[0], "parse_cpu": parse[1],
                     "ground_s": ground[0], "ground_cpu": ground[1],
@@ -128,7 +160,11 @@ def run(repeat: int, timeout: float, only: str | None, process: bool = True) -> 
                     "process_status": status, "engine": engine,
                     "plank_ground_s": _num(r["plank_ground_s"]), "plank_bfs": r["plank_bfs"],
                     "plank_bfs_s": _num(r["plank_bfs_s"]), "plank_len": r["plank_bfs_len"],
-                    "shortest_known": r["shortest_known"]})
+                    "shortest_known": r["shortest_known"],
+                    **({"plank_same_cpu": statistics.median(x[1] for x in same),
+                        "plank_same_wall": statistics.median(x[0] for x in same),
+                        "plank_same_status": same[-1][2]["status"], "plank_same_len": same[-1][2]["length"],
+                        "plank_same_runtime": same[-1][2]["runtime"]} if same else {})})
     return out
 
 
@@ -141,7 +177,10 @@ def table(rows: list[dict]) -> str:
     head = ("| problem | worlds | actions | parse s (cpu) | ground s (cpu) | search s (cpu) | ground+search cpu | "
             "process s (cpu) | delkit | plank ground s | plank bfs s | plank | shortest known | target | "
             "search cpu / plank bfs |")
-    lines = [head, "|" + "---|" * 15]
+    same = any("plank_same_cpu" in r for r in rows)
+    if same:
+        head += " plank same run | plank process cpu s (its Runtime) | delkit process cpu / plank's |"
+    lines = [head, "|" + "---|" * (18 if same else 15)]
     for r in rows:
         gs = r["ground_cpu"] + r["search_cpu"]
         ours = f"{r['status']}" + (f" {r['length']}" if r["length"] is not None else "")
@@ -164,8 +203,29 @@ def table(rows: list[dict]) -> str:
                      f"{gs:.3f} | {r['process_s']:.3f} ({r['process_cpu']:.3f}) | {ours} | "
                      f"{r['plank_ground_s'] if r['plank_ground_s'] is not None else '300+'} | "
                      f"{pb if pb is not None else '—'} | {plank} | {r['shortest_known'] or '?'} | {target} | "
-                     f"{_ratio(r['search_cpu'], pb) if r['plank_bfs'] in ('solved', 'no-plan') else '—'} |")
+                     f"{_ratio(r['search_cpu'], pb) if r['plank_bfs'] in ('solved', 'no-plan') else '—'} |"
+                     + (_same_cols(r) if same else ""))
+    if same:
+        both = [r for r in rows if r.get("plank_same_status") == "solved" and r["status"] == "solved"]
+        if both:
+            ratios = [r["process_cpu"] / r["plank_same_cpu"] for r in both if r["plank_same_cpu"]]
+            lines.append(f"\nplank in the same run: solved {sum(r.get('plank_same_status') == 'solved' for r in rows)}"
+                         f"/{len(rows)}; where both solve ({len(both)}), lengths equal on "
+                         f"{sum(r['plank_same_len'] == r['length'] for r in both)}; delkit's whole process / plank's: "
+                         f"median {statistics.median(ratios):.2f}, summed CPU delkit "
+                         f"{sum(r['process_cpu'] for r in both):.3f} s, "
+                         f"plank {sum(r['plank_same_cpu'] for r in both):.3f} s")
     return "\n".join(lines)
+
+
+def _same_cols(r: dict) -> str:
+    if "plank_same_cpu" not in r:
+        return " — | — | — |"
+    st = r["plank_same_status"] + (f" {r['plank_same_len']}" if r["plank_same_len"] is not None else "")
+    rt = f" ({r['plank_same_runtime']:g})" if r["plank_same_runtime"] is not None else ""
+    ok = r["plank_same_status"] == "solved" and r["status"] == "solved" and r["plank_same_cpu"]
+    ratio = f"{r['process_cpu'] / r['plank_same_cpu']:.2f}" if ok and r["process_cpu"] == r["process_cpu"] else "—"
+    return f" {st} | {r['plank_same_cpu']:.3f}{rt} | {ratio} |"
 
 
 def main() -> None:
@@ -176,11 +236,16 @@ def main() -> None:
     ap.add_argument("--json", type=Path, default=None)
     ap.add_argument("--no-process", action="store_true", help="skip the whole-process runs")
     ap.add_argument("--table-from", type=Path, default=None, help="print the table of a saved --json run")
+    ap.add_argument("--plank-bin", type=Path, default=None, help="plank's bfs_planner: measure plank in the same run "
+                    "(default $PLANK_BIN; bench/peers/plank/build.sh builds it)")
     a = ap.parse_args()
+    plank = a.plank_bin or (Path(os.environ["PLANK_BIN"]) if os.environ.get("PLANK_BIN") else None)
+    if plank is not None and not (plank.is_file() and os.access(plank, os.X_OK)):
+        raise SystemExit(f"--plank-bin {plank}: not an executable file (build it: sh bench/peers/plank/build.sh)")
     if a.table_from:
         print(table(json.loads(a.table_from.read_text())))
         return
-    rows = run(a.repeat, a.timeout, a.only, process=not a.no_process)
+    rows = run(a.repeat, a.timeout, a.only, process=not a.no_process, plank=plank)
     print(table(rows))
     if a.json:
         a.json.write_text(json.dumps(rows, indent=1))
