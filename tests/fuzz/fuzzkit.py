@@ -10,7 +10,8 @@ alarm and sends back an :class:`Outcome`:
 * ``ok``      — an answer (exit 0, or the command's documented negative status 1/3) that its oracle accepts;
 * ``crash``   — an exception escaped ``main`` (a traceback), or exit 2 without the one-line error;
 * ``limit``   — MemoryError under the address-space limit: something was allocated beyond any budget;
-* ``hang``    — the per-input time budget ran out (alarm in the worker; the worker is killed and replaced
+* ``hang``    — the per-input time budget ran out (alarm in the worker, or an answer after the budget when the
+  alarm was lost in native code; the worker is killed and replaced
   if even the alarm does not come back);
 * ``wrong``   — an answer the oracle rejects (a plan that ``delkit check`` refuses, a model round trip
   that is not bisimilar to the input, a truth value that the contracted model contradicts, ...).
@@ -133,6 +134,11 @@ def run_case(case: Case) -> Outcome:
         except _Hang:
             return Outcome("hang", None, f"no answer within {case.budget:g} s", time.perf_counter() - t0)
         secs = time.perf_counter() - t0
+        if secs > case.budget:
+            # the budget ran out but the alarm was lost: its handler runs only between bytecodes, so it fires after
+            # a long native call returns, and raised inside a ctypes callback (z3's) it is printed and swallowed
+            return Outcome("hang", rc, f"no answer within {case.budget:g} s (answered after {secs:.1f} s; the "
+                           "alarm was lost in native code)", secs)
         if exc is not None:
             if isinstance(exc, MemoryError):
                 return Outcome("limit", None, f"MemoryError: {str(exc)[:200]}", secs)

@@ -47,6 +47,16 @@ def test_runner_classifies_hang_and_memory_overrun(monkeypatch):
         assert ok.kind == "ok", ok.detail
 
 
+def test_an_answer_after_the_budget_is_a_hang():
+    """The alarm can be lost (its handler runs only between bytecodes; raised inside a ctypes callback such as
+    z3's it is printed and swallowed): an answer that comes after the budget is still a hang. Here no alarm is
+    armed at all (run_case in this process) and the puzzle takes longer than its 10 ms budget."""
+    from fuzzkit import run_case
+
+    out = run_case(Case("x", ("puzzle", "russian-cards", "--json"), budget=0.01))
+    assert out.kind == "hang", out
+
+
 @pytest.mark.slow
 def test_five_thousand_inputs():
     tally = fuzzgen.run_fuzz(5000, seed=2026)
