@@ -145,8 +145,10 @@ def run(repeat: int, timeout: float, only: str | None, process: bool = True, pla
         if process:
             _whole(args, timeout)  # warm-up: writes the .pyc files
             runs = []
-            for _ in range(repeat if res.status != "limit" else 1):
-                if plank is not None:  # plank's process right before delkit's, in the same round
+            for i in range(repeat if res.status != "limit" else 1):
+                if plank is not None and (i == 0 or r["plank_bfs"] in ("solved", "no-plan")):
+                    # plank's process right before delkit's, in the same round (once where plank is known to run
+                    # out of time or memory: its limit is the whole run)
                     same.append(_plank_once(plank, files, libs, timeout))
                 runs.append(_whole(args, timeout))
             w, status = _median([(x[0], x[1]) for x in runs]), runs[-1][2].get("status")
