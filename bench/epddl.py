@@ -40,6 +40,7 @@ import argparse
 import csv
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -83,6 +84,9 @@ def _whole(args: list[str], timeout: float) -> tuple[float, float, dict]:
     return p.wall, p.cpu, data
 
 
+PLANK_MEMORY = 8 << 30  # address-space cap of a plank process (bytes)
+
+
 def _plank_once(binary: Path, files: list[Path], libs: list[Path], timeout: float) -> tuple[float, float, dict]:
     """One process of plank's ``bfs_planner -d DOMAIN -p PROBLEM [-l LIBRARY...]``: wall and CPU seconds of the whole
     process (parsing, type checking, grounding, search, output), its answer (``status``, ``length``) and the
@@ -90,8 +94,11 @@ def _plank_once(binary: Path, files: list[Path], libs: list[Path], timeout: floa
     import tempfile
 
     cmd = [str(binary), "-d", str(files[0]), "-p", str(files[1])] + ([ "-l", *map(str, libs)] if libs else [])
+    def cap() -> None:  # plank's grounder enumerates every valuation on some problems (2^33): cap its memory
+        resource.setrlimit(resource.RLIMIT_AS, (PLANK_MEMORY, PLANK_MEMORY))
+
     with tempfile.TemporaryDirectory(prefix="plank-") as cwd:
-        r = timed_run(cmd, cwd=cwd, timeout=timeout)
+        r = timed_run(cmd, cwd=cwd, timeout=timeout, preexec_fn=cap)
     if r.timed_out:
         return r.wall, r.cpu, {"status": "timeout", "length": None, "runtime": None}
     lines = r.stdout.splitlines()
@@ -99,7 +106,9 @@ def _plank_once(binary: Path, files: list[Path], libs: list[Path], timeout: floa
     if "Plan found:" in lines:
         steps = [ln for ln in lines[lines.index("Plan found:") + 1:] if ln.split(".", 1)[0].strip().isdigit()]
         return r.wall, r.cpu, {"status": "solved", "length": len(steps), "runtime": runtime}
-    status = "no-plan" if r.returncode == 0 else f"error (exit {r.returncode})"
+    oom = "bad_alloc" in r.stderr or "bad_alloc" in r.stdout
+    status = ("no-plan" if r.returncode == 0 else f"out of memory ({PLANK_MEMORY >> 30} GiB cap)" if oom
+              else f"error (exit {r.returncode})")
     return r.wall, r.cpu, {"status": status, "length": None, "runtime": runtime}
 
 
