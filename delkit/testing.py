@@ -67,7 +67,8 @@ from delkit.relation import Relation
 
 __all__ = [
     "formulas", "propositional_formulas", "kripke_models", "s5_models", "kd45_models", "pointed_models",
-    "event_models", "relations", "kd45_relation", "world_permutations", "FRAMES", "EVENT_FRAMES",
+    "event_models", "relations", "kd45_relation", "world_permutations", "refinement_inputs", "FRAMES",
+    "EVENT_FRAMES",
 ]
 
 FRAMES = ("S5", "KD45", "K")
@@ -230,6 +231,26 @@ def pointed_models(props: Sequence[str], agents: Sequence[str], max_worlds: int 
                    ) -> st.SearchStrategy[KripkeModel]:
     """Models with exactly one designated world."""
     return kripke_models(props, agents, max_worlds, frame=frame, designated="one")
+
+
+@st.composite
+def refinement_inputs(draw, max_worlds: int = 40, max_relations: int = 4, max_lists: int = 8):
+    """``(val, dist, cls, points)`` as the compact engine hands them to its partition refinement
+    (``delkit.compact._refine``, ``delkit.compact_np.refine``): valuations, per relation the distinct successor
+    lists (numbered in order of first use) and each world's list, designated worlds. Valuations from a narrow
+    range (rounds that split) or a wide one (mostly distinct: discrete from round 0; beyond 63 bits)."""
+    n = draw(st.integers(1, max_worlds))
+    top = draw(st.sampled_from([0, 1, 3, 15, 2**40]))
+    val = draw(st.lists(st.integers(0, top), min_size=n, max_size=n))
+    dist, cls = [], []
+    for _ in range(draw(st.integers(1, max_relations))):
+        lists = draw(st.lists(st.lists(st.integers(0, n - 1), max_size=8), min_size=1, max_size=max_lists))
+        use = draw(st.lists(st.integers(0, len(lists) - 1), min_size=n, max_size=n))
+        first = list(dict.fromkeys(use))  # every list is some world's, numbered in order of first use
+        dist.append([lists[i] for i in first])
+        cls.append([first.index(i) for i in use])
+    points = draw(st.lists(st.integers(0, n - 1), min_size=1, max_size=3))
+    return val, dist, cls, points
 
 
 def world_permutations(n: int) -> st.SearchStrategy[list[int]]:

@@ -9,27 +9,11 @@ from hypothesis import strategies as st
 import delkit.compact as compact
 from delkit.compact import CompactEngine, _refine
 from delkit.compact_np import refine
-from delkit.testing import event_models, kripke_models
-
-
-@st.composite
-def lists_models(draw):
-    n = draw(st.integers(1, 30))
-    val = draw(st.lists(st.integers(0, draw(st.sampled_from([1, 3, 15, 2**40]))), min_size=n, max_size=n))
-    dist, cls = [], []
-    for _ in range(draw(st.integers(1, 3))):
-        lists = draw(st.lists(st.lists(st.integers(0, n - 1), max_size=8), min_size=1, max_size=6))
-        use = draw(st.lists(st.integers(0, len(lists) - 1), min_size=n, max_size=n))
-        # as the engine builds them: every list is some world's, numbered in order of first use
-        first = list(dict.fromkeys(use))
-        dist.append([lists[i] for i in first])
-        cls.append([first.index(i) for i in use])
-    points = draw(st.lists(st.integers(0, n - 1), min_size=1, max_size=3))
-    return val, dist, cls, points
+from delkit.testing import event_models, kripke_models, refinement_inputs
 
 
 @settings(max_examples=300, deadline=None)
-@given(lists_models())
+@given(refinement_inputs())
 def test_numpy_refinement_equals_python(model) -> None:
     val, dist, cls, points = model
     assert refine(val, dist, cls, points) == _refine(val, dist, cls, points)

@@ -15,6 +15,7 @@ from hypothesis import strategies as st
 
 from delkit.compact import CompactEngine, CompactState, PlainEvents, PlainModel, _refine
 from delkit.formula import Not, Prop, Top
+from delkit.testing import refinement_inputs
 from planners.lang import load_task, shared_benchmarks
 from planners.spaces import CompactSpace
 
@@ -49,27 +50,8 @@ def rounds_refine(val, dist, cls, points):
     return blk, [of[b] for b in range(nb)], tuple(zip(*us, strict=True))[1:], tuple(sorted({blk[p] for p in points}))
 
 
-@st.composite
-def lists_models(draw):
-    """Models as the engine hands them to the refinement: valuations, per relation the distinct successor
-    lists (numbered in order of first use) and each world's list, designated worlds. Valuations from a
-    wide range (mostly distinct: discrete from round 0) or a narrow one (rounds that split)."""
-    n = draw(st.integers(1, 40))
-    top = draw(st.sampled_from([0, 1, 3, 2**40]))
-    val = draw(st.lists(st.integers(0, top), min_size=n, max_size=n))
-    dist, cls = [], []
-    for _ in range(draw(st.integers(1, 4))):
-        lists = draw(st.lists(st.lists(st.integers(0, n - 1), max_size=8), min_size=1, max_size=8))
-        use = draw(st.lists(st.integers(0, len(lists) - 1), min_size=n, max_size=n))
-        first = list(dict.fromkeys(use))
-        dist.append([lists[i] for i in first])
-        cls.append([first.index(i) for i in use])
-    points = draw(st.lists(st.integers(0, n - 1), min_size=1, max_size=3))
-    return val, dist, cls, points
-
-
 @settings(max_examples=400, deadline=None)
-@given(lists_models())
+@given(refinement_inputs())
 def test_refine_equals_the_round_by_round_definition(model) -> None:
     val, dist, cls, points = model
     got = _refine(val, dist, cls, points)
