@@ -76,6 +76,20 @@ def _mix(h: int) -> int:
     return ((h * _MUL) & _LOW64) >> 32
 
 
+def _first_visit(seen: set, cur: dict, key: Any, path: tuple, elem: Any) -> bool:
+    """Whether ``key`` is new to this part (then it is recorded as seen). A key seen before that is still in the
+    current layer keeps the least of its paths (``path + (elem,)`` if smaller): the parts' merged layers then
+    hold serial BFS's parents."""
+    if key in seen:
+        e = cur.get(key)
+        if e is not None:
+            p = path + (elem,)
+            if p < e[0]:
+                e[0] = p
+        return False
+    seen.add(key)
+    return True
+
 class _Bound:
     """The least goal path's parent found so far in the last layer, shared by the parts of local processes
     (a lock-protected array of int64: a version, the path's length, the path): a part stops expanding its
@@ -231,14 +245,8 @@ class _Part:
                 if commute is not None and name in commute:
                     moved.append((name, nxt, o))
                 if o == me:
-                    if key in seen:
-                        e = cur.get(key)
-                        if e is not None:
-                            p = path + (elem,)
-                            if p < e[0]:
-                                e[0] = p
+                    if not _first_visit(seen, cur, key, path, elem):
                         continue
-                    seen.add(key)
                 else:
                     so = sent[o]
                     if key in so:  # sent before, with a smaller path (this part expands in path order)
@@ -315,14 +323,8 @@ class _Part:
                 else:
                     s = CompactState(val, masks, points, lf)
                     key = s.key
-                if key in seen:
-                    e = cur.get(key)
-                    if e is not None:
-                        p = ppath + (elem,)
-                        if p < e[0]:
-                            e[0] = p
+                if not _first_visit(seen, cur, key, ppath, elem):
                     continue
-                seen.add(key)
                 if s is None:
                     s = CompactState(val, masks, points, lf)
                 if dead is not None and dead(s):
