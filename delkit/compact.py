@@ -357,15 +357,7 @@ def _refine(val: Sequence[int], dist: list[list[list[int]]], cls: list[list[int]
         pick = [itemgetter(*c) for c in cls]
     while inv is None:
         bit = _take(pow2, blk)
-        cols = []
-        for a, lists in enumerate(dist):
-            t = []
-            for lst in lists:
-                m = 0
-                for v in lst:
-                    m |= bit[v]
-                t.append(m)
-            cols.append(pick[a](t))
+        cols = [pick[a](_list_masks(lists, bit)) for a, lists in enumerate(dist)]
         sigs = list(zip(blk, *cols, strict=True))
         order = sorted(range(n), key=sigs.__getitem__)
         new = [0] * n
