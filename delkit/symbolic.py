@@ -38,7 +38,7 @@ from __future__ import annotations
 import itertools
 import operator
 import time
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -488,29 +488,18 @@ class KnowledgeStructure:
         the same observation). The result has the same states up to the dropped variables and is
         bisimilar to this structure (state by state, through the dropped variables' values)."""
         b = self.bdd
-        keep_set = set(keep)
-        law, actual = self.law, self.actual
         voc = list(self.vocabulary)
         observed = {a: list(v) for a, v in self.observed.items()}
-        changed = True
-        while changed:
-            changed = False
-            for p in list(voc):
-                if p in keep_set:
-                    continue
-                found = _redundant_variable(b, law, p, voc)
-                if found is None:
-                    continue
-                sub = found[0]
-                law = b.let({p: sub}, law)
-                actual = b.let({p: sub}, actual)
-                voc.remove(p)
-                for vs in observed.values():
-                    if p in vs:
-                        vs.remove(p)
-                        if sub.var is not None and sub.var not in vs:  # p ↔ ±q: observing p = observing q
-                            vs.append(sub.var)
-                changed = True
+
+        def drop(p: str, found: tuple[Any, str | None, bool]) -> None:
+            sub = found[0]
+            for vs in observed.values():
+                if p in vs:
+                    vs.remove(p)
+                    if sub.var is not None and sub.var not in vs:  # p ↔ ±q: observing p = observing q
+                        vs.append(sub.var)
+
+        law, actual = _drop_redundant(b, self.law, self.actual, voc, keep, drop)
         return KnowledgeStructure(b, tuple(voc), law, {a: tuple(v) for a, v in observed.items()}, actual)
 
     # ------------------------------------------------------------------ translation back
@@ -591,6 +580,31 @@ def _ev_every(ks: KnowledgeStructure, f: E) -> Any:
     for a in f.group:
         out = out & ks._box((a,), u)
     return out
+
+
+def _drop_redundant(b: Any, law: Any, actual: Any, voc: list[str], keep: Iterable[str],
+                    drop: Callable[[str, tuple[Any, str | None, bool]], None]) -> tuple[Any, Any]:
+    """SMCDEL's ``optimize`` loop, shared by knowledge and belief structures: until no variable outside ``keep``
+    is redundant (:func:`_redundant_variable`), each redundant ``p`` is replaced by its substitute in the law and
+    the actual states and removed from ``voc`` (in place), and ``drop(p, found)`` updates the structure's own
+    parts (observations, relations). Returns the new (law, actual)."""
+    keep_set = set(keep)
+    changed = True
+    while changed:
+        changed = False
+        for p in list(voc):
+            if p in keep_set:
+                continue
+            found = _redundant_variable(b, law, p, voc)
+            if found is None:
+                continue
+            sub = found[0]
+            law = b.let({p: sub}, law)
+            actual = b.let({p: sub}, actual)
+            voc.remove(p)
+            drop(p, found)
+            changed = True
+    return law, actual
 
 
 def _redundant_variable(b: Any, law: Any, p: str, voc: Sequence[str]) -> tuple[Any, str | None, bool] | None:

@@ -57,11 +57,11 @@ from delkit.relation import Relation
 from delkit.symbolic import (
     _bits_needed,
     _common_fixpoint,
+    _drop_redundant,
     _ev_announce,
     _ev_every,
     _fold_bdds,
     _fresh,
-    _redundant_variable,
     new_manager,
 )
 
@@ -318,28 +318,18 @@ class BeliefStructure:
         Ω_a — on pairs of states (the only pairs the semantics reads: Ω_a is always taken with θ and θ')
         nothing changes. The result has the same states up to the dropped variables, state by state."""
         b = self.bdd
-        keep_set = set(keep)
-        law, actual = self.law, self.actual
         rels = dict(self.relations)
         voc = list(self.vocabulary)
         primes = dict(self.primes)
-        changed = True
-        while changed:
-            changed = False
-            for p in list(voc):
-                if p in keep_set:
-                    continue
-                found = _redundant_variable(b, law, p, voc)
-                if found is None:
-                    continue
-                sub, q, negated = found
-                sub_p = sub if q is None else ~b.var(primes[q]) if negated else b.var(primes[q])
-                law = b.let({p: sub}, law)
-                actual = b.let({p: sub}, actual)
-                rels = {a: b.let({p: sub, primes[p]: sub_p}, r) for a, r in rels.items()}
-                voc.remove(p)
-                del primes[p]
-                changed = True
+
+        def drop(p: str, found: tuple[Any, str | None, bool]) -> None:
+            nonlocal rels
+            sub, q, negated = found
+            sub_p = sub if q is None else ~b.var(primes[q]) if negated else b.var(primes[q])
+            rels = {a: b.let({p: sub, primes[p]: sub_p}, r) for a, r in rels.items()}
+            del primes[p]
+
+        law, actual = _drop_redundant(b, self.law, self.actual, voc, keep, drop)
         return BeliefStructure(b, tuple(voc), primes, law, rels, actual)
 
     # ------------------------------------------------------------------ translation back
