@@ -56,14 +56,7 @@ def _worker(conn: Any, memory_mb: float | None) -> None:
         _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
         if hard == resource.RLIM_INFINITY or limit <= hard:
             resource.setrlimit(resource.RLIMIT_AS, (limit, hard))
-    while True:
-        try:
-            job = conn.recv()
-        except (EOFError, OSError):
-            return
-        if job is None:
-            return
-        fn, args, kwargs = job
+    for fn, args, kwargs in _requests(conn):
         t0 = time.process_time()
         try:
             out: tuple = (True, fn(*args, **kwargs))
@@ -74,6 +67,19 @@ def _worker(conn: Any, memory_mb: float | None) -> None:
             conn.send((*out, cpu))
         except (pickle.PicklingError, TypeError, AttributeError) as exc:  # an unpicklable result or exception
             conn.send((False, RuntimeError(f"{type(out[1]).__name__}: {out[1]} (not picklable: {exc})"), cpu))
+
+
+def _requests(conn: Any) -> Iterator[Any]:
+    """The requests a worker or actor process receives on ``conn``, until None (the parent's stop) or end of
+    file (the parent has gone)."""
+    while True:
+        try:
+            job = conn.recv()
+        except (EOFError, OSError):
+            return
+        if job is None:
+            return
+        yield job
 
 
 class _Slot:
@@ -280,14 +286,7 @@ def _actor_main(conn: Any, cls: Callable, args: tuple) -> None:
 
     gc.disable()  # the actors of a search keep many long-lived objects and make no reference cycles per call
     obj: Any = None
-    while True:
-        try:
-            job = conn.recv()
-        except (EOFError, OSError):
-            return
-        if job is None:
-            return
-        name, cargs = job
+    for name, cargs in _requests(conn):
         try:
             if obj is None:
                 obj = cls(*args)
