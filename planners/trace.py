@@ -116,7 +116,7 @@ def trace_plan(task: Any, plan: list[str], *, allow_inconsistent: bool = False, 
     """The states along ``plan`` (see the module docstring); the verdict is :func:`check_plan`'s."""
     import numpy as np
 
-    from delkit.bisim import contract
+    from delkit.bisimulation import contract
     from delkit.update import product_update
     from planners import validate
     from planners.spaces import task_groups

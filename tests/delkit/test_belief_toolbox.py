@@ -11,7 +11,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from delkit.bisim import bisimilar
+from delkit.bisimulation import bisimilar
 from delkit.formula import TOP, Prop
 from delkit.symbolic_belief import BeliefStructure, belief_from_kripke
 from delkit.testing import event_models, formulas, kripke_models

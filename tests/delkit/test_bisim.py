@@ -49,10 +49,3 @@ def test_contraction_is_minimal_and_bisimilar():
         assert contract(c).n_worlds == c.n_worlds
         assert len(np.unique(refine(c))) == c.n_worlds  # no two worlds of c are bisimilar
 
-
-def test_the_old_module_name_still_imports():
-    """``delkit.bisim`` was merged into ``delkit.bisimulation``; the old name re-exports the same functions."""
-    import delkit.bisim as old
-    import delkit.bisimulation as new
-
-    assert all(getattr(old, name) is getattr(new, name) for name in old.__all__)

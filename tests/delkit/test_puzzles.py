@@ -338,7 +338,7 @@ def test_door_mat_literature_claims() -> None:
 
 def test_door_mat_explicit_equals_symbolic() -> None:
     """The transformer read back as an event model: the explicit product update gives the same answers."""
-    from delkit.bisim import bisimilar
+    from delkit.bisimulation import bisimilar
     from delkit.puzzles.door_mat import door_mat_start, try_take
     from delkit.symbolic import event_model_from_transformer
     from delkit.update import product_update

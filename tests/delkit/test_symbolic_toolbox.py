@@ -12,7 +12,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from delkit.bisim import bisimilar
+from delkit.bisimulation import bisimilar
 from delkit.compact import CompactEngine
 from delkit.formula import Dkw, Not, Or, Prop, parse
 from delkit.kripke import KripkeModel

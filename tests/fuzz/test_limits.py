@@ -273,7 +273,7 @@ def test_distributed_knowledge_keeps_its_truth_under_collective_contraction():
     """Contraction merges worlds that D_G tells apart; the checker's collective one must not."""
     import numpy as np
 
-    from delkit.bisim import contract
+    from delkit.bisimulation import contract
     from delkit.formula import parse
     from delkit.kripke import KripkeModel
     from delkit.relation import Relation

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from delkit.bisim import bisimilar
+from delkit.bisimulation import bisimilar
 from delkit.io import model_from_dict
 from planners.cli.plan_cmd import fast_args, run_check
 from planners.lang import load_task
