@@ -50,7 +50,7 @@ from arms.world import ArmsError
 __all__ = ["AnalyticArm", "BatchCLIK", "FLANGE_FRAME", "CHECK_POS", "CHECK_ROT", "ANALYTIC"]
 
 FLANGE_FRAME = "panda_link8"
-#: acceptance of an answer, re-measured by pinocchio FK of the URDF (issue 25: 1e-6 m, 1e-6 rad)
+#: acceptance of an answer, re-measured by pinocchio FK of the URDF (1e-6 m, 1e-6 rad)
 CHECK_POS = 1e-6
 CHECK_ROT = 1e-6
 ANALYTIC = "analytic (He & Liu, frankik)"

@@ -295,7 +295,7 @@ def build_scene(world: World | None = None, *, robots: tuple[str, ...] | None = 
     spec.option.impratio = 10.0
     # islands at rest (the blocks standing in their stacks while an arm works elsewhere) sleep: MuJoCo skips
     # them until an awake body touches them. Halves the cost of a physics step on the 8-block layout
-    # (issue 25; same outcomes, block positions equal to < 0.01 mm on the α/4 mission)
+    # (same outcomes, block positions equal to < 0.01 mm on the α/4 mission)
     spec.option.enableflags |= int(mujoco.mjtEnableBit.mjENBL_SLEEP)
     spec.visual.global_.offwidth = 1280
     spec.visual.global_.offheight = 960

@@ -30,8 +30,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--colors", type=int, default=4)
     ap.add_argument("--seed", type=int, default=None, help="random layout (default: the seed's layout)")
     ap.add_argument("--ik", choices=("analytic", "mink"), default="analytic")
-    ap.add_argument("--no-sleep", action="store_true", help="switch MuJoCo's sleeping islands off (as before "
-                                                             "issue 25) to measure what they save")
+    ap.add_argument("--no-sleep", action="store_true", help="switch MuJoCo's sleeping islands off "
+                                                             "to measure what they save")
     args = ap.parse_args(argv)
 
     import arms.executor as executor

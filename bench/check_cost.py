@@ -1,4 +1,4 @@
-"""Checking a plan against finding it (issue 22): for every problem of the shared mA* and EPDDL suites,
+"""Checking a plan against finding it: for every problem of the shared mA* and EPDDL suites,
 ``delkit plan --json`` then ``delkit check`` of the plan it found, each as its own process.
 
     python bench/check_cost.py [--timeout 120] [--only SUBSTRING] [--markdown FILE]

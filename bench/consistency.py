@@ -11,7 +11,7 @@ Prints markdown tables:
   D. ablations (what a robot sends, trigger rule, tie-break, Baseline-I with/without re-sending);
   E. N = 2, 3, 4 robots;
   F. Fig. 4(a): mean objective J of ENFORCEAC vs Baseline-I (does "slightly worse" hold?);
-  G. every choice the paper does not make, with its value and where it is set (issue 26);
+  G. every choice the paper does not make, with its value and where it is set;
   H. Baseline-II's Not-AC under the three tie-break rules (common random / index / each robot its own);
   I. ENFORCEAC with and without the exact pruning of irrelevant observations: what it moves (COMM) and what it
      does not (Not-AC, speed), beside the paper — the like-for-like speed row;

@@ -27,7 +27,7 @@ Without it, plank's figures come from the same CSV row: ``plank_bfs_s`` is what 
 check of the initial state, its bisimulation contraction and the BFS. It excludes process start-up, parsing,
 type checking and grounding (``grounder_helper::build_ground_task``, run before ``solve``) and writing the plan.
 ``plank_ground_s`` is plank's grounding time as recorded in the CSV (plank prints none; measured outside plank).
-Target (issue 14): delkit's parse + ground + search ≤ ``plank_bfs_s`` on every problem plank solves, compared
+Target: delkit's parse + ground + search ≤ ``plank_bfs_s`` on every problem plank solves, compared
 as whole processes where plank needs ≥ 0.3 s; every grounding ≤ 0.1 s. The last column is delkit's search
 CPU alone over ``plank_bfs_s`` (the same region as plank's: ≤ 1 means delkit's search is faster).
 

@@ -10,7 +10,7 @@
 
 Every sweep row also carries the minimum robot–robot separation and Algorithm 3's cascade (assigned/delivered).
 
-5. ``--diagnose`` (issue 26): the sweep with per-mission diagnosis; every epistemic mission more than 2× its
+5. ``--diagnose``: the sweep with per-mission diagnosis; every epistemic mission more than 2× its
    ideal twin gets a timeline and the rule it is attributed to (:mod:`sim.diagnosis`), is re-run with each rule
    changed alone, and the whole sweep is re-run with the parameters the paper implies (``PAPER_IMPLIED``):
    Figs. 6 and 8 side by side — ours as before, ours with those parameters, the paper.
@@ -52,7 +52,7 @@ def main() -> int:
     ap.add_argument("--gap", type=int, default=30, help="random instances for the MILP gap study")
     ap.add_argument("--no-sweep", action="store_true")
     ap.add_argument("--no-ablation", action="store_true")
-    ap.add_argument("--diagnose", action="store_true", help="issue 26: diagnosis and paper-implied parameters only")
+    ap.add_argument("--diagnose", action="store_true", help="diagnosis and paper-implied parameters only")
     ap.add_argument("--methods", default="epistemic,ideal,flock", help="--diagnose: teams of the default sweep")
     args = ap.parse_args()
     print(f"machine: {platform.node()} {os.cpu_count()} cores, python {platform.python_version()}, "
@@ -136,7 +136,7 @@ def main() -> int:
     return 0
 
 
-#: the reading of §5.3.2 that the rest of the paper implies (issue 26; each measured alone in --diagnose):
+#: the reading of §5.3.2 that the rest of the paper implies (each measured alone in --diagnose):
 #: look for j where it was last believed and then where j itself goes (its common-belief particle), exclude j
 #: only once both were visited, and wait at a task as long as a gossip round trip takes
 #: (wait_rule='travel', the round-trip time-out, is measured alone: it makes robots give up too early)
@@ -176,7 +176,7 @@ def _figures(rows: list[dict]) -> dict[tuple, float]:
 
 
 def diagnose(maps: int, workers: int, out_dir: Path, methods: tuple[str, ...] = ("epistemic", "ideal", "flock")) -> int:
-    """Issue 26: per-mission diagnosis of the slow epistemic missions and the paper-implied sweep."""
+    """Per-mission diagnosis of the slow epistemic missions and the paper-implied sweep."""
     from dataclasses import replace as dc_replace
 
     from sim.diagnosis import attribute, timeline

@@ -1,4 +1,4 @@
-"""Fuzz every delkit command and print the outcome counts per command (issue 15).
+"""Fuzz every delkit command and print the outcome counts per command.
 
     python bench/fuzz.py -n 5000 --seed 2026 [--families plan,model] [--markdown bench/RESULTS-fuzz.md]
 
@@ -66,7 +66,7 @@ def main() -> int:
         print(tally.report_bad(200))
     if args.markdown:
         args.markdown.write_text(
-            f"# Fuzz run (issue 15)\n\n`python bench/fuzz.py -n {args.n} --seed {args.seed}"
+            f"# Fuzz run\n\n`python bench/fuzz.py -n {args.n} --seed {args.seed}"
             f"{' --families ' + args.families if args.families else ''}`\n\n{head}\n\n{tally.table()}\n\n"
             + ("## Bad outcomes\n\n" + tally.report_bad(500) + "\n" if tally.bad else "No bad outcomes.\n"))
     return 1 if tally.bad else 0

@@ -1,4 +1,4 @@
-"""How far past ``--timeout T`` each command exits, measured from before its process starts (issue 22).
+"""How far past ``--timeout T`` each command exits, measured from before its process starts.
 
     python bench/limits.py [--timeout 1.5] [--only SUBSTRING] [--markdown FILE]
 

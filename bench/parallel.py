@@ -102,7 +102,7 @@ def critical(r: dict) -> float:
 
 
 def _verdict(serial_wall: float, speedup: float) -> str:
-    """The issue's target: a wall speed-up ≥ 1.6× where serial BFS takes ≥ 5 s — valid on an otherwise idle
+    """The target: a wall speed-up ≥ 1.6× where serial BFS takes ≥ 5 s — valid on an otherwise idle
     machine only (the runs' own processes raise the load average to ≈ 1–2 there)."""
     if serial_wall < 5.0:
         return "n/a (serial < 5 s)"

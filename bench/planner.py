@@ -13,7 +13,7 @@ delkit.cli import main ..."``) ``--runs`` times after one untimed warm-up and re
 * EFP's recorded seconds from the same CSV row (C++ -O2, 2-core machine, BFS, 60 s limit; "poss" is EFP's
   faster possibilities representation, "Kripke" its Kripke one) and the difference ours − EFP-poss.
 
-Targets (issue 11): whole-process faster than EFP wherever EFP needs ≥ 0.3 s, never more than 0.2 s slower.
+Targets: whole-process faster than EFP wherever EFP needs ≥ 0.3 s, never more than 0.2 s slower.
 
 ``--expansions`` instead prints, in-process, BFS's and A*'s (default heuristic ``h_epi``) plan lengths and
 expanded nodes on every instance (and A*'s search seconds), with the ratio A*/BFS; ``--bfs-timeout`` caps
@@ -32,7 +32,7 @@ EFP's same-run median CPU and its plan length, and the recorded CSV column stays
 adds EFP's totals over the suite: one EFP process per instance (EFP has no batch mode), summed, and the wall
 of the same processes run two at a time (the 2 cores delkit's ``--jobs 2`` uses).
 
-``--suite`` runs the whole suite as ONE ``delkit plan FILE... --jobs N --json`` command (issue 24) and prints
+``--suite`` runs the whole suite as ONE ``delkit plan FILE... --jobs N --json`` command and prints
 each task's length beside EFP's, and the command's total CPU and wall seconds beside the sum of EFP's.
 """
 

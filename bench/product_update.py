@@ -1,8 +1,8 @@
-"""Compact product update + refinement, per product, on states of growing world counts (issue 24).
+"""Compact product update + refinement, per product, on states of growing world counts.
 
 Three ways to build the contracted, canonical s ⊗ E (all give the very same state; checked on every row):
 
-* **pairs + Python** — what main did before the ε copy (issue 24, sixth session): every pair (w, e) built one
+* **pairs + Python** — the method without the ε copy: every pair (w, e) built one
   by one (``_pair_product``), refined by the pure-Python ``_refine``;
 * **copy + Python** — the skip event's pairs (w, ε) are the old state's worlds with its own successor lists
   (``_copy_product``), refined by ``_refine`` (the default below ``NP_REFINE_MIN`` worlds);

@@ -1,4 +1,4 @@
-"""Benchmark: delkit's symbolic (BDD) backend beside SMCDEL's figures measured on this machine (issue 23).
+"""Benchmark: delkit's symbolic (BDD) backend beside SMCDEL's figures measured on this machine.
 
 Every delkit figure is in-process CPU time (``time.process_time``), imports and
 :func:`delkit.symbolic.prepare` excluded, BDD manager creation included — the same timed region as
@@ -23,8 +23,8 @@ With ``--smcdel-bin PATH`` (``--fresh-process`` only) SMCDEL runs in the same si
 round one delkit process and one SMCDEL process (bench/peers/smcdel/SmcdelBench.hs: SMCDEL's own example
 modules, ``getCPUTime`` around structure + formula + evaluation, CacBDD manager creation inside), the order
 alternating from round to round, and the SMCDEL columns are that run's min and median (``--smcdel-warm``
-adds SMCDEL with its manager created before the clock). Without it the SMCDEL column holds issue 23's
-figures (SMCDEL v1.3.0, CacBDD, measured by the lead on another day; in-process CPU), labelled so.
+adds SMCDEL with its manager created before the clock). Without it the SMCDEL column holds recorded
+figures (SMCDEL v1.3.0, CacBDD, measured on this machine on another day; in-process CPU), labelled so.
 ``ratio`` = delkit / SMCDEL (below 1: delkit is faster).
 ``load`` is the machine's 1-minute load average when the row finished. The growth lines fit t ∝ N^k by
 least squares on log-log over N = 100…200 (SMCDEL's exponent beside) and over all muddy rows measured.
@@ -57,7 +57,7 @@ from delkit.puzzles.drinking import check_thirsty  # noqa: E402
 from delkit.puzzles.sum_product import smcdel_sum_product, solve_sum_product  # noqa: E402
 from delkit.symbolic import muddy_symbolic  # noqa: E402
 
-SMCDEL = {  # issue 23: SMCDEL v1.3.0 (CacBDD) built on this machine, run side by side with delkit by the lead,
+SMCDEL = {  # SMCDEL v1.3.0 (CacBDD) built on this machine, run side by side with delkit,
     # alternating fresh processes, CPU time in-process (getCPUTime around structure + formula + evaluation)
     ("muddy", 10): 0.0012, ("muddy", 20): 0.0044, ("muddy", 40): 0.029, ("muddy", 60): 0.113,
     ("muddy", 80): 0.295, ("muddy", 100): 0.627, ("muddy", 150): 2.56, ("muddy", 200): 6.21,
@@ -229,7 +229,7 @@ def _main_fresh(args, ints) -> int:
         return _main_fresh_peer(args, jobs)
     where = "the CLI's own reported seconds" if args.cli else "the API call"
     cols = ("puzzle", "N", "right answer", "delkit CPU s (min)", "delkit CPU s (median)",
-            "SMCDEL CPU s (issue 23's figures, not this run)", "ratio (min)", "ratio (median)", "processes", "load")
+            "SMCDEL CPU s (recorded figures, not this run)", "ratio (min)", "ratio (median)", "processes", "load")
     md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     table = Table(title=f"delkit symbolic vs SMCDEL: fresh process per run, {where} (CPU seconds)")
     for col in cols:
@@ -327,7 +327,7 @@ def _main_fresh_peer(args, jobs: list[tuple[str, int]]) -> int:
     cols = ["puzzle", "N", "right answer (both)", "delkit s (min)", "delkit s (median)", "SMCDEL s (min)",
             "SMCDEL s (median)", "ratio (min)", "ratio (median)"]
     cols += ["SMCDEL s, manager before clock (min)"] if args.smcdel_warm else []
-    cols += ["SMCDEL s (issue 23's figures, another day)", "processes each", "load (1-min, range)"]
+    cols += ["SMCDEL s (recorded figures, another day)", "processes each", "load (1-min, range)"]
     title = f"delkit symbolic vs SMCDEL, same run: fresh process each, alternating, {where} (CPU seconds)"
     out: list[list[str]] = []
     over = f"> {args.timeout:.0f} s"

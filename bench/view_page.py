@@ -13,7 +13,7 @@ document is built once (server start-up: reading, layout, the page's JSON; CPU s
 * **total** = load + eval; the server's own CPU for the evaluation is timed separately (``process_time``).
 
 Times in the page are wall-clock milliseconds of Chromium (its CPU time is not observable from the page),
-so the load average is printed beside them. The figure the issue names: total ≤ 500 ms for 1,000 worlds.
+so the load average is printed beside them. The target: total ≤ 500 ms for 1,000 worlds.
 
     .venv/bin/python bench/view_page.py [--rounds 5]
 """

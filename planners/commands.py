@@ -133,7 +133,7 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
     res = check_plan(task, steps, properties, allow_inconsistent=allow_inconsistent, plan_source=str(files[-1]))
     for line in res.warnings():  # EPDDL kept a state where an agent believes ⊥ (also in the JSON)
         print(f"delkit: warning: {line}", file=sys.stderr)
-    if trace or trace_json is not None:  # the states along the plan (issue 21)
+    if trace or trace_json is not None:  # the states along the plan
         from planners.trace import emit_trace
 
         emit_trace(task, steps, text=trace, json_path=trace_json, allow_inconsistent=allow_inconsistent,

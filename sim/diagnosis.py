@@ -1,4 +1,4 @@
-"""Why an epistemic mission is slower than its ideal twin (issue 26): a per-mission timeline and the rule or
+"""Why an epistemic mission is slower than its ideal twin: a per-mission timeline and the rule or
 parameter each part of the delay comes from.
 
 Input: two sweep rows of the same (case, map, team size) with ``"diagnosis"`` (``SweepSpec(diagnose=True)``),

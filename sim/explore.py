@@ -128,7 +128,7 @@ class MissionConfig:
     flock_leader_speed: float = 1.0  # × v_max
     t_max: float = 1500.0
     wait_timeout: float = 120.0
-    # 'fixed': give up waiting after wait_timeout s; 'travel' (the paper's implied reading, issue 26): wait as long
+    # 'fixed': give up waiting after wait_timeout s; 'travel' (the reading the paper implies): wait as long
     # as a gossiper needs to reach the believed state of the missing robot and that robot to reach the task
     wait_rule: str = "fixed"
     # ruleset 1: 'reached-or-stalled' (ours: the believed state reached, or no nearer for stall_time s) or

@@ -119,13 +119,13 @@ class SARConfig:
     policy: Literal["greedy", "oldest", "all"] = "all"
     # ties among ε-maximisers of J: 'random' (one random order per step shared by all robots: ours — the paper
     # does not say), 'index' (lowest joint-action index) or 'own' (each robot its own random order: what the
-    # paper's Baseline-II figures imply, issue 26; only the executed choices use it, ENFORCEAC's reasoning about
+    # paper's Baseline-II figures imply; only the executed choices use it, ENFORCEAC's reasoning about
     # the partner keeps the common order)
     tie_break: Literal["random", "index", "own"] = "random"
     trigger: Literal["paper", "useful"] = "paper"
     resend: bool = False  # Baseline-I re-sends a lost backlog: our variant, not the paper's
     # exact pruning of irrelevant observations (readings of cells no candidate action moves to cannot change a
-    # selection): ours, not the paper's; the verdicts are the same with prune=False, only slower (issue 26)
+    # selection): ours, not the paper's; the verdicts are the same with prune=False, only slower
     prune: bool = True
 
     def __post_init__(self) -> None:

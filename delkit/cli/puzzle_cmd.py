@@ -301,7 +301,7 @@ def register(app: typer.Typer) -> None:
         if not all(r["ok"] for r in rows):
             raise typer.Exit(1)
 
-    # ---- issue 23, part A: prisoners, letter passing, coin flip, number triangle
+    # ---- protocols: prisoners, letter passing, coin flip, number triangle
     @sub.command("prisoners")
     def prisoners(n: int = typer.Option(4, "--prisoners", "-n", help="number of prisoners (prisoner 1 counts)"),
                   days: int = typer.Option(500, "--days", help="at most this many days (the bound)"),

@@ -61,7 +61,7 @@ CATALOGUE: list[dict] = [
     {"command": "door-mat", "answer": "tryTake gets Bob the key; he knows it will only after Anne announces "
      "where it is", "backends": ["symbolic", "explicit (via the event model)"], "source": "Gattinger 2018; "
      "SMCDEL's DoorMat", "docs": _DOC + "#door-mat"},
-    # ---- issue 23, part A: prisoners, letter passing, coin flip, number triangle
+    # ---- protocols: prisoners, letter passing, coin flip, number triangle
     {"command": "prisoners", "answer": "the counter knows everyone has been interviewed exactly when his count "
      "reaches n-1 (n >= 3); expected n(n-1) + n H_{n-1} days (10,417.7 for 100)",
      "backends": ["explicit", "symbolic (transformers; image beyond 7)"],
@@ -79,7 +79,7 @@ CATALOGUE: list[dict] = [
      "source": "Gierasimczuk & Szymanik 2011; SMCDEL's MCTRIANGLE", "docs": _DOC + "#number-triangle"},
 ]
 
-# puzB23 (issue 23): SMCDEL's second gossip variant and the Hanabi-style card game
+# SMCDEL's second gossip variant and the Hanabi-style card game
 CATALOGUE += [
     {"command": "gossip --variant kw", "answer": "knowing-whether experts: least calls 1, 3, 4 for n = 2, 3, 4; "
      "after 01 23 02 13 all are experts but not all know it", "backends": ["symbolic", "explicit (n <= 3)"],

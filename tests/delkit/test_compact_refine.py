@@ -1,4 +1,4 @@
-"""The compact backend's refinement and compiled event models (issue 24, seventh session).
+"""The compact backend's refinement and compiled event models.
 
 * ``_refine`` reads the successor masks of a discrete round off without ranking the next round: its
   output must be the round-by-round definition's (every round ranked until none splits) exactly — the
@@ -21,7 +21,7 @@ from planners.spaces import CompactSpace
 
 
 def rounds_refine(val, dist, cls, points):
-    """The definition (the implementation before this session): round 0 ranks the valuations, every round
+    """The definition (written out round by round): round 0 ranks the valuations, every round
     ranks the signatures (block, per relation the successor blocks as a bit mask) until no block splits;
     the stable round's sorted signatures are the quotient's blocks and masks."""
     n = len(val)

@@ -124,7 +124,7 @@ def test_large_models_fall_back_to_text_in_jupyter():
     assert m._repr_svg_() is None
 
 
-# --------------------------------------------------------------- readable laws (form_of, issue 23)
+# --------------------------------------------------------------- readable laws (form_of)
 @settings(max_examples=25, deadline=None)
 @given(kripke_models(("p", "q"), ("a", "b"), max_worlds=4, frame="K"))
 def test_structure_pictures_show_laws_as_formulas(m) -> None:

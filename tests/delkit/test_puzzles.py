@@ -258,7 +258,7 @@ def test_cli_bad_input_exits_2(capsys) -> None:
     assert main(["puzzle", "drinking", "--wants", "12"]) == 2
 
 
-# ----------------------------------------------------------------------------- gossip, What Sum (issue 23)
+# ----------------------------------------------------------------------------- gossip, What Sum
 
 def test_gossip_four_calls_make_four_experts() -> None:
     """Literature (Tijdeman 1971; Baker & Shostak 1972): 2n − 4 = 4 calls suffice for n = 4 (01, 23, 02, 13);

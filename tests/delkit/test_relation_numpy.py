@@ -1,4 +1,4 @@
-"""The numpy-only relation operations (issue 22: a plan check must not pay scipy's import) agree with the
+"""The numpy-only relation operations (a plan check must not pay scipy's import) agree with the
 scipy sparse-matrix formulas they replace, on random relations and partitions."""
 
 from __future__ import annotations

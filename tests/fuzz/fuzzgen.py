@@ -763,7 +763,7 @@ def _mutate_sexp_or_bytes(draw, text: str) -> bytes:
     return out if isinstance(out, bytes) else out.encode()
 
 
-# ----------------------------------------------------------------------------- issue 22: limits and outputs
+# ----------------------------------------------------------------------------------- limits and outputs
 
 HUGE = ["inf", "1e300", "100000000000000000000", "1e0", "5e-1", "0", "0.0", "-0", "nan", "-inf", "-1", "1e-300",
         "2147483648", "9223372036854775808", "+inf", "INF", "1_0"]
@@ -771,7 +771,7 @@ HUGE = ["inf", "1e300", "100000000000000000000", "1e0", "5e-1", "0", "0.0", "-0"
 
 @st.composite
 def limits_cases(draw) -> Case:
-    """Issue 22's families: huge and non-finite numbers on every limit option, options given twice and in
+    """Limit and output families: huge and non-finite numbers on every limit option, options given twice and in
     the spellings that go through typer instead of the fast path, empty lists, outputs equal to inputs,
     symbolic-size bombs."""
     kind = draw(st.sampled_from(["timeout", "twice", "empty", "clobber", "bomb"]))

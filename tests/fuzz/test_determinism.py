@@ -36,7 +36,7 @@ CASES = {
     "epico generate": ["epico", "generate", "--goal", "delta", "--colors", "4", "--out", "{tmp}", "--json"],
     # physics (two arms in MuJoCo): slow, so its case runs in `make test-slow`
     "epico run": ["epico", "run", "--goal", "alpha", "--colors", "1", "--json"],
-    # issue 23 (part A): the random interview schedule
+    # the 100 prisoners: the random interview schedule
     "puzzle prisoners": ["puzzle", "prisoners", "-n", "4", "--days", "200", "--json"],
 }
 SLOW = {"epico run"}

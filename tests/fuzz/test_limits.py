@@ -1,8 +1,8 @@
-"""Issue 22 (and the checker items of issue 27): one limit discipline, a checker that contracts, estimates
-before allocating, outputs that never clobber inputs. Each test fails on the code before the issue.
+"""One limit discipline, a checker that contracts, estimates before allocating, outputs that never clobber
+inputs. Each test fails when the guard it names is removed.
 
 The wall-clock tests run ``delkit`` as a process and measure from just before it is started to its exit,
-so interpreter start-up and teardown are inside the measured time. The bound is T + 0.5 s as the issue asks,
+so interpreter start-up and teardown are inside the measured time. The bound is T + 0.5 s (the documented limit),
 plus ``MARGIN`` for the shared, loaded machine (the true figures: bench/limits.py, bench/RESULTS-fuzz.md).
 """
 
@@ -90,7 +90,7 @@ def test_timeout_zero_means_no_limit_for_plan_too(capsys):
 
 
 def test_a_reached_limit_is_exit_3_and_names_the_option_not_the_remaining_seconds(tmp_path, capsys):
-    """Issue 27: '--timeout 2' reported 'time limit 1.91918 s reached' (the seconds left after reading)."""
+    """A '--timeout 2' must not report 'time limit 1.91918 s reached' (the seconds left after reading)."""
     rc, out, _ = run_cli(capsys, ["plan", str(REPO / "specs" / "grapevine5" / "Grapevine_5__pl_6.txt"), "--timeout",
                                   "0.75", "--json"])
     res = json.loads(out)
@@ -208,7 +208,8 @@ def test_fuzz_worker_timer_leaves_no_limit_behind(capsys):
 # ----------------------------------------------------------------------------- the checker
 
 def test_check_names_the_users_worlds_and_events(tmp_path, capsys):
-    """Issue 27: 'at designated world w1 ... at w0{s} it considers possible w1{}' and the action type's event."""
+    """The checker names the user's worlds and events ('at designated world w1 ... at w0{s} it considers
+    possible w1{}') and the action type's event."""
     plan = tmp_path / "p.plan"
     plan.write_text("say-on_robot\n")
     rc, out, _ = run_cli(capsys, ["check", str(LAMP / "domain.epddl"), str(LAMP / "problem.epddl"), str(plan),
@@ -234,7 +235,7 @@ def test_epddl_belief_bottom_is_a_warning_and_a_json_field(tmp_path, capsys):
 
 @pytest.mark.parametrize("prop", ["always ~B(a, ~tail)", "always !B(a, -tail)", "always ~K_a ~tail"])
 def test_properties_read_the_same_negations_everywhere(tmp_path, capsys, prop):
-    """Issue 27: --property rejected ~ and ! inside mA* syntax although delkit prints goals with ~."""
+    """--property accepts both ~ and ! inside mA* syntax (delkit prints goals with ~)."""
     spec = SHARED / "mastar" / "Coin_In_The_Box" / "Coin_in_the_Box__pl_2.txt"
     if not spec.exists():
         pytest.skip("shared benchmarks not available")

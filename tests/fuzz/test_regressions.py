@@ -1,4 +1,4 @@
-"""One regression test per kind of failure the fuzz harness (and issue 15) found.
+"""One regression test per kind of failure the fuzz harness found.
 
 Each bad input must give exit 2 and exactly one ``delkit: error:`` line that says what and where; each
 "silent wrong answer" must now be refused. Inputs are built from the real spec files in ``specs/``.
@@ -258,7 +258,7 @@ def test_arms_plan_is_checked_against_the_world_before_anything_moves(tmp_path, 
 # ----------------------------------------------------------------------------- time limits in every phase
 
 def test_plan_timeout_covers_initial_state_construction(tmp_path, capsys):
-    """The limit overrun of issue 15: --timeout 1 ran 8 s building the initial state before the search."""
+    """A limit overrun: --timeout 1 ran 8 s building the initial state before the search."""
     import time
 
     files = many_free_fluents(tmp_path)

@@ -1,4 +1,4 @@
-"""Issue 24: on a 2 agents × 4 rooms × 4 boxes Collaboration-and-Communication task whose single expansion is
+"""On a 2 agents × 4 rooms × 4 boxes Collaboration-and-Communication task whose single expansion is
 slow, a time limit is held within 0.5 s of wall time (plus the shared machine's margin, as in
 tests/fuzz/test_limits.py). The numpy engine (``--engine del``) takes several seconds of CPU for the initial
 state's expansion there (bench/RESULTS-planner.md §11), so a limit shorter than one expansion is met only if the

@@ -5,7 +5,7 @@ place, kind and, for every truth assignment of its conditions, the same event mo
 relations and their form, designated events).
 
 The reference is a file of SHA-256 digests of a canonical dump (``epddl2026_ground.json`` next to this file),
-written from delkit's loader at commit 9fc2ada, before the grounder was rewritten for speed (helper ground4). A
+written from delkit's loader at commit 9fc2ada, before the grounder was rewritten for speed. A
 legitimate change of what is grounded (not of how fast) regenerates it with
 
     PYTHONPATH=. python tests/planners/test_epddl2026_ground.py --write

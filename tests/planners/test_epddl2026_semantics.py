@@ -1,4 +1,4 @@
-"""EPDDL formulas mean what plank's model checker says (the traps of issue 14): ``<G>φ`` is a conjunction of
+"""EPDDL formulas mean what plank's model checker says (the traps in reading it): ``<G>φ`` is a conjunction of
 diamonds, ``[C. G]`` the transitive (not reflexive) closure, and a state satisfies φ iff every designated world
 does. A table of hand-checked cases on a non-reflexive K model, then a property: on random K models and random
 formulas, the reader's formulas evaluated by delkit agree with a naive evaluator written from plank's

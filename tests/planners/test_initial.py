@@ -1,5 +1,5 @@
-"""Initial states without enumerating every valuation, limits honoured while building them (issue 11, item 2),
-and mA* files that declare a name twice (issue 11, item 3)."""
+"""Initial states without enumerating every valuation, limits honoured while building them,
+and mA* files that declare a name twice."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Issue 26: the diagnosis of a slow epistemic mission names the rule that delayed it, and the paper-implied
+"""The diagnosis of a slow epistemic mission names the rule that delayed it, and the paper-implied
 choice of where a gossiper looks removes that delay (Case I, 3 robots, map 9: 429 s against 66.5 s ideal)."""
 
 from __future__ import annotations

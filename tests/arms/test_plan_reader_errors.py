@@ -1,4 +1,4 @@
-"""QA regressions: a hand-written primitive plan with a value of the wrong JSON type is an ArmsError that
+"""A hand-written primitive plan with a value of the wrong JSON type is an ArmsError that
 names the field (was TypeError / AttributeError / ValueError tracebacks from the reader)."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""QA regressions for the command line: every bad input is one ``delkit: error:`` line with exit status 2
+"""Bad input on the command line: every bad input is one ``delkit: error:`` line with exit status 2
 that says where the problem is (option, properties file line, plan step)."""
 
 from __future__ import annotations

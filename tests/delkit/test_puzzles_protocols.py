@@ -1,4 +1,4 @@
-"""Issue 23, part A: the 100 prisoners (bounded), letter passing, coin flip and the number triangle — their
+"""Announcement protocols: the 100 prisoners (bounded), letter passing, coin flip and the number triangle — their
 literature answers, explicit ≡ symbolic, and the CLI."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""QA regressions for ``delkit model``: a model without designated worlds is bad input for ``check`` and
+"""Bad input to ``delkit model``: a model without designated worlds is bad input for ``check`` and
 ``contract`` (no vacuous "holds" for both p and ~p, no unreadable contracted file)."""
 
 from __future__ import annotations

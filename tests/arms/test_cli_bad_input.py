@@ -1,4 +1,4 @@
-"""QA regressions for ``delkit arms``: unreadable plans, unwritable outputs and impossible options are one
+"""Bad input to ``delkit arms``: unreadable plans, unwritable outputs and impossible options are one
 ``delkit: error:`` line with exit status 2 (no traceback, and no simulation run before the check)."""
 
 from __future__ import annotations

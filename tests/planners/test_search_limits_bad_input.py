@@ -1,4 +1,4 @@
-"""QA regressions: impossible search limits are bad input, not a "no plan within limits" answer."""
+"""Impossible search limits are bad input, not a "no plan within limits" answer."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""QA regressions for ``delkit demo``: a ``--only`` that matches no section, or an ``--out`` that cannot be a
+"""Bad input to ``delkit demo``: a ``--only`` that matches no section, or an ``--out`` that cannot be a
 directory, is bad input (exit 2, one line) instead of an empty "ok" run or a traceback."""
 
 from __future__ import annotations

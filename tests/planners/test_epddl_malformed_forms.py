@@ -1,4 +1,4 @@
-"""QA regression: malformed E-PDDL forms ((not) with a stray token, (when c) without an effect, (forall)
+"""Malformed E-PDDL forms ((not) with a stray token, (when c) without an effect, (forall)
 without a body) are ParseErrors at the form, not AttributeError / ValueError / IndexError tracebacks."""
 
 from __future__ import annotations

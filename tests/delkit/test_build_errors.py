@@ -1,4 +1,4 @@
-"""QA regressions: bad relations given to ``KripkeModel.build`` are a ``ModelError`` naming the agent (never
+"""Bad relations given to ``KripkeModel.build`` are a ``ModelError`` naming the agent (never
 a numpy ``IndexError``, never a silent wrap-around of a negative world), and parse errors list readable
 tokens."""
 

@@ -1,4 +1,4 @@
-"""QA regression: an E-PDDL atom whose argument is not an object of the predicate's type (a typo in
+"""An E-PDDL atom whose argument is not an object of the predicate's type (a typo in
 :init, :goal or an action) is a ParseError at that atom, not a KeyError from the initial-state builder."""
 
 from __future__ import annotations
