@@ -157,7 +157,8 @@ def test_a_history_name_is_reported_with_file_and_line(tmp_path: Path, line: str
 @pytest.mark.parametrize("line", [
     'fill="#555"', "relation of 'a' block #0: unknown world", "round 0 ranks the valuations",
     "one planning session of ENFORCEAC", "a headless browser session for the module", "for r, qa in arms:",
-    "https://github.com/tulip-control/dd/issues/56", "float32 and int64 and sha256", "S5 and KD45", "--owner b99=robot1",
+    "https://github.com/tulip-control/dd/issues/56", "float32 and int64 and sha256", "S5 and KD45",
+    "--owner b99=robot1",
 ])
 def test_ordinary_words_are_not_history(tmp_path: Path, line: str) -> None:
     (tmp_path / "m.py").write_text(line + "\n")
