@@ -413,26 +413,20 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
 
 # ----------------------------------------------------------------------------- outputs
 
-def check_outputs(outputs, inputs, *, force: bool = False, folder=None, option: str = "-o") -> None:
-    """Refuse (exit 2, nothing written) an output that is one of the ``inputs`` (unless ``force``: then the
-    input is overwritten on purpose) or that lies outside ``folder``; call it for every output before
-    writing the first one."""
+def check_outputs(outputs, inputs, *, force: bool | None = None, folder=None, option: str = "-o") -> None:
+    """Refuse (exit 2, nothing written) an output that is one of the ``inputs``
+    (:func:`delkit.files.refuse_overwrite_input`; ``force`` True: the input is overwritten on purpose, False:
+    the command's --force was not given, None: it has none) or that lies outside ``folder``; call it for every
+    output before writing the first one."""
     from pathlib import Path
 
     from delkit.errors import ParseError
+    from delkit.files import refuse_overwrite_input
 
-    ins = {}
-    for p in inputs:
-        try:
-            ins[Path(p).resolve()] = str(p)
-        except (OSError, RuntimeError):  # pragma: no cover - unresolvable: cannot be clobbered either
-            continue
     base = Path(folder).resolve() if folder is not None else None
+    outputs = list(outputs)
     for out in outputs:
-        path = Path(out).resolve()
-        if base is not None and path.parent != base:
+        if base is not None and Path(out).resolve().parent != base:
             raise ParseError(f"the output {out} would be written outside the folder {folder}; give a plain file "
                              f"name (no '/' or '..')", source=str(out))
-        if path in ins and not force:
-            raise ParseError(f"the output would overwrite the input file {ins[path]}; write elsewhere (another "
-                             f"{option}) or give --force to overwrite it", source=str(out))
+    refuse_overwrite_input(outputs, inputs, option=option, force=force)

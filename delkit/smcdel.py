@@ -456,7 +456,9 @@ def check_file(path: str, *, max_states: int = MAX_STATES) -> list[dict]:
 
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        from delkit.files import read_input
+
+        text = read_input(p, "SMCDEL file")
     except UnicodeDecodeError:
         raise ParseError("not UTF-8 text", source=str(path)) from None
     return answer(parse_smcdel(text, source=str(path)), max_states=max_states, source=str(path))

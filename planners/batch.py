@@ -108,7 +108,9 @@ def _role(path: Path) -> str:
     from planners.lang.detect import detect_text
 
     try:
-        text = path.read_text()
+        from delkit.files import read_input
+
+        text = read_input(path)
         dialect = detect_text(text, str(path))[0]
     except (OSError, UnicodeDecodeError, ParseError):
         return "other"

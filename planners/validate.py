@@ -134,7 +134,9 @@ def read_plan(path: str | Path) -> list[str]:
     """Read a plan file (see :func:`parse_plan_text`)."""
     p = Path(path)
     try:
-        return parse_plan_text(p.read_text())
+        from delkit.files import read_input
+
+        return parse_plan_text(read_input(p, "plan file"))
     except (OSError, UnicodeDecodeError) as exc:
         raise ParseError(f"cannot read the plan file: {io_reason(exc)}", source=str(p)) from None
 

@@ -102,10 +102,13 @@ def register(app: typer.Typer) -> None:
             from delkit.errors import require_extra
 
             require_extra("asp", "clingo", what="--classical clingo")
+        from delkit.files import read_input, refuse_overwrite_input
+
+        refuse_overwrite_input([out], [world], option="--out")  # before the search: the plan never replaces --world
         layout = None
         if world is not None:
             try:
-                obj = json.loads(world.read_text())
+                obj = json.loads(read_input(world, "world JSON"))
             except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
                 raise EpicoError(f"{world}: cannot read a world JSON ({exc})") from None
             obj = obj.get("world", obj) if isinstance(obj, dict) else obj
