@@ -235,19 +235,73 @@ def _died(code: int | None) -> str:
     return f"the worker process exited with status {code}"
 
 
+#: the address schemes ``--scheduler`` takes (TLS needs a security configuration that delkit does not take)
+SCHEMES = ("tcp",)
+
+
+def parse_scheduler(address: str | None, option: str = "--scheduler",
+                    error: type[DelkitError] = DelkitError) -> tuple[str, int] | None:
+    """(host, port) of a Dask scheduler address ``[tcp://]HOST:PORT`` (HOST a name, an IPv4 address or an
+    IPv6 address in brackets; PORT 1..65535), or None for None; anything else raises ``error`` with one line
+    saying what is wrong and how to write it. Nothing is contacted."""
+    import re
+
+    if address is None:
+        return None
+    fix = f"write {option} tcp://HOST:PORT, e.g. {option} tcp://127.0.0.1:8786 (or leave it out: local processes)"
+    text = address.strip()
+    if not text:
+        raise error(f"{option} is empty; {fix}")
+    scheme, sep, rest = text.partition("://")
+    if not sep:
+        scheme, rest = "tcp", text
+    scheme = scheme.lower()
+    if scheme in ("tls", "wss"):
+        raise error(f"{option} {address!r}: {scheme}:// needs a TLS security configuration, which delkit does not "
+                    f"take; use a tcp:// address (e.g. through an SSH tunnel: tcp://127.0.0.1:8786)")
+    if scheme not in SCHEMES:
+        raise error(f"{option} {address!r}: unknown scheme {scheme!r}; {fix}")
+    m = re.fullmatch(r"(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+):([0-9]{1,20})/?", rest)
+    if m is None:
+        raise error(f"{option} {address!r}: not HOST:PORT; {fix}")
+    host, port = m.group(1), int(m.group(2))
+    if not 1 <= port <= 65535:
+        raise error(f"{option} {address!r}: port {m.group(2)} is out of range 1..65535; {fix}")
+    if len(host) > 253:
+        raise error(f"{option} {address!r}: the host name is longer than 253 characters; {fix}")
+    return host.strip("[]"), port
+
+
+def _reachable(host: str, port: int, timeout: float, address: str, option: str,
+               error: type[DelkitError]) -> None:
+    """Refuse (``error``) a scheduler address where nothing accepts a TCP connection within ``timeout`` s —
+    before Dask's client, whose own failures on such addresses are not one line."""
+    import socket
+
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            pass
+    except (OSError, OverflowError, ValueError, UnicodeError) as exc:
+        why = "timed out" if isinstance(exc, TimeoutError) else (getattr(exc, "strerror", None) or str(exc))
+        raise error(f"cannot reach the Dask scheduler at {address!r} ({why}); start one with 'dask scheduler' "
+                    f"or leave {option} out to use local processes") from None
+
+
 def _dask_client(address: str, timeout: float, option: str = "--scheduler",
                  error: type[DelkitError] = DelkitError) -> Any:
     """A ``distributed.Client`` of the scheduler at ``address``; else ``error`` saying how to fix it
     (``option`` names the command's option in the message)."""
+    host, port = parse_scheduler(address, option, error)  # type: ignore[misc]
     try:
         from distributed import Client
     except ImportError as exc:  # pragma: no cover - dask is a declared extra
         raise error(f"{option} needs the 'distributed' package (pip install 'delkit[dask]')") from exc
+    _reachable(host, port, min(timeout, 5.0), address, option, error)
     try:
-        return Client(address, timeout=timeout)
-    except (OSError, ValueError) as exc:  # unreachable, timed out, or not an address
-        raise error(f"cannot reach the Dask scheduler at {address!r} ({exc}); start one with "
-                    f"'dask scheduler' or leave {option} out to use local processes") from exc
+        return Client(address if "://" in address else f"tcp://{address.strip()}", timeout=timeout)
+    except Exception as exc:  # noqa: BLE001 - unreachable, timed out, refused, not a scheduler: one line
+        raise error(f"cannot reach the Dask scheduler at {address!r} ({type(exc).__name__}: {exc}); start one "
+                    f"with 'dask scheduler' or leave {option} out to use local processes") from None
 
 
 @contextmanager

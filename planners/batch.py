@@ -50,7 +50,7 @@ def plan_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: str
     from planners.commands import run_plan
 
     files = [Path(f) for f in files]
-    _check_jobs(jobs, "delkit plan")
+    jobs = _check_jobs(jobs, "delkit plan", scheduler)
     if is_batch(files, {"jobs": jobs, "scheduler": scheduler}):
         units = plan_units(files)
         parallel = jobs is not None and jobs > 1
@@ -73,18 +73,33 @@ def check_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: st
     from planners.commands import run_check
 
     files = [Path(f) for f in files]
-    _check_jobs(jobs, "delkit check")
+    jobs = _check_jobs(jobs, "delkit check", scheduler)
     if is_batch(files, {"jobs": jobs, "scheduler": scheduler}, "check") and (
             len(check_units(files)) != 1 or scheduler):
         return run_check_batch(files, jobs=jobs, scheduler=scheduler, **options)
     return run_check(files, **options)
 
 
-def _check_jobs(jobs: int | None, command: str) -> None:
-    if jobs is not None and jobs < 1:
-        from delkit.errors import ParseError
+#: the most worker processes (or parallel parts) ``--jobs`` takes
+MAX_JOBS = 256
 
-        raise ParseError(f"--jobs {jobs}: use a number of worker processes ≥ 1", source=command)
+
+def _check_jobs(jobs: int | str | None, command: str, scheduler: str | None = None) -> int | None:
+    """``--jobs`` as a number 1..MAX_JOBS written in plain digits (``+2``, ``0x4``, ``1e3`` are refused), and a
+    well-formed ``--scheduler`` address (:func:`delkit.executors.parse_scheduler`); bad input raises."""
+    from delkit.errors import ParseError
+
+    if scheduler is not None:
+        from delkit.executors import parse_scheduler
+
+        parse_scheduler(scheduler)
+    if jobs is None:
+        return None
+    text = str(jobs).strip()
+    if not re.fullmatch(r"[0-9]{1,20}", text) or not 1 <= int(text) <= MAX_JOBS:
+        raise ParseError(f"--jobs {jobs}: use a number of worker processes 1..{MAX_JOBS} in plain digits, e.g. "
+                         f"--jobs 2 (this machine has {os.cpu_count() or 1} cores)", source=command)
+    return int(text)
 
 _PROBLEM = r"(?i)\(\s*define\s*\(\s*problem\b"  # compiled on first use (re's cache): start-up
 

@@ -68,8 +68,8 @@ def register(app: typer.Typer) -> None:
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="expand states where an agent believes ⊥"),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object (a batch: one per task)"),
-        jobs: int | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch (default: one "
-                                                                  "per core)"),
+        jobs: str | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch, 1..256 (default: "
+                                                                  "one per core)"),
         scheduler: str | None = typer.Option(None, "--scheduler", help="run a batch on the Dask cluster at "
                                                                       "ADDRESS (e.g. tcp://host:8786)"),
     ) -> None:
@@ -97,8 +97,8 @@ def register(app: typer.Typer) -> None:
                                                      "comes to believe ⊥"),
         timeout: float = typer.Option(0.0, "--timeout", help=_TIMEOUT_HELP),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object (a batch: one per group)"),
-        jobs: int | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch of SPEC [PROBLEM] "
-                                                                  "PLAN_FILE groups"),
+        jobs: str | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch of SPEC [PROBLEM] "
+                                                                  "PLAN_FILE groups, 1..256"),
         scheduler: str | None = typer.Option(None, "--scheduler", help="run a batch on the Dask cluster at ADDRESS"),
         trace: bool = typer.Option(False, "--trace", help="print the state after every step"),
         trace_json: Path | None = typer.Option(None, "--trace-json", help="write the states along the plan as "
