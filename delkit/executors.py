@@ -35,15 +35,39 @@ from typing import Any
 
 from delkit.errors import DelkitError
 
-__all__ = ["IsolatedPool", "RunKilled", "WorkerDied", "executor", "actors", "Actor"]
+__all__ = ["IsolatedPool", "RunKilled", "RunInterrupted", "WorkerDied", "executor", "actors", "Actor",
+           "parse_scheduler"]
 
 
 class RunKilled(RuntimeError):
     """A run exceeded the pool's hard wall-clock limit; its worker was killed."""
 
 
+class RunInterrupted(RuntimeError):
+    """The pool was terminated (:meth:`IsolatedPool.terminate`: the batch was interrupted) while the run was
+    waiting or running; its worker was killed."""
+
+
 class WorkerDied(RuntimeError):
     """The worker process died while doing the run (crash, signal, out-of-memory kill)."""
+
+
+def _tie_to_parent() -> None:
+    """In a worker: die with the parent (Linux ``PR_SET_PDEATHSIG``: SIGKILL when the parent ends, however it
+    ends, so no worker outlives its batch), and leave SIGINT to the parent (a Ctrl-C reaches the whole process
+    group; the parent decides what the interrupted batch reports and ends the workers itself)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG = 1
+    except (OSError, AttributeError):  # pragma: no cover - not Linux: the pipe's end of file still ends an idle worker
+        pass
+    if os.getppid() == 1:  # the parent ended before the line above ran
+        os._exit(1)
 
 
 def _worker(conn: Any, memory_mb: float | None) -> None:
@@ -51,6 +75,7 @@ def _worker(conn: Any, memory_mb: float | None) -> None:
     import pickle
     import resource
 
+    _tie_to_parent()
     if memory_mb:
         limit = int(memory_mb * 2**20)
         _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
@@ -110,6 +135,7 @@ class IsolatedPool(Executor):
         self._lock = threading.Lock()
         self._wake_r, self._wake_w = self._ctx.Pipe(duplex=False)
         self._shutdown = False
+        self._terminate = False
         self._thread = threading.Thread(target=self._loop, name="IsolatedPool", daemon=True)
         self._thread.start()
 
@@ -132,6 +158,17 @@ class IsolatedPool(Executor):
         self._wake()
         if wait:
             self._thread.join()
+
+    def terminate(self, reason: str = "interrupted") -> None:
+        """End now: every waiting run is cancelled, every running one fails with :class:`RunInterrupted` and
+        its worker is killed (SIGKILL); returns when the workers are gone."""
+        with self._lock:
+            while self._queue:
+                self._queue.popleft()[0].cancel()
+        self._reason = reason
+        self._terminate = self._shutdown = True
+        self._wake()
+        self._thread.join(10.0)
 
     # ------------------------------------------------------------------ internals
     def _wake(self) -> None:
@@ -182,6 +219,15 @@ class IsolatedPool(Executor):
         from multiprocessing.connection import wait
 
         while True:
+            if self._terminate:
+                for slot in list(self._slots):
+                    if slot.job is not None:
+                        self._fail(slot, RunInterrupted(getattr(self, "_reason", "interrupted")))
+                    if slot.proc.is_alive():
+                        slot.proc.kill()
+                for slot in list(self._slots):
+                    self._replace(slot)
+                return
             self._dispatch()
             busy = [s for s in self._slots if s.job is not None]
             if self._shutdown and not busy and not self._queue:
@@ -338,6 +384,7 @@ def _actor_main(conn: Any, cls: Callable, args: tuple) -> None:
     (method, args) requests with (True, result) or (False, exception) until None or end of file."""
     import gc
 
+    _tie_to_parent()
     gc.disable()  # the actors of a search keep many long-lived objects and make no reference cycles per call
     obj: Any = None
     for name, cargs in _requests(conn):

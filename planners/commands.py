@@ -38,7 +38,7 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
 
     if search not in ("bfs", "gbfs", "astar"):
         raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
-    from delkit.resources import TimeLimit, command_start, deadline, keep_alive, parse_timeout
+    from delkit.resources import TimeLimit, command_start, counters, deadline, keep_alive, parse_timeout
 
     limit = parse_timeout(timeout)  # 0 / inf: no limit; counted from the start of the process
     Limits(timeout=limit, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
@@ -64,8 +64,11 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
             res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
     except (LoadTimeout, TimeLimit) as exc:
         keep_alive(space, task, exc)  # console script: freeing the search space must not delay the exit
+        live = counters()  # how far the search got when the alarm stopped it (0 before it started)
         res = limit_result("reading, grounding and building the initial state" if task is None else
-                           "contracting the initial state" if space is None else "searching")
+                           "contracting the initial state" if space is None else "searching",
+                           int(live.get("expanded", 0)) if space is not None else 0,
+                           int(live.get("generated", 0)) if space is not None else 0)
     if res.status == "limit" and res.reason.endswith(" s reached") and "time limit" in res.reason:
         res = limit_result("searching", res.expanded, res.generated)
     if task is None:

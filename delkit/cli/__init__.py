@@ -115,7 +115,10 @@ def main(argv: list[str] | None = None) -> int:
     3 a limit such as ``--timeout`` reached before an answer)."""
     _open_streams()
     args = list(sys.argv[1:] if argv is None else argv)
+    import delkit.resources as resources
     from delkit.resources import begin_command
+
+    resources.JSON_LIMITS = "--json" in (args[:args.index("--")] if "--" in args else args)
 
     begin_command()  # every --timeout counts from here (from process start for the process's first command)
     try:
@@ -152,6 +155,14 @@ def _exit_status(exc: BaseException) -> int:
 
     typer = sys.modules.get("typer")
     if isinstance(exc, DelkitError):
+        if getattr(exc, "exit_code", 2) == 3:
+            import delkit.resources as resources
+
+            if resources.JSON_LIMITS:  # --json: a reached limit is a JSON answer too, with the counts so far
+                try:
+                    resources.print_limit_record(str(exc))
+                except (OSError, DelkitError):  # stdout closed or full: the line on stderr still says it
+                    pass
         print(f"delkit: error: {exc}", file=sys.stderr)
         return int(getattr(exc, "exit_code", 2))  # 3: a --timeout reached (delkit.resources.TimeLimit)
     if typer is not None and isinstance(exc, typer.Exit):

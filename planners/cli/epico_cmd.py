@@ -129,14 +129,14 @@ def register(app: typer.Typer) -> None:
             if not sep or not cols:
                 raise EpicoError(f"--known takes ROBOT:COLOUR,COLOUR, got {k!r}")
             knows.setdefault(robot, []).extend(c for c in cols.split(",") if c)
-        from delkit.resources import deadline, parse_timeout, remaining, time_limit
+        from delkit.resources import deadline, parse_timeout, time_left, time_limit
 
         limit = parse_timeout(timeout)
         with deadline(limit, f"epico solve --goal {goal} --colors {colors}"):
             try:
                 sol = solve(generate(goal, colors, layout=layout, reading=_reading(owner, sensing, takes, symmetric)),
                             macros=macros, known=knows or None,
-                            limits=EpicoLimits(timeout=remaining(), classical=classical))
+                            limits=EpicoLimits(timeout=time_left(), classical=classical))
             except EpicoError as exc:
                 if limit is not None and "time limit" in str(exc):
                     raise time_limit() from None  # the search stopped at the deadline: exit 3 like every limit
