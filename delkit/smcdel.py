@@ -424,9 +424,14 @@ def answer(spec: SmcdelFile, *, max_states: int = MAX_STATES, source: str = "<sm
     """Answer every query: ``{"query", "formula", "line", "column", "answer"}``; for WHERE? the answer is
     the list of states, each the sorted list of its true variables (as SMCDEL prints them) — refused when it
     would list more than ``max_states`` states (counted on the BDD first)."""
+    from delkit.resources import counters
+
+    live = counters()  # queries answered so far, for a limit answer
+    live["queries"], live["queries_answered"] = len(spec.queries), 0
     ks = structure(spec)
     out = []
     for q in spec.queries:
+        live["queries_answered"] = len(out)
         row: dict[str, Any] = {"query": q.kind, "formula": q.text, "line": q.line, "column": q.column}
         if q.kind == "valid":
             row["answer"] = bool(ks.valid(q.formula))

@@ -495,7 +495,7 @@ def run_plan_batch(files: Sequence[Path], *, jobs: int | None = None, scheduler:
 
 
 def run_check_batch(files: Sequence[Path], *, jobs: int | None = None, scheduler: str | None = None,
-                    as_json: bool = False, timeout: float = 0.0, **options: Any) -> int:
+                    as_json: bool = False, timeout: float = 60.0, **options: Any) -> int:
     """``delkit check`` over many ``SPEC [PROBLEM] PLAN_FILE`` groups; returns the exit status."""
     t0 = time.monotonic()
     opts = {"timeout": timeout, **options}

@@ -102,8 +102,9 @@ def report_search(res, out: dict, how: str, as_json: bool) -> int:
 
 def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path | None = None,
               allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
-              strict: bool = False, timeout: float = 0.0, trace: bool = False, trace_json: Path | None = None) -> int:
-    """The body of ``delkit check``; returns the exit status (``timeout`` 0: no limit). ``trace`` /
+              strict: bool = False, timeout: float = 60.0, trace: bool = False, trace_json: Path | None = None) -> int:
+    """The body of ``delkit check``; returns the exit status (``timeout``: 60 s by default, 0:
+    no limit). ``trace`` /
     ``trace_json`` also print / write the states along the plan (:mod:`planners.trace`)."""
     from delkit.resources import deadline, parse_timeout
 
