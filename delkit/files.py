@@ -72,9 +72,10 @@ def check_input(path: str | os.PathLike, what: str = "input") -> os.stat_result:
                          source=str(path))
     cap = max_input_bytes()
     if st.st_size > cap:
-        raise ParseError(f"the {what} is {st.st_size / 2**20:.1f} MiB, more than the {cap / 2**20:g} MiB an input "
-                         f"may have; give a smaller file, or raise the cap with {INPUT_ENV} (MiB)",
-                         source=str(path))
+        from delkit.resources import fmt_bytes
+
+        raise ParseError(f"the {what} has {fmt_bytes(st.st_size)}, more than the {fmt_bytes(cap)} an input may "
+                         f"have; give a smaller file, or raise the cap with {INPUT_ENV} (MiB)", source=str(path))
     return st
 
 
@@ -120,10 +121,10 @@ def refuse_overwrite_input(outputs: Iterable[str | os.PathLike | None], inputs: 
                 continue
             how = ""
             if os.path.abspath(out) != os.path.abspath(src):
-                how = (" (the output is a symbolic link to it)" if os.path.islink(out) or os.path.islink(src)
+                how = (" (the same file through a symbolic link)" if os.path.realpath(out) == os.path.realpath(src)
                        else " (the output is a hard link to it)")
             fix = f"give another {option} path" + (" or --force to overwrite it on purpose" if force is False else "")
-            raise ParseError(f"{option} {out} would overwrite the input file {src}{how}; nothing was written: {fix}",
+            raise ParseError(f"{option} would overwrite the input file {src}{how}; nothing was written: {fix}",
                              source=str(out))
 
 

@@ -213,14 +213,25 @@ def limit_record(message: str, **extra) -> dict:
     return rec
 
 
-def print_limit_record(message: str, stream=None, snapshot: dict | None = None) -> None:
-    """Print :func:`limit_record` as one JSON line (on stdout unless ``stream``); ``snapshot``: the counters
-    to report instead of this thread's (the watchdog runs in its own thread)."""
-    import json
+_ANSWERED: list = []  # a limit answer was printed by this process (the body's, or a watchdog's): only one
 
+
+def print_limit_record(message: str, stream=None, snapshot: dict | None = None, since: float | None = None) -> None:
+    """Print :func:`limit_record` as one JSON line (on stdout unless ``stream``), once per process: a watchdog
+    and the body reaching the same limit print one answer between them. ``snapshot``: the counters to report
+    instead of this thread's (the watchdog runs in its own thread); ``since``: the start to count the
+    seconds from (default: the command's)."""
+    import json
+    import time
+
+    if _ANSWERED:
+        return
+    _ANSWERED.append(True)
     rec = limit_record(message)
     if snapshot is not None:
         rec.update(snapshot)
+    if since is not None:
+        rec["seconds"] = round(time.monotonic() - since, 4)
     (stream or sys.stdout).write(json.dumps(rec) + "\n")
 
 
@@ -247,6 +258,7 @@ def begin_command() -> None:
     pid = os.getpid()
     first = _BEGUN_PID != pid and _on_main_thread()
     _LOCAL.t0 = process_start() if first else time.monotonic()
+    _ANSWERED.clear()
     counters().clear()  # the same dict: a watchdog started before (early_watchdog) reads this command's counts
     if first:
         _BEGUN_PID = pid
@@ -324,7 +336,7 @@ def keep_alive(*objs) -> None:
         _KEEP.extend(objs)
 
 
-def _watchdog(when: float, message: str, token: list, live: dict | None = None) -> None:
+def _watchdog(when: float, message: str, token: list, live: dict | None = None, since: float | None = None) -> None:
     import sys
     import time
 
@@ -340,7 +352,7 @@ def _watchdog(when: float, message: str, token: list, live: dict | None = None) 
     try:
         if JSON_LIMITS:  # the answer the body could not give: one JSON object with the counters so far
             try:
-                print_limit_record(message, snapshot=dict(live or {}))
+                print_limit_record(message, snapshot=dict(live or {}), since=since)
             except Exception:  # noqa: BLE001 - a closed stdout, a counter changed under us: exit anyway
                 pass
         sys.stdout.flush()
@@ -379,7 +391,8 @@ def early_watchdog(argv: list[str]) -> None:
         return
     name = " ".join(a for a in argv[:2] if not a.startswith("-"))
     message = f"delkit {name}: no answer within {option} {limit:g} s; give it more time with {option}"
-    threading.Thread(target=_watchdog, args=(process_start() + limit + _GRACE + 0.1, message, [False], counters()),
+    t0 = process_start()
+    threading.Thread(target=_watchdog, args=(t0 + limit + _GRACE + 0.1, message, [False], counters(), t0),
                      daemon=True).start()
 
 
@@ -419,8 +432,8 @@ class _Watchdog:
         if HARD_EXIT:
             import threading
 
-            threading.Thread(target=_watchdog, args=(self.when, self.message, self.token, counters()),
-                             daemon=True).start()
+            threading.Thread(target=_watchdog, args=(self.when, self.message, self.token, counters(),
+                                                     command_start()), daemon=True).start()
 
     def __exit__(self, kind, value, traceback) -> bool:
         if kind is None or not issubclass(kind, TimeLimit):

@@ -339,6 +339,11 @@ def _drive(jobs: list[tuple[Callable, tuple, dict[str, Any]]], workers: int | No
 
     main = threading.current_thread() is threading.main_thread()
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGTERM, signal.SIGINT)} if main else {}
+    def interrupted(exc: BaseException) -> _Interrupted:
+        for s in previous:  # a second signal while the workers are being ended changes nothing
+            signal.signal(s, signal.SIG_IGN)
+        return exc if isinstance(exc, _Interrupted) else _Interrupted("SIGINT", 130)
+
     try:
         with executor(workers, scheduler, hard_timeout=hard_timeout, memory_mb=memory_mb) as ex:
             futures = {}
@@ -360,14 +365,14 @@ def _drive(jobs: list[tuple[Callable, tuple, dict[str, Any]]], workers: int | No
                     if bar is not None:
                         bar(res)
             except (_Interrupted, KeyboardInterrupt) as exc:
-                stop = exc if isinstance(exc, _Interrupted) else _Interrupted("SIGINT", 130)
-                for s in previous:  # a second signal while the workers are being ended changes nothing
-                    signal.signal(s, signal.SIG_IGN)
+                stop = interrupted(exc)
                 if hasattr(ex, "terminate"):
                     ex.terminate(f"the batch was interrupted ({stop.why})")
                 else:  # a Dask executor: what has not started is cancelled
                     for fut in futures:
                         fut.cancel()
+    except (_Interrupted, KeyboardInterrupt) as exc:  # while the pool was being started or shut down
+        stop = stop or interrupted(exc)
     finally:
         for s, h in previous.items():
             signal.signal(s, h)

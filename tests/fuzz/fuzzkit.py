@@ -132,11 +132,14 @@ def _from_hang(exc: BaseException) -> bool:
     return False
 
 
-def classify_error_text(err: str) -> str | None:
-    """None if stderr is a clean one-line error, else what is wrong with it."""
+def classify_error_text(err: str, batch: bool = False) -> str | None:
+    """None if stderr is a clean one-line error (``batch``: one line per bad task, at least one), else what is
+    wrong with it."""
     if "Traceback (most recent call last)" in err:
         return "traceback on stderr"
     lines = [ln for ln in err.splitlines() if ln.startswith("delkit: error:")]
+    if batch and lines:
+        return None
     if len(lines) != 1:
         return f"{len(lines)} 'delkit: error:' lines on stderr: {err.strip()[:200]!r}"
     return None
@@ -179,7 +182,9 @@ def run_case(case: Case) -> Outcome:
             where = [ln.strip() for ln in tb.splitlines() if ln.strip().startswith("File ")][-1:]
             return Outcome("crash", None, f"{last[:240]} @ {where[0][:200] if where else '?'}", secs)
         if rc == 2:
-            bad = classify_error_text(err)
+            from delkit.resources import _batch_line
+
+            bad = classify_error_text(err, batch=_batch_line(argv))
             return Outcome("crash" if bad else "error", rc, bad or err.strip()[:240], secs)
         if rc not in ANSWER_STATUS:
             return Outcome("crash", rc, f"unexpected exit status {rc}; stderr {err.strip()[:200]!r}", secs)
