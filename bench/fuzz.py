@@ -1,6 +1,14 @@
 """Fuzz every delkit command and print the outcome counts per command.
 
     python bench/fuzz.py -n 5000 --seed 2026 [--families plan,model] [--markdown bench/RESULTS-fuzz.md]
+    python bench/fuzz.py --list                      # the families, with the module that registers each
+
+Families come from ``tests/fuzz/fuzzgen.py`` (which also registers those of ``tests/fuzz/fuzzsafety.py``) and
+from every ``bench/fuzz_*.py`` module (or ``--modules a,b``) that defines ``FAMILIES = {name: (strategy,
+weight)}``: each is registered with ``fuzzgen.register_families`` before the run, so ``--families NAME``
+selects it like the built-in ones. A family whose cases are not command lines gives them
+``mode="call"`` (``argv[0]`` = ``"module:function"``, called with the case and a scratch directory in the
+worker, returning a ``fuzzkit.Outcome``).
 
 Inputs come from the hypothesis generators in ``tests/fuzz/fuzzgen.py`` (mutated shared benchmarks and
 ``specs/``, random JSON models and arms plans, boundary numbers, deep nesting); each runs in-process in a
@@ -31,10 +39,24 @@ def main() -> int:
                                                      "plan,check,model,epddl2026,convert,smcdel,epico")
     ap.add_argument("--mem-mb", type=int, default=3072, help="address-space limit of the worker (MiB)")
     ap.add_argument("--markdown", type=Path, help="also write the table (and every bad case) here")
+    ap.add_argument("--modules", default=None, help="comma-separated modules whose FAMILIES to add (default: every "
+                                                    "bench/fuzz_*.py)")
+    ap.add_argument("--list", action="store_true", help="list the families and exit")
     args = ap.parse_args()
 
     import fuzzgen
     from fuzzkit import Runner
+
+    origin = _register(fuzzgen, args.modules)
+    if args.list:
+        for name, (_strategy, weight) in sorted(fuzzgen.FAMILIES.items()):
+            print(f"{name:16} weight {weight:3}  {origin.get(name, 'tests/fuzz/fuzzgen.py')}")
+        return 0
+    unknown = [f for f in args.families.split(",") if f and f not in fuzzgen.FAMILIES]
+    if unknown:
+        print(f"fuzz.py: unknown famil{'y' if len(unknown) == 1 else 'ies'} {', '.join(unknown)}; see --list",
+              file=sys.stderr)
+        return 2
 
     from delkit.progress import progress
 
@@ -70,6 +92,28 @@ def main() -> int:
             f"{' --families ' + args.families if args.families else ''}`\n\n{head}\n\n{tally.table()}\n\n"
             + ("## Bad outcomes\n\n" + tally.report_bad(500) + "\n" if tally.bad else "No bad outcomes.\n"))
     return 1 if tally.bad else 0
+
+
+def _register(fuzzgen, modules: str | None) -> dict[str, str]:
+    """Import the modules with more families (default: every bench/fuzz_*.py) and register their FAMILIES;
+    returns family -> the module that registered it."""
+    import importlib
+    import importlib.util
+
+    origin = {name: "tests/fuzz/fuzzsafety.py" for name in getattr(sys.modules.get("fuzzsafety"), "FAMILIES", {})}
+    if modules is None:
+        names = [p.stem for p in sorted(Path(__file__).resolve().parent.glob("fuzz_*.py"))]
+        sys.path.insert(0, str(Path(__file__).resolve().parent))
+    else:
+        names = [m for m in modules.split(",") if m]
+    for name in names:
+        module = importlib.import_module(name)
+        fams = getattr(module, "FAMILIES", None)
+        if not isinstance(fams, dict):
+            continue
+        fuzzgen.register_families(fams)
+        origin.update({fam: getattr(module, "__file__", name) for fam in fams})
+    return origin
 
 
 if __name__ == "__main__":

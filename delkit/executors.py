@@ -35,15 +35,39 @@ from typing import Any
 
 from delkit.errors import DelkitError
 
-__all__ = ["IsolatedPool", "RunKilled", "WorkerDied", "executor", "actors", "Actor"]
+__all__ = ["IsolatedPool", "RunKilled", "RunInterrupted", "WorkerDied", "executor", "actors", "Actor",
+           "parse_scheduler"]
 
 
 class RunKilled(RuntimeError):
     """A run exceeded the pool's hard wall-clock limit; its worker was killed."""
 
 
+class RunInterrupted(RuntimeError):
+    """The pool was terminated (:meth:`IsolatedPool.terminate`: the batch was interrupted) while the run was
+    waiting or running; its worker was killed."""
+
+
 class WorkerDied(RuntimeError):
     """The worker process died while doing the run (crash, signal, out-of-memory kill)."""
+
+
+def _tie_to_parent() -> None:
+    """In a worker: die with the parent (Linux ``PR_SET_PDEATHSIG``: SIGKILL when the parent ends, however it
+    ends, so no worker outlives its batch), and leave SIGINT to the parent (a Ctrl-C reaches the whole process
+    group; the parent decides what the interrupted batch reports and ends the workers itself)."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG = 1
+    except (OSError, AttributeError):  # pragma: no cover - not Linux: the pipe's end of file still ends an idle worker
+        pass
+    if os.getppid() == 1:  # the parent ended before the line above ran
+        os._exit(1)
 
 
 def _worker(conn: Any, memory_mb: float | None) -> None:
@@ -51,6 +75,7 @@ def _worker(conn: Any, memory_mb: float | None) -> None:
     import pickle
     import resource
 
+    _tie_to_parent()
     if memory_mb:
         limit = int(memory_mb * 2**20)
         _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
@@ -110,6 +135,7 @@ class IsolatedPool(Executor):
         self._lock = threading.Lock()
         self._wake_r, self._wake_w = self._ctx.Pipe(duplex=False)
         self._shutdown = False
+        self._terminate = False
         self._thread = threading.Thread(target=self._loop, name="IsolatedPool", daemon=True)
         self._thread.start()
 
@@ -132,6 +158,17 @@ class IsolatedPool(Executor):
         self._wake()
         if wait:
             self._thread.join()
+
+    def terminate(self, reason: str = "interrupted") -> None:
+        """End now: every waiting run is cancelled, every running one fails with :class:`RunInterrupted` and
+        its worker is killed (SIGKILL); returns when the workers are gone."""
+        with self._lock:
+            while self._queue:
+                self._queue.popleft()[0].cancel()
+        self._reason = reason
+        self._terminate = self._shutdown = True
+        self._wake()
+        self._thread.join(10.0)
 
     # ------------------------------------------------------------------ internals
     def _wake(self) -> None:
@@ -182,6 +219,15 @@ class IsolatedPool(Executor):
         from multiprocessing.connection import wait
 
         while True:
+            if self._terminate:
+                for slot in list(self._slots):
+                    if slot.job is not None:
+                        self._fail(slot, RunInterrupted(getattr(self, "_reason", "interrupted")))
+                    if slot.proc.is_alive():
+                        slot.proc.kill()
+                for slot in list(self._slots):
+                    self._replace(slot)
+                return
             self._dispatch()
             busy = [s for s in self._slots if s.job is not None]
             if self._shutdown and not busy and not self._queue:
@@ -235,19 +281,73 @@ def _died(code: int | None) -> str:
     return f"the worker process exited with status {code}"
 
 
+#: the address schemes ``--scheduler`` takes (TLS needs a security configuration that delkit does not take)
+SCHEMES = ("tcp",)
+
+
+def parse_scheduler(address: str | None, option: str = "--scheduler",
+                    error: type[DelkitError] = DelkitError) -> tuple[str, int] | None:
+    """(host, port) of a Dask scheduler address ``[tcp://]HOST:PORT`` (HOST a name, an IPv4 address or an
+    IPv6 address in brackets; PORT 1..65535), or None for None; anything else raises ``error`` with one line
+    saying what is wrong and how to write it. Nothing is contacted."""
+    import re
+
+    if address is None:
+        return None
+    fix = f"write {option} tcp://HOST:PORT, e.g. {option} tcp://127.0.0.1:8786 (or leave it out: local processes)"
+    text = address.strip()
+    if not text:
+        raise error(f"{option} is empty; {fix}")
+    scheme, sep, rest = text.partition("://")
+    if not sep:
+        scheme, rest = "tcp", text
+    scheme = scheme.lower()
+    if scheme in ("tls", "wss"):
+        raise error(f"{option} {address!r}: {scheme}:// needs a TLS security configuration, which delkit does not "
+                    f"take; use a tcp:// address (e.g. through an SSH tunnel: tcp://127.0.0.1:8786)")
+    if scheme not in SCHEMES:
+        raise error(f"{option} {address!r}: unknown scheme {scheme!r}; {fix}")
+    m = re.fullmatch(r"(\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9._-]+):([0-9]{1,20})/?", rest)
+    if m is None:
+        raise error(f"{option} {address!r}: not HOST:PORT; {fix}")
+    host, port = m.group(1), int(m.group(2))
+    if not 1 <= port <= 65535:
+        raise error(f"{option} {address!r}: port {m.group(2)} is out of range 1..65535; {fix}")
+    if len(host) > 253:
+        raise error(f"{option} {address!r}: the host name is longer than 253 characters; {fix}")
+    return host.strip("[]"), port
+
+
+def _reachable(host: str, port: int, timeout: float, address: str, option: str,
+               error: type[DelkitError]) -> None:
+    """Refuse (``error``) a scheduler address where nothing accepts a TCP connection within ``timeout`` s —
+    before Dask's client, whose own failures on such addresses are not one line."""
+    import socket
+
+    try:
+        with socket.create_connection((host, port), timeout=timeout):
+            pass
+    except (OSError, OverflowError, ValueError, UnicodeError) as exc:
+        why = "timed out" if isinstance(exc, TimeoutError) else (getattr(exc, "strerror", None) or str(exc))
+        raise error(f"cannot reach the Dask scheduler at {address!r} ({why}); start one with 'dask scheduler' "
+                    f"or leave {option} out to use local processes") from None
+
+
 def _dask_client(address: str, timeout: float, option: str = "--scheduler",
                  error: type[DelkitError] = DelkitError) -> Any:
     """A ``distributed.Client`` of the scheduler at ``address``; else ``error`` saying how to fix it
     (``option`` names the command's option in the message)."""
+    host, port = parse_scheduler(address, option, error)  # type: ignore[misc]
     try:
         from distributed import Client
     except ImportError as exc:  # pragma: no cover - dask is a declared extra
         raise error(f"{option} needs the 'distributed' package (pip install 'delkit[dask]')") from exc
+    _reachable(host, port, min(timeout, 5.0), address, option, error)
     try:
-        return Client(address, timeout=timeout)
-    except (OSError, ValueError) as exc:  # unreachable, timed out, or not an address
-        raise error(f"cannot reach the Dask scheduler at {address!r} ({exc}); start one with "
-                    f"'dask scheduler' or leave {option} out to use local processes") from exc
+        return Client(address if "://" in address else f"tcp://{address.strip()}", timeout=timeout)
+    except Exception as exc:  # noqa: BLE001 - unreachable, timed out, refused, not a scheduler: one line
+        raise error(f"cannot reach the Dask scheduler at {address!r} ({type(exc).__name__}: {exc}); start one "
+                    f"with 'dask scheduler' or leave {option} out to use local processes") from None
 
 
 @contextmanager
@@ -284,6 +384,7 @@ def _actor_main(conn: Any, cls: Callable, args: tuple) -> None:
     (method, args) requests with (True, result) or (False, exception) until None or end of file."""
     import gc
 
+    _tie_to_parent()
     gc.disable()  # the actors of a search keep many long-lived objects and make no reference cycles per call
     obj: Any = None
     for name, cargs in _requests(conn):

@@ -392,9 +392,11 @@ def loads(text: str, *, source: str = "<string>") -> KripkeModel | EventModel:
 
 
 def _read(path: str | Path) -> str:
+    from delkit.files import read_input
+
     p = Path(path)
     try:
-        return p.read_text(encoding="utf-8")
+        return read_input(p, "model file")
     except FileNotFoundError:
         raise ModelFileError(f"{p}: no such file; check the path") from None
     except IsADirectoryError:

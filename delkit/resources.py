@@ -23,7 +23,8 @@ from delkit.errors import DelkitError
 
 __all__ = ["ResourceError", "memory_budget", "require", "fmt_bytes", "product_update_bytes",
            "sum_product_bytes", "sar_bytes", "structure_kripke_bytes", "deadline", "TimeLimit", "parse_timeout",
-           "check_time", "begin_command", "remaining", "keep_alive", "time_limit", "check_outputs"]
+           "check_time", "begin_command", "remaining", "keep_alive", "time_limit", "check_outputs", "counters",
+           "limit_record", "print_limit_record", "time_left"]
 
 ENV = "DELKIT_MEMORY_BUDGET"
 
@@ -174,6 +175,7 @@ class _PerThread(_thread._local):  # threading.local
     deadline: float | None = None   # the innermost active deadline, a time.monotonic() instant
     message: str = "time limit reached"
     t0: float | None = None         # start of the current command (time.monotonic())
+    counters: dict | None = None    # the live work counters of the current command (see :func:`counters`)
 
 
 _LOCAL = _PerThread()
@@ -183,6 +185,54 @@ class TimeLimit(ResourceError):
     """A ``--timeout`` was reached (exit status 3)."""
 
     exit_code = 3
+
+
+def counters() -> dict:
+    """The live work counters of the command running in this thread (e.g. ``expanded``, ``generated`` of a
+    search, ``worlds`` of a counter-model search): long loops store their counts here as they go, so that a
+    limit answer — also the one the watchdog prints when the body is stuck — reports how far the work got."""
+    c = _LOCAL.counters
+    if c is None:
+        c = _LOCAL.counters = {}
+    return c
+
+
+#: set by the console script when the command line has ``--json``: a limit answer is then one JSON object
+JSON_LIMITS = False
+
+
+def limit_record(message: str, **extra) -> dict:
+    """The JSON answer of a reached limit: ``status`` "limit", the reason, ``exit`` 3, the seconds since the
+    command started and the live :func:`counters` (whatever the work stored so far)."""
+    import time
+
+    rec = {"status": "limit", "reason": message, "exit": 3,
+           "seconds": round(time.monotonic() - command_start(), 4)}
+    rec.update(dict(_LOCAL.counters or {}))
+    rec.update(extra)
+    return rec
+
+
+_ANSWERED: list = []  # a limit answer was printed by this process (the body's, or a watchdog's): only one
+
+
+def print_limit_record(message: str, stream=None, snapshot: dict | None = None, since: float | None = None) -> None:
+    """Print :func:`limit_record` as one JSON line (on stdout unless ``stream``), once per process: a watchdog
+    and the body reaching the same limit print one answer between them. ``snapshot``: the counters to report
+    instead of this thread's (the watchdog runs in its own thread); ``since``: the start to count the
+    seconds from (default: the command's)."""
+    import json
+    import time
+
+    if _ANSWERED:
+        return
+    _ANSWERED.append(True)
+    rec = limit_record(message)
+    if snapshot is not None:
+        rec.update(snapshot)
+    if since is not None:
+        rec["seconds"] = round(time.monotonic() - since, 4)
+    (stream or sys.stdout).write(json.dumps(rec) + "\n")
 
 
 def process_start() -> float:
@@ -208,6 +258,8 @@ def begin_command() -> None:
     pid = os.getpid()
     first = _BEGUN_PID != pid and _on_main_thread()
     _LOCAL.t0 = process_start() if first else time.monotonic()
+    _ANSWERED.clear()
+    counters().clear()  # the same dict: a watchdog started before (early_watchdog) reads this command's counts
     if first:
         _BEGUN_PID = pid
 
@@ -260,6 +312,16 @@ def check_time(slack: float = 0.0) -> None:
             raise TimeLimit(_LOCAL.message)
 
 
+def time_left() -> float | None:
+    """Seconds left before the active deadline (None: no deadline), raising :class:`TimeLimit` when none are
+    left — for passing the rest of the budget on as another limit (a spent budget is a reached limit, exit 3,
+    never an impossible limit)."""
+    left = remaining()
+    if left is not None and left <= 0:
+        raise TimeLimit(_LOCAL.message)
+    return left
+
+
 def time_limit() -> TimeLimit:
     """The :class:`TimeLimit` of the active deadline (to raise where a library stopped at it, e.g. z3)."""
     return TimeLimit(_LOCAL.message)
@@ -274,7 +336,7 @@ def keep_alive(*objs) -> None:
         _KEEP.extend(objs)
 
 
-def _watchdog(when: float, message: str, token: list) -> None:
+def _watchdog(when: float, message: str, token: list, live: dict | None = None, since: float | None = None) -> None:
     import sys
     import time
 
@@ -288,6 +350,11 @@ def _watchdog(when: float, message: str, token: list) -> None:
     if token[0]:
         return
     try:
+        if JSON_LIMITS:  # the answer the body could not give: one JSON object with the counters so far
+            try:
+                print_limit_record(message, snapshot=dict(live or {}), since=since)
+            except Exception:  # noqa: BLE001 - a closed stdout, a counter changed under us: exit anyway
+                pass
         sys.stdout.flush()
         sys.stderr.write(f"delkit: error: {message}\n")
         sys.stderr.flush()
@@ -302,6 +369,11 @@ def early_watchdog(argv: list[str]) -> None:
     normally beats by reporting the limit in its own words."""
     import threading
 
+    global JSON_LIMITS
+
+    JSON_LIMITS = "--json" in argv[:argv.index("--")] if "--" in argv else "--json" in argv
+    if _batch_line(argv):
+        return  # a batch's --timeout is per task: each worker holds its own (planners.batch)
     option = "--total-timeout" if argv[:2] == ["epico", "table"] else "--timeout"
     value = None
     for i, arg in enumerate(argv):
@@ -319,8 +391,30 @@ def early_watchdog(argv: list[str]) -> None:
         return
     name = " ".join(a for a in argv[:2] if not a.startswith("-"))
     message = f"delkit {name}: no answer within {option} {limit:g} s; give it more time with {option}"
-    threading.Thread(target=_watchdog, args=(process_start() + limit + _GRACE + 0.1, message, [False]),
+    t0 = process_start()
+    threading.Thread(target=_watchdog, args=(t0 + limit + _GRACE + 0.1, message, [False], counters(), t0),
                      daemon=True).start()
+
+
+def _batch_line(argv: list[str]) -> bool:
+    """Whether a ``plan`` / ``check`` command line is a batch (``--jobs``, ``--scheduler``, or more files than
+    one task takes), told from the words alone (before any import): its ``--timeout`` is per task."""
+    if not argv or argv[0] not in ("plan", "check"):
+        return False
+    words = argv[1:argv.index("--")] if "--" in argv else argv[1:]
+    if any(w in ("--jobs", "-j", "--scheduler") or w.startswith(("--jobs=", "--scheduler=")) for w in words):
+        return True
+    valued = {"--timeout", "--library", "-l", "--search", "--max-nodes", "--max-memory", "--engine", "--property",
+              "-p", "--properties", "--trace-json"}
+    pos, skip = 0, False
+    for w in words:
+        if skip:
+            skip = False
+        elif w in valued:
+            skip = True
+        elif not w.startswith("-"):
+            pos += 1
+    return pos > (3 if argv[0] == "check" else 2)
 
 
 class _Watchdog:
@@ -338,7 +432,8 @@ class _Watchdog:
         if HARD_EXIT:
             import threading
 
-            threading.Thread(target=_watchdog, args=(self.when, self.message, self.token), daemon=True).start()
+            threading.Thread(target=_watchdog, args=(self.when, self.message, self.token, counters(),
+                                                     command_start()), daemon=True).start()
 
     def __exit__(self, kind, value, traceback) -> bool:
         if kind is None or not issubclass(kind, TimeLimit):
@@ -413,26 +508,20 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
 
 # ----------------------------------------------------------------------------- outputs
 
-def check_outputs(outputs, inputs, *, force: bool = False, folder=None, option: str = "-o") -> None:
-    """Refuse (exit 2, nothing written) an output that is one of the ``inputs`` (unless ``force``: then the
-    input is overwritten on purpose) or that lies outside ``folder``; call it for every output before
-    writing the first one."""
+def check_outputs(outputs, inputs, *, force: bool | None = None, folder=None, option: str = "-o") -> None:
+    """Refuse (exit 2, nothing written) an output that is one of the ``inputs``
+    (:func:`delkit.files.refuse_overwrite_input`; ``force`` True: the input is overwritten on purpose, False:
+    the command's --force was not given, None: it has none) or that lies outside ``folder``; call it for every
+    output before writing the first one."""
     from pathlib import Path
 
     from delkit.errors import ParseError
+    from delkit.files import refuse_overwrite_input
 
-    ins = {}
-    for p in inputs:
-        try:
-            ins[Path(p).resolve()] = str(p)
-        except (OSError, RuntimeError):  # pragma: no cover - unresolvable: cannot be clobbered either
-            continue
     base = Path(folder).resolve() if folder is not None else None
+    outputs = list(outputs)
     for out in outputs:
-        path = Path(out).resolve()
-        if base is not None and path.parent != base:
+        if base is not None and Path(out).resolve().parent != base:
             raise ParseError(f"the output {out} would be written outside the folder {folder}; give a plain file "
                              f"name (no '/' or '..')", source=str(out))
-        if path in ins and not force:
-            raise ParseError(f"the output would overwrite the input file {ins[path]}; write elsewhere (another "
-                             f"{option}) or give --force to overwrite it", source=str(out))
+    refuse_overwrite_input(outputs, inputs, option=option, force=force)

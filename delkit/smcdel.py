@@ -424,9 +424,14 @@ def answer(spec: SmcdelFile, *, max_states: int = MAX_STATES, source: str = "<sm
     """Answer every query: ``{"query", "formula", "line", "column", "answer"}``; for WHERE? the answer is
     the list of states, each the sorted list of its true variables (as SMCDEL prints them) — refused when it
     would list more than ``max_states`` states (counted on the BDD first)."""
+    from delkit.resources import counters
+
+    live = counters()  # queries answered so far, for a limit answer
+    live["queries"], live["queries_answered"] = len(spec.queries), 0
     ks = structure(spec)
     out = []
     for q in spec.queries:
+        live["queries_answered"] = len(out)
         row: dict[str, Any] = {"query": q.kind, "formula": q.text, "line": q.line, "column": q.column}
         if q.kind == "valid":
             row["answer"] = bool(ks.valid(q.formula))
@@ -456,7 +461,9 @@ def check_file(path: str, *, max_states: int = MAX_STATES) -> list[dict]:
 
     p = Path(path)
     try:
-        text = p.read_text(encoding="utf-8")
+        from delkit.files import read_input
+
+        text = read_input(p, "SMCDEL file")
     except UnicodeDecodeError:
         raise ParseError("not UTF-8 text", source=str(path)) from None
     return answer(parse_smcdel(text, source=str(path)), max_states=max_states, source=str(path))

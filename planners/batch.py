@@ -50,7 +50,7 @@ def plan_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: str
     from planners.commands import run_plan
 
     files = [Path(f) for f in files]
-    _check_jobs(jobs, "delkit plan")
+    jobs = _check_jobs(jobs, "delkit plan", scheduler)
     if is_batch(files, {"jobs": jobs, "scheduler": scheduler}):
         units = plan_units(files)
         parallel = jobs is not None and jobs > 1
@@ -73,18 +73,33 @@ def check_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: st
     from planners.commands import run_check
 
     files = [Path(f) for f in files]
-    _check_jobs(jobs, "delkit check")
+    jobs = _check_jobs(jobs, "delkit check", scheduler)
     if is_batch(files, {"jobs": jobs, "scheduler": scheduler}, "check") and (
             len(check_units(files)) != 1 or scheduler):
         return run_check_batch(files, jobs=jobs, scheduler=scheduler, **options)
     return run_check(files, **options)
 
 
-def _check_jobs(jobs: int | None, command: str) -> None:
-    if jobs is not None and jobs < 1:
-        from delkit.errors import ParseError
+#: the most worker processes (or parallel parts) ``--jobs`` takes
+MAX_JOBS = 256
 
-        raise ParseError(f"--jobs {jobs}: use a number of worker processes ≥ 1", source=command)
+
+def _check_jobs(jobs: int | str | None, command: str, scheduler: str | None = None) -> int | None:
+    """``--jobs`` as a number 1..MAX_JOBS written in plain digits (``+2``, ``0x4``, ``1e3`` are refused), and a
+    well-formed ``--scheduler`` address (:func:`delkit.executors.parse_scheduler`); bad input raises."""
+    from delkit.errors import ParseError
+
+    if scheduler is not None:
+        from delkit.executors import parse_scheduler
+
+        parse_scheduler(scheduler)
+    if jobs is None:
+        return None
+    text = str(jobs).strip()
+    if not re.fullmatch(r"[0-9]{1,20}", text) or not 1 <= int(text) <= MAX_JOBS:
+        raise ParseError(f"--jobs {jobs}: use a number of worker processes 1..{MAX_JOBS} in plain digits, e.g. "
+                         f"--jobs 2 (this machine has {os.cpu_count() or 1} cores)", source=command)
+    return int(text)
 
 _PROBLEM = r"(?i)\(\s*define\s*\(\s*problem\b"  # compiled on first use (re's cache): start-up
 
@@ -108,7 +123,9 @@ def _role(path: Path) -> str:
     from planners.lang.detect import detect_text
 
     try:
-        text = path.read_text()
+        from delkit.files import read_input
+
+        text = read_input(path)
         dialect = detect_text(text, str(path))[0]
     except (OSError, UnicodeDecodeError, ParseError):
         return "other"
@@ -215,7 +232,7 @@ def _capture(fn: Callable[[], int]) -> tuple[int, str, str]:
             from delkit.errors import DelkitError
 
             if isinstance(exc, DelkitError):
-                code, err = 2, str(exc)
+                code, err = int(getattr(exc, "exit_code", 2)), str(exc)  # 3: a limit (TimeLimit)
             elif isinstance(exc, MemoryError):
                 code, err = 3, "out of memory (the worker's address-space limit)"
             elif isinstance(exc, RecursionError):
@@ -227,10 +244,24 @@ def _capture(fn: Callable[[], int]) -> tuple[int, str, str]:
     return code, out.getvalue(), err
 
 
+def _begin_task() -> None:
+    """A task's limits count from now (not from the worker's start), and its counters start at zero."""
+    from delkit.resources import begin_command
+
+    begin_command()  # a worker's first command would count from the process start: mark a fresh start below
+    import delkit.resources as resources
+
+    resources._LOCAL.t0 = time.monotonic()
+
+
 def _result(code: int, text: str, err: str, t0: float, c0: float, cpu: Callable[[], float]) -> dict[str, Any]:
     lines = [ln for ln in text.splitlines() if ln.startswith("{")]
     res: dict[str, Any] = json.loads(lines[-1]) if lines else {}
-    if err:
+    if err and code == 3:  # a limit outside the search (reading, replaying): the counters so far
+        from delkit.resources import limit_record
+
+        res = {**limit_record(err), **res}
+    elif err:
         res.update(status="error", reason=err)
     res.update(exit=code, cpu=round(cpu() - c0, 4), wall=round(time.monotonic() - t0, 4))
     return res
@@ -241,6 +272,7 @@ def plan_one(spec: str, problem: str | None, options: dict[str, Any]) -> dict[st
     ``cpu`` and ``wall`` (the task's CPU and wall-clock seconds in this worker, reading included)."""
     from planners.commands import run_plan
 
+    _begin_task()
     cpu = _cpu_clock()
     t0, c0 = time.monotonic(), cpu()
     code, text, err = _capture(lambda: run_plan(Path(spec), Path(problem) if problem else None,
@@ -252,6 +284,7 @@ def check_one(files: list[str], options: dict[str, Any]) -> dict[str, Any]:
     """One group of a check batch, in a worker: :func:`run_check` with ``--json``."""
     from planners.commands import run_check
 
+    _begin_task()
     cpu = _cpu_clock()
     t0, c0 = time.monotonic(), cpu()
     code, text, err = _capture(lambda: run_check([Path(f) for f in files], as_json=True, **options))
@@ -261,33 +294,102 @@ def check_one(files: list[str], options: dict[str, Any]) -> dict[str, Any]:
 _SEVERITY = {0: 0, 1: 1, 3: 2, 2: 3}
 
 
+class _Interrupted(BaseException):
+    """SIGTERM (or SIGINT) reached the batch's main process, or its stdout went away: end the batch."""
+
+    def __init__(self, why: str, code: int) -> None:
+        super().__init__(why)
+        self.why, self.code = why, code
+
+
+def _emit(line: str) -> None:
+    """One JSON line on stdout, at once; a closed or full stdout ends the batch (no traceback)."""
+    try:
+        print(line, flush=True)
+    except (OSError, ValueError) as exc:
+        raise _Interrupted(f"standard output failed ({getattr(exc, 'strerror', None) or exc})", 2) from None
+
+
+def _say(text: str) -> None:
+    try:
+        print(text, file=sys.stderr, flush=True)
+    except (OSError, ValueError):  # pragma: no cover - stderr closed: nowhere to say it
+        pass
+
+
 def _drive(jobs: list[tuple[Callable, tuple, dict[str, Any]]], workers: int | None, scheduler: str | None,
-           hard_timeout: float | None, memory_mb: float | None, as_json: bool) -> list[dict[str, Any]]:
-    """Run every job; each result dict gets ``exit`` (a crash: 3) — JSON lines printed as they finish."""
+           hard_timeout: float | None, memory_mb: float | None, as_json: bool) -> tuple[list[dict[str, Any]], Any]:
+    """Run every job; each result dict gets ``exit`` (a crash: 3) — JSON lines printed as they finish. Returns
+    (one result per job, in input order, and the interruption or None). SIGTERM, SIGINT (to the main process
+    alone, or Ctrl-C to the group: the workers leave it to the main process) and a failing stdout end the
+    batch: the running tasks' workers are killed, every task not finished gets a record ``interrupted``."""
+    import signal
     from concurrent.futures import as_completed
 
     from delkit.executors import executor
 
     results: list[dict[str, Any] | None] = [None] * len(jobs)
     bar = _progress(len(jobs)) if not as_json and sys.stderr.isatty() else None
-    with executor(workers, scheduler, hard_timeout=hard_timeout, memory_mb=memory_mb) as ex:
-        futures = {ex.submit(fn, *args): (i, ident) for i, (fn, args, ident) in enumerate(jobs)}
-        for fut in as_completed(futures):
-            i, ident = futures[fut]
+    stop: _Interrupted | None = None
+
+    def on_signal(signum, frame):  # noqa: ARG001 - signal handler signature
+        raise _Interrupted(signal.Signals(signum).name, 128 + signum)
+
+    import threading
+
+    main = threading.current_thread() is threading.main_thread()
+    previous = {s: signal.signal(s, on_signal) for s in (signal.SIGTERM, signal.SIGINT)} if main else {}
+    def interrupted(exc: BaseException) -> _Interrupted:
+        for s in previous:  # a second signal while the workers are being ended changes nothing
+            signal.signal(s, signal.SIG_IGN)
+        return exc if isinstance(exc, _Interrupted) else _Interrupted("SIGINT", 130)
+
+    try:
+        with executor(workers, scheduler, hard_timeout=hard_timeout, memory_mb=memory_mb) as ex:
+            futures = {}
             try:
-                res = dict(fut.result())
-            except Exception as exc:  # noqa: BLE001 - a crash, a kill, a lost Dask worker: this task only
-                res = {"status": "crash", "reason": f"{type(exc).__name__}: {exc}", "exit": 3,
-                       "cpu": getattr(fut, "cpu", None), "wall": None}
-            res = {**ident, **res}
-            results[i] = res
-            if as_json:
-                print(json.dumps(res), flush=True)
-            if bar is not None:
-                bar(res)
-    if bar is not None:
-        bar(None)
-    return [r for r in results if r is not None]
+                futures = {ex.submit(fn, *args): (i, ident) for i, (fn, args, ident) in enumerate(jobs)}
+                for fut in as_completed(futures):
+                    i, ident = futures[fut]
+                    try:
+                        res = dict(fut.result())
+                    except Exception as exc:  # noqa: BLE001 - a crash, a kill, a lost Dask worker: this task only
+                        res = {"status": "crash", "reason": f"{type(exc).__name__}: {exc}", "exit": 3,
+                               "cpu": getattr(fut, "cpu", None), "wall": None}
+                    res = {**ident, **res}
+                    results[i] = res
+                    if res.get("status") in ("error", "crash") and res.get("reason"):  # bad input: stderr too
+                        _say(f"delkit: error: {_name(res)}: {res['reason']}")
+                    if as_json:
+                        _emit(json.dumps(res))
+                    if bar is not None:
+                        bar(res)
+            except (_Interrupted, KeyboardInterrupt) as exc:
+                stop = interrupted(exc)
+                if hasattr(ex, "terminate"):
+                    ex.terminate(f"the batch was interrupted ({stop.why})")
+                else:  # a Dask executor: what has not started is cancelled
+                    for fut in futures:
+                        fut.cancel()
+    except (_Interrupted, KeyboardInterrupt) as exc:  # while the pool was being started or shut down
+        stop = stop or interrupted(exc)
+    finally:
+        for s, h in previous.items():
+            signal.signal(s, h)
+        if bar is not None:
+            bar(None)
+    if stop is not None:
+        for i, (_fn, _args, ident) in enumerate(jobs):
+            if results[i] is None:
+                results[i] = {**ident, "status": "interrupted", "reason": f"not finished: the batch was interrupted "
+                                                                          f"({stop.why})", "exit": stop.code,
+                              "cpu": None, "wall": None}
+                if as_json and stop.code != 2:
+                    try:
+                        _emit(json.dumps(results[i]))
+                    except _Interrupted:
+                        stop = _Interrupted(stop.why, 2)
+    return [r for r in results if r is not None], stop
 
 
 def _progress(total: int) -> Callable[[dict | None], None]:
@@ -311,19 +413,48 @@ def _progress(total: int) -> Callable[[dict | None], None]:
     return step
 
 
-def _worst(results: list[dict[str, Any]]) -> int:
+def _worst(results: list[dict[str, Any]], stop: Any = None) -> int:
+    if stop is not None:  # interrupted: 128 + the signal (130 SIGINT, 143 SIGTERM), 2 a failing stdout
+        return int(stop.code)
     codes = [int(r.get("exit", 3)) for r in results] or [0]
     return max(codes, key=lambda c: _SEVERITY.get(c, 2))
 
 
-def _summary(results: list[dict[str, Any]], wall: float, workers: str) -> dict[str, Any]:
+def _stopped(stop: Any) -> str:
+    return "" if stop is None else f" (interrupted: {stop.why})"
+
+
+def _text(line: str) -> bool:
+    """Print a line of the text report; False if stdout failed."""
+    try:
+        print(line, flush=True)
+    except (OSError, ValueError):
+        return False
+    return True
+
+
+def _report_summary(summ: dict[str, Any], stop: Any, as_json: bool) -> bool:
+    """Print the JSON summary (with ``--json``); say on stderr that the batch was interrupted. False: stdout
+    is gone (nothing more to print)."""
+    if stop is not None:
+        _say(f"delkit: batch interrupted ({stop.why}): {summ['by_status'].get('interrupted', 0)} of {summ['tasks']} "
+             f"task(s) not finished, the workers were ended")
+        if stop.code == 2:
+            return False
+    if as_json:
+        return _text(json.dumps(summ))
+    return True
+
+
+def _summary(results: list[dict[str, Any]], wall: float, workers: str, stop: Any = None) -> dict[str, Any]:
     solved = [r for r in results if r.get("exit") == 0]
     by: dict[str, int] = {}
     for r in results:
         by[str(r.get("status"))] = by.get(str(r.get("status")), 0) + 1
     cpu = sum(float(r.get("cpu") or 0.0) for r in results)
     return {"summary": True, "tasks": len(results), "ok": len(solved), "by_status": by,
-            "task_cpu_s": round(cpu, 3), "wall_s": round(wall, 3), "workers": workers}
+            "task_cpu_s": round(cpu, 3), "wall_s": round(wall, 3), "workers": workers,
+            "interrupted": None if stop is None else stop.why}
 
 
 def _workers_label(jobs: int | None, scheduler: str | None) -> str:
@@ -354,39 +485,39 @@ def run_plan_batch(files: Sequence[Path], *, jobs: int | None = None, scheduler:
     units = plan_units(files)
     jobs_l = [(plan_one, (str(s), str(p) if p else None, opts), {"file": str(s), "problem": str(p) if p else None})
               for s, p in units]
-    results = _drive(jobs_l, jobs, scheduler, _hard(timeout), max_memory * 1.5 + 1024, as_json)
-    summ = _summary(results, time.monotonic() - t0, _workers_label(jobs, scheduler))
+    results, stop = _drive(jobs_l, jobs, scheduler, _hard(timeout), max_memory * 1.5 + 1024, as_json)
+    summ = _summary(results, time.monotonic() - t0, _workers_label(jobs, scheduler), stop)
     summ["solved"] = sum(1 for r in results if r.get("status") == "solved")
-    if as_json:
-        print(json.dumps(summ))
-    else:
+    if not _report_summary(summ, stop, as_json):
+        pass
+    elif not as_json:
         rows = [[_name(r), str(r.get("status")), "" if r.get("length") is None else str(r["length"]),
                  str(r.get("expanded", "")), _num(r.get("cpu")), _num(r.get("wall"))] for r in results]
         _table(rows, ["task", "status", "length", "expanded", "cpu s", "wall s"])
-        print(f"{summ['solved']}/{summ['tasks']} solved; task CPU {summ['task_cpu_s']:.3f} s, wall "
-              f"{summ['wall_s']:.3f} s on {summ['workers']}")
-    return _worst(results)
+        _text(f"{summ['solved']}/{summ['tasks']} solved; task CPU {summ['task_cpu_s']:.3f} s, wall "
+              f"{summ['wall_s']:.3f} s on {summ['workers']}" + _stopped(stop))
+    return _worst(results, stop)
 
 
 def run_check_batch(files: Sequence[Path], *, jobs: int | None = None, scheduler: str | None = None,
-                    as_json: bool = False, timeout: float = 0.0, **options: Any) -> int:
+                    as_json: bool = False, timeout: float = 60.0, **options: Any) -> int:
     """``delkit check`` over many ``SPEC [PROBLEM] PLAN_FILE`` groups; returns the exit status."""
     t0 = time.monotonic()
     opts = {"timeout": timeout, **options}
     jobs_l = [(check_one, ([str(f) for f in u], opts), {"files": [str(f) for f in u]}) for u in check_units(files)]
-    results = _drive(jobs_l, jobs, scheduler, _hard(timeout), None, as_json)
-    summ = _summary(results, time.monotonic() - t0, _workers_label(jobs, scheduler))
+    results, stop = _drive(jobs_l, jobs, scheduler, _hard(timeout), None, as_json)
+    summ = _summary(results, time.monotonic() - t0, _workers_label(jobs, scheduler), stop)
     summ["valid"] = sum(1 for r in results if r.get("valid") is True)
-    if as_json:
-        print(json.dumps(summ))
-    else:
+    if not _report_summary(summ, stop, as_json):
+        pass
+    elif not as_json:
         rows = [[" ".join(Path(f).name for f in r["files"]),
                  "valid" if r.get("valid") else str(r.get("status") or "invalid"),
                  str(r.get("reason") or "")[:60], _num(r.get("cpu"))] for r in results]
         _table(rows, ["files", "result", "reason", "cpu s"])
-        print(f"{summ['valid']}/{summ['tasks']} valid; task CPU {summ['task_cpu_s']:.3f} s, wall "
-              f"{summ['wall_s']:.3f} s on {summ['workers']}")
-    return _worst(results)
+        _text(f"{summ['valid']}/{summ['tasks']} valid; task CPU {summ['task_cpu_s']:.3f} s, wall "
+              f"{summ['wall_s']:.3f} s on {summ['workers']}" + _stopped(stop))
+    return _worst(results, stop)
 
 
 def _name(r: dict[str, Any]) -> str:

@@ -38,7 +38,7 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
 
     if search not in ("bfs", "gbfs", "astar"):
         raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
-    from delkit.resources import TimeLimit, command_start, deadline, keep_alive, parse_timeout
+    from delkit.resources import TimeLimit, command_start, counters, deadline, keep_alive, parse_timeout
 
     limit = parse_timeout(timeout)  # 0 / inf: no limit; counted from the start of the process
     Limits(timeout=limit, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
@@ -64,8 +64,11 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
             res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
     except (LoadTimeout, TimeLimit) as exc:
         keep_alive(space, task, exc)  # console script: freeing the search space must not delay the exit
+        live = counters()  # how far the search got when the alarm stopped it (0 before it started)
         res = limit_result("reading, grounding and building the initial state" if task is None else
-                           "contracting the initial state" if space is None else "searching")
+                           "contracting the initial state" if space is None else "searching",
+                           int(live.get("expanded", 0)) if space is not None else 0,
+                           int(live.get("generated", 0)) if space is not None else 0)
     if res.status == "limit" and res.reason.endswith(" s reached") and "time limit" in res.reason:
         res = limit_result("searching", res.expanded, res.generated)
     if task is None:
@@ -99,8 +102,9 @@ def report_search(res, out: dict, how: str, as_json: bool) -> int:
 
 def run_check(files: list[Path], prop: list[str] | None = None, props_file: Path | None = None,
               allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
-              strict: bool = False, timeout: float = 0.0, trace: bool = False, trace_json: Path | None = None) -> int:
-    """The body of ``delkit check``; returns the exit status (``timeout`` 0: no limit). ``trace`` /
+              strict: bool = False, timeout: float = 60.0, trace: bool = False, trace_json: Path | None = None) -> int:
+    """The body of ``delkit check``; returns the exit status (``timeout``: 60 s by default, 0:
+    no limit). ``trace`` /
     ``trace_json`` also print / write the states along the plan (:mod:`planners.trace`)."""
     from delkit.resources import deadline, parse_timeout
 
@@ -118,12 +122,18 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
     if len(files) not in (2, 3):
         raise ParseError(f"expected SPEC PLAN_FILE or DOMAIN PROBLEM PLAN_FILE, got {len(files)} file(s)",
                          source="delkit check")
+    if trace_json is not None:  # before anything is read or written: the trace never replaces an input
+        from delkit.files import refuse_overwrite_input
+
+        refuse_overwrite_input([trace_json], [*files, props_file, *(library or ())], option="--trace-json")
     task = load_task(files[0], files[1] if len(files) == 3 else None, list(library or ()), strict=strict)
     steps = read_plan(files[-1])
     texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop or ()]   # (text, source, line)
     if props_file is not None:
         try:
-            lines = props_file.read_text().splitlines()
+            from delkit.files import read_input
+
+            lines = read_input(props_file, "properties file").splitlines()
         except (OSError, UnicodeDecodeError) as exc:
             raise ParseError(f"cannot read: {io_reason(exc)}", source=str(props_file)) from None
         texts += [(ln.strip(), str(props_file), i) for i, ln in enumerate(lines, 1)

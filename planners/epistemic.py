@@ -28,6 +28,7 @@ from collections.abc import Callable, Hashable, Iterator
 
 from delkit._records import DataclassFields, Record
 from delkit.errors import PlanningError
+from delkit.resources import counters
 from planners.spaces import CompactSpace, DelSpace, make_space
 from planners.task import Task, goal_conjuncts, has_event_actions
 
@@ -204,7 +205,9 @@ def bfs(space: StateSpace, limits: Limits = Limits(), *, prune: bool = True) -> 
     parent: dict[Hashable, Any] = {k0: None}
     frontier: deque = deque([(s0, k0)])
     expanded = generated = pruned = 0
+    live = counters()  # the counts so far, for a limit answer given from outside this loop (alarm, watchdog)
     while frontier:
+        live["expanded"], live["generated"] = expanded, generated
         why = budget.exceeded(expanded)
         if why:
             return SearchResult("limit", None, expanded, generated, budget.seconds, "bfs", "no plan within "
@@ -260,7 +263,9 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
     heap: list = [(h0, 0, counter, s0, k0)]
     expanded = generated = 0
     closed: set[Hashable] = set()
+    live = counters()  # the counts so far (see bfs)
     while heap:
+        live["expanded"], live["generated"] = expanded, generated
         why = budget.exceeded(expanded)
         if why:
             return SearchResult("limit", None, expanded, generated, budget.seconds, kind,

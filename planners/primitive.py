@@ -181,7 +181,9 @@ def load_plan(path: str | Path) -> Plan:
     """Read a plan file."""
     path = Path(path)
     try:
-        obj = json.loads(path.read_text())
+        from delkit.files import read_input
+
+        obj = json.loads(read_input(path, "plan file"))
     except FileNotFoundError:
         raise ArmsError(f"{path}: no such plan file") from None
     except json.JSONDecodeError as exc:

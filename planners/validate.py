@@ -27,7 +27,7 @@ from pathlib import Path
 from delkit._records import DataclassFields, Factory, Record
 from delkit.errors import DelkitError, ParseError, io_reason
 from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Or, Prop, agents_of, props_of, show, subformulas
-from delkit.resources import TimeLimit, check_time
+from delkit.resources import TimeLimit, check_time, counters
 from planners.replay import NeedNumpy, PlainState
 from planners.replay import event_model as plain_events
 from planners.replay import initial_state as plain_initial
@@ -134,7 +134,9 @@ def read_plan(path: str | Path) -> list[str]:
     """Read a plan file (see :func:`parse_plan_text`)."""
     p = Path(path)
     try:
-        return parse_plan_text(p.read_text())
+        from delkit.files import read_input
+
+        return parse_plan_text(read_input(p, "plan file"))
     except (OSError, UnicodeDecodeError) as exc:
         raise ParseError(f"cannot read the plan file: {io_reason(exc)}", source=str(p)) from None
 
@@ -439,7 +441,9 @@ def _check(task: Task, plan, properties, allow_inconsistent: bool, require_goal:
     bad = props_at(0, model, None)
     if bad:
         return bad
+    live = counters()  # steps replayed so far, for a limit answer
     for i, name in enumerate(plan, 1):
+        live["steps_replayed"] = i - 1
         act = task.action(name)
         # a macro is replayed as its steps (Definition 4.1: Φ(j, Φ(i, s))); a failure names the step
         parts = [(f"{name} [macro part {j}/{len(act.steps)}: {st.name}]", st) for j, st in

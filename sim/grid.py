@@ -102,7 +102,9 @@ def read_movingai(path: str | Path, resolution: float = 1.0) -> WorldMap:
     """
     path = Path(path)
     try:
-        lines = path.read_text(encoding="ascii").splitlines()
+        from delkit.files import read_input
+
+        lines = read_input(path, "MovingAI map", encoding="ascii").splitlines()
     except OSError as exc:
         raise SimulationError(f"{path}: cannot read MovingAI map ({exc.strerror or exc})") from None
     except UnicodeDecodeError as exc:  # a binary file, or not the ASCII the format is written in

@@ -58,6 +58,10 @@ def _report(result, note: str, as_json: bool) -> int:
     return 0 if result.success else 1
 
 
+#: the files ``arms run --out DIR`` may write in DIR (each checked against the input plan first)
+_OUTPUT_NAMES = ("scene.xml", "result.json", "final.png", "run.mp4", "run.gif")
+
+
 def register(app: typer.Typer) -> None:
     """Attach ``delkit arms ...`` to the top-level app."""
     sub = typer.Typer(help="Two simulated Franka Pandas (MuJoCo + mink/pinocchio IK) executing plans.",
@@ -92,6 +96,10 @@ def register(app: typer.Typer) -> None:
             raise ArmsError(f"--grasp must be weld or friction, not {grasp!r}")
         if not tolerance > 0:
             raise ArmsError(f"--tolerance must be a positive distance in metres (e.g. 0.01), not {tolerance!r}")
+        if out is not None:  # nothing written inside --out may replace the plan
+            from delkit.files import refuse_overwrite_input
+
+            refuse_overwrite_input([out / n for n in _OUTPUT_NAMES] + [out], [plan], option="--out")
         p = load_plan(plan)
         symbolic_trace(p)  # reject a plan that is wrong on paper before simulating it
         cb, stop = _progress_cb(len(p.actions), "executing")

@@ -77,11 +77,48 @@ def _plain_flags(command) -> None:
         _plain_flags(sub)
 
 
+class _ClosedStream:
+    """``sys.stdout`` / ``sys.stderr`` when the process was started with that descriptor closed (``>&-``):
+    writing an answer to it is bad input (exit 2, one line on stderr if stderr is open), not a traceback."""
+
+    def __init__(self, name: str) -> None:
+        self.name = name
+
+    def write(self, text: str) -> int:
+        from delkit.errors import DelkitError
+
+        if not text:
+            return 0
+        raise DelkitError(f"standard {self.name} is closed, so the answer cannot be written; start delkit with "
+                          f"standard {self.name} open, or send it to a file (e.g. >answer.json)")
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return False
+
+    def fileno(self) -> int:
+        raise OSError(9, f"standard {self.name} is closed")
+
+
+def _open_streams() -> None:
+    """Replace a stdout / stderr that was closed at start (Python sets it to None) by :class:`_ClosedStream`."""
+    if sys.stdout is None:
+        sys.stdout = _ClosedStream("output")  # type: ignore[assignment]
+    if sys.stderr is None:
+        sys.stderr = open(os.devnull, "w")  # noqa: SIM115 - nowhere to report anything: stay silent
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI and return its exit status (0 ok, 1 a negative answer such as an invalid plan, 2 bad input,
     3 a limit such as ``--timeout`` reached before an answer)."""
+    _open_streams()
     args = list(sys.argv[1:] if argv is None else argv)
+    import delkit.resources as resources
     from delkit.resources import begin_command
+
+    resources.JSON_LIMITS = "--json" in (args[:args.index("--")] if "--" in args else args)
 
     begin_command()  # every --timeout counts from here (from process start for the process's first command)
     try:
@@ -118,6 +155,14 @@ def _exit_status(exc: BaseException) -> int:
 
     typer = sys.modules.get("typer")
     if isinstance(exc, DelkitError):
+        if getattr(exc, "exit_code", 2) == 3:
+            import delkit.resources as resources
+
+            if resources.JSON_LIMITS:  # --json: a reached limit is a JSON answer too, with the counts so far
+                try:
+                    resources.print_limit_record(str(exc))
+                except (OSError, DelkitError):  # stdout closed or full: the line on stderr still says it
+                    pass
         print(f"delkit: error: {exc}", file=sys.stderr)
         return int(getattr(exc, "exit_code", 2))  # 3: a --timeout reached (delkit.resources.TimeLimit)
     if typer is not None and isinstance(exc, typer.Exit):
@@ -132,6 +177,15 @@ def _exit_status(exc: BaseException) -> int:
         return 2
     if isinstance(exc, OSError):
         # a file or directory the user named cannot be read or written (any command): bad input, one line
+        import errno
+
+        if not exc.filename and exc.errno in (errno.EPIPE, errno.ENOSPC, errno.EBADF):
+            try:  # the answer's stream failed (a closed pipe, a full disk): say so once, on stderr
+                print(f"delkit: error: cannot write the answer ({exc.strerror or exc}): standard output was closed "
+                      f"or is full", file=sys.stderr)
+            except (OSError, ValueError):  # pragma: no cover
+                pass
+            return 2
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"delkit: error: {where}{exc.strerror or exc}; check the path and its permissions", file=sys.stderr)
         return 2
@@ -159,6 +213,7 @@ def run() -> None:
     import delkit.resources as resources
 
     resources.HARD_EXIT = True
+    _open_streams()
     resources.early_watchdog(sys.argv[1:])  # the --timeout holds even while the command is being imported
     try:
         rc = main()
@@ -168,6 +223,11 @@ def run() -> None:
         sys.stdout.flush()
     except OSError:  # e.g. stdout closed or /dev/full: the output could not be written
         rc = rc or 2
+        try:
+            sys.stderr.write("delkit: error: the answer could not be written to standard output (closed, full or "
+                             "a broken pipe)\n")
+        except (OSError, ValueError):  # pragma: no cover
+            pass
     try:
         sys.stderr.flush()
     except OSError:  # pragma: no cover

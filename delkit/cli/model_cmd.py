@@ -245,8 +245,8 @@ def register(app: typer.Typer) -> None:
         logic: str = typer.Option("S5", "--logic", "-l", help="Frame class: S5, KD45 or K."),
         worlds: int = typer.Option(4, "--worlds", "-k", min=1, max=12,
                                    help="Largest counter-model searched (number of worlds)."),
-        timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="Wall-clock limit in seconds from the start "
-                                      "of the process (0 or inf: none); reaching it is exit status 3."),
+        timeout: float = typer.Option(60.0, "--timeout", min=0.0, help="Wall-clock limit in seconds from the start "
+                                      "of the process (default 60; 0 or inf: none); reaching it is exit status 3."),
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Is FORMULA valid? Searches (z3) a counter-model with at most --worlds worlds; prints it as JSON."""
@@ -259,7 +259,13 @@ def register(app: typer.Typer) -> None:
             raise DelkitError(f"--logic {logic!r}: use one of {', '.join(LOGICS)}")
         from delkit.resources import deadline
 
-        with deadline(timeout, f"prove --worlds {worlds}", alarm=False):  # z3: its own timeout, no SIGALRM
+        from delkit.progress import progress
+        from delkit.resources import counters
+
+        counters()["worlds"] = worlds  # the size searched, for a limit answer
+        with deadline(timeout, f"prove --worlds {worlds}", alarm=False), progress(quiet=as_json) as bar:
+            # z3 runs in C (its own timeout, no SIGALRM): the bar shows the elapsed time while it searches
+            bar.add_task(f"counter-models with ≤ {worlds} world(s) ({logic.upper()})", total=None)
             v = prove(parse(formula), logic=logic, worlds=worlds)
         if as_json:
             print(json.dumps(v.to_dict()))

@@ -161,7 +161,9 @@ def _lone_problem(path: str) -> bool:
     import re
 
     try:
-        head = Path(path).read_text(encoding="utf-8", errors="replace")[:4096]
+        from delkit.files import read_input
+
+        head = read_input(path, "input", errors="replace")[:4096]
     except OSError:
         return False
     return re.search(r"\(\s*define\s*\(\s*problem\b", head, re.I) is not None and \

@@ -15,11 +15,16 @@ def register(app: typer.Typer) -> None:
                                           "extension for belief structures, queries)"),
                max_states: int = typer.Option(100_000, "--max-states", min=1,
                                               help="the most states a WHERE? answer may list"),
+               timeout: float = typer.Option(60.0, "--timeout", help="wall-clock limit in seconds from the start "
+                                             "of the process (default 60; 0 or inf: none); reaching it is exit "
+                                             "status 3"),
                as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Read SMCDEL's input language and answer its TRUE?/VALID?/WHERE? queries (as SMCDEL would)."""
+        from delkit.resources import deadline
         from delkit.smcdel import check_file
 
-        rows = check_file(path, max_states=max_states)
+        with deadline(timeout, f"smcdel {path}"):  # reading, building the structure and every query
+            rows = check_file(path, max_states=max_states)
         if as_json:
             typer.echo(json.dumps({"file": path, "queries": rows}))
             return

@@ -281,6 +281,10 @@ def _bdd_counts(mgr: Any, u: Any, n: int) -> int:
 def solve_number_triangle(n: int, muddy: int, quantifier: str = "some", *, engine: str = "triangle") \
         -> TriangleResult:
     """Run the protocol on ``engine``: ``"triangle"`` (default), ``"explicit"`` or ``"symbolic"``."""
+    cap = {"triangle": MAX_CHILDREN, "explicit": MAX_EXPLICIT, "symbolic": MAX_SYMBOLIC}.get(engine)
+    if cap is not None and not 1 <= n <= cap:  # before anything is built from n (a mask of n + 1 entries)
+        how = {"triangle": "", "explicit": " with --explicit", "symbolic": " with --symbolic"}[engine]
+        raise ModelError(f"number triangle: --children must be 1..{cap:,}{how}, got {n}")
     if engine == "triangle":
         return triangle_run(n, muddy, quantifier)
     if engine in ("explicit", "symbolic"):

@@ -395,6 +395,8 @@ def solve_prisoners(n: int = 4, days: int = 200, seed: int = 0, *, schedule: lis
     """Run a schedule (given, or uniformly random from ``seed``) until the counter knows or ``days`` end."""
     if schedule is not None:
         days = len(schedule)
+    if not 0 <= seed < 2**63:
+        raise ModelError(f"prisoners: --seed must be 0..2^63-1 (a non-negative integer), got {seed}")
     _check(n, days, engine)
     if schedule is not None:
         bad = [k for k in schedule if not 1 <= k <= n]

@@ -102,10 +102,13 @@ def register(app: typer.Typer) -> None:
             from delkit.errors import require_extra
 
             require_extra("asp", "clingo", what="--classical clingo")
+        from delkit.files import read_input, refuse_overwrite_input
+
+        refuse_overwrite_input([out], [world], option="--out")  # before the search: the plan never replaces --world
         layout = None
         if world is not None:
             try:
-                obj = json.loads(world.read_text())
+                obj = json.loads(read_input(world, "world JSON"))
             except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
                 raise EpicoError(f"{world}: cannot read a world JSON ({exc})") from None
             obj = obj.get("world", obj) if isinstance(obj, dict) else obj
@@ -126,14 +129,14 @@ def register(app: typer.Typer) -> None:
             if not sep or not cols:
                 raise EpicoError(f"--known takes ROBOT:COLOUR,COLOUR, got {k!r}")
             knows.setdefault(robot, []).extend(c for c in cols.split(",") if c)
-        from delkit.resources import deadline, parse_timeout, remaining, time_limit
+        from delkit.resources import deadline, parse_timeout, time_left, time_limit
 
         limit = parse_timeout(timeout)
         with deadline(limit, f"epico solve --goal {goal} --colors {colors}"):
             try:
                 sol = solve(generate(goal, colors, layout=layout, reading=_reading(owner, sensing, takes, symmetric)),
                             macros=macros, known=knows or None,
-                            limits=EpicoLimits(timeout=remaining(), classical=classical))
+                            limits=EpicoLimits(timeout=time_left(), classical=classical))
             except EpicoError as exc:
                 if limit is not None and "time limit" in str(exc):
                     raise time_limit() from None  # the search stopped at the deadline: exit 3 like every limit

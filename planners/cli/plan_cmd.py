@@ -3,8 +3,8 @@ property checker) and ``delkit convert`` (write a task as EPDDL 2026 or mA*).
 
 Exit statuses: ``plan`` — 0 plan found, 1 no plan exists (state space exhausted), 3 no plan within the
 limits (the limit also covers reading, grounding and building the initial state); ``check`` — 0 valid,
-1 invalid, 3 ``--timeout`` reached; all — 2 bad input. ``--timeout`` counts from the start of the process,
-0 or inf means no limit (:func:`delkit.resources.parse_timeout`, the same for every command). A failure
+1 invalid, 3 ``--timeout`` reached (default 60 s, as for ``plan``); all — 2 bad input. ``--timeout``
+counts from the start of the process, 0 or inf means no limit (:func:`delkit.resources.parse_timeout`, the same for every command). A failure
 is never printed as an empty plan. The language of a file is decided by its content. Heavy imports stay
 inside the commands.
 
@@ -68,8 +68,8 @@ def register(app: typer.Typer) -> None:
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="expand states where an agent believes ⊥"),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object (a batch: one per task)"),
-        jobs: int | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch (default: one "
-                                                                  "per core)"),
+        jobs: str | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch, 1..256 (default: "
+                                                                  "one per core)"),
         scheduler: str | None = typer.Option(None, "--scheduler", help="run a batch on the Dask cluster at "
                                                                       "ADDRESS (e.g. tcp://host:8786)"),
     ) -> None:
@@ -95,10 +95,10 @@ def register(app: typer.Typer) -> None:
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="do not fail (mA*, E-PDDL) or warn (EPDDL) when an agent "
                                                      "comes to believe ⊥"),
-        timeout: float = typer.Option(0.0, "--timeout", help=_TIMEOUT_HELP),
+        timeout: float = typer.Option(60.0, "--timeout", help=_TIMEOUT_HELP + " (default 60 s)"),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object (a batch: one per group)"),
-        jobs: int | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch of SPEC [PROBLEM] "
-                                                                  "PLAN_FILE groups"),
+        jobs: str | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch of SPEC [PROBLEM] "
+                                                                  "PLAN_FILE groups, 1..256"),
         scheduler: str | None = typer.Option(None, "--scheduler", help="run a batch on the Dask cluster at ADDRESS"),
         trace: bool = typer.Option(False, "--trace", help="print the state after every step"),
         trace_json: Path | None = typer.Option(None, "--trace-json", help="write the states along the plan as "

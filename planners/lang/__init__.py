@@ -19,7 +19,9 @@ def is_epddl(path: str | Path) -> bool:
     if p.suffix.lower() in (".epddl", ".pddl"):
         return True
     try:
-        head = p.read_text()[:4096]
+        from delkit.files import read_input
+
+        head = read_input(p, "spec")[:4096]
     except (OSError, UnicodeDecodeError):  # the reader that is tried next reports it
         return False
     lines = [ln.split(";", 1)[0].strip() for ln in head.splitlines()]

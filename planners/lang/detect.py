@@ -67,7 +67,9 @@ def detect(path: str | Path) -> Dialect:
     """The dialect of the file at ``path`` (see :func:`detect_text`)."""
     p = Path(path)
     try:
-        text = p.read_text()
+        from delkit.files import read_input
+
+        text = read_input(p, "spec")
     except (OSError, UnicodeDecodeError) as exc:
         raise ParseError(f"cannot read: {io_reason(exc)}", source=str(p)) from None
     return detect_text(text, str(p))[0]

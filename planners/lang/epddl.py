@@ -515,7 +515,9 @@ def load_epddl(domain: str | Path, problem: str | Path | None = None) -> Task:
     """Read an E-PDDL domain file and problem file (or one file holding both)."""
     def read(p: str | Path) -> str:
         try:
-            return Path(p).read_text()
+            from delkit.files import read_input
+
+            return read_input(p, "E-PDDL file")
         except (OSError, UnicodeDecodeError) as exc:
             raise ParseError(f"cannot read the E-PDDL file: {io_reason(exc)}", source=str(p)) from None
 

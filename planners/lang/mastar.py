@@ -389,7 +389,9 @@ def load_mastar(path: str | Path, *, strict: bool = False, deadline: float | Non
     """Read an mA* file (see :func:`parse_mastar`)."""
     p = Path(path)
     try:
-        text = p.read_text()
+        from delkit.files import read_input
+
+        text = read_input(p, "mA* file")
     except (OSError, UnicodeDecodeError) as exc:
         raise ParseError(f"cannot read the mA* file: {io_reason(exc)}", source=str(p)) from None
     return parse_mastar(text, str(p), strict=strict, deadline=deadline)

@@ -58,6 +58,9 @@ def register(app: typer.Typer) -> None:
         """Run one mission and report mission time, distance, tasks done and communications."""
         from sim.explore import Mission, MissionConfig
 
+        from delkit.files import refuse_overwrite_input
+
+        refuse_overwrite_input([png], [map_file], option="--png")  # the snapshots never replace the map
         cfg = MissionConfig(case=case, n_robots=robots, method=method, seed=seed,
                             map_path=str(map_file) if map_file else None, t_max=t_max,
                             status_model=status_model, record=png is not None)

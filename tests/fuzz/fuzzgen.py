@@ -858,6 +858,24 @@ FAMILIES = {
 }
 
 
+def register_families(families: dict) -> None:
+    """Add command families (``name -> (strategy factory, weight)``) from another module, e.g.
+    ``tests/fuzz/fuzzsafety.py`` or ``bench/fuzz_http.py``: ``run_fuzz`` and ``bench/fuzz.py --families`` then
+    draw them like their own. A case of such a family may be run by the family's own code
+    (``Case(mode="call", argv=("module:function", ...))``: the function gets the case and a scratch directory
+    and returns a :class:`fuzzkit.Outcome`)."""
+    for name, entry in families.items():
+        if name in FAMILIES and FAMILIES[name] is not entry:
+            raise ValueError(f"fuzz family {name!r} is registered twice")
+        FAMILIES[name] = entry
+
+
+#: the families of files, processes and limits (tests/fuzz/fuzzsafety.py)
+from fuzzsafety import FAMILIES as _SAFETY  # noqa: E402
+
+register_families(_SAFETY)
+
+
 
 
 def run_fuzz(n: int, *, seed: int = 0, families: list[str] | None = None, runner=None, on_outcome=None):

@@ -52,6 +52,15 @@ class Case:
     oracle: str | None = None
     budget: float = 20.0
     note: str = ""
+    #: made after ``files``: (name, kind, target) with kind symlink / hardlink (to ``target``, relative to the
+    #: scratch directory), fifo or dir
+    links: tuple[tuple[str, str, str], ...] = ()
+    #: environment variables set while the case runs
+    env: tuple[tuple[str, str], ...] = ()
+    #: "inprocess" (``main(argv)`` in the worker) or "process" (the console script, run by
+    #: :func:`fuzzsafety.run_process_case`); "call": ``argv[0]`` is ``module:function``, called with the case
+    #: and the scratch directory, returning an :class:`Outcome` (families from other modules, e.g. HTTP)
+    mode: str = "inprocess"
 
     def describe(self) -> str:
         return f"{self.command}: delkit {' '.join(self.argv)}" + (f"  [{self.note}]" if self.note else "")
@@ -79,6 +88,16 @@ def _materialise(case: Case, d: str) -> list[str]:
         p = Path(d) / name
         p.parent.mkdir(parents=True, exist_ok=True)
         p.write_bytes(data)
+    for name, kind, target in case.links:
+        p = Path(d) / name
+        if kind == "symlink":
+            p.symlink_to(target)
+        elif kind == "hardlink":
+            os.link(Path(d) / target, p)
+        elif kind == "fifo":
+            os.mkfifo(p)
+        elif kind == "dir":
+            p.mkdir(parents=True, exist_ok=True)
     return [a.replace("{d}", d) for a in case.argv]
 
 
@@ -113,11 +132,14 @@ def _from_hang(exc: BaseException) -> bool:
     return False
 
 
-def classify_error_text(err: str) -> str | None:
-    """None if stderr is a clean one-line error, else what is wrong with it."""
+def classify_error_text(err: str, batch: bool = False) -> str | None:
+    """None if stderr is a clean one-line error (``batch``: one line per bad task, at least one), else what is
+    wrong with it."""
     if "Traceback (most recent call last)" in err:
         return "traceback on stderr"
     lines = [ln for ln in err.splitlines() if ln.startswith("delkit: error:")]
+    if batch and lines:
+        return None
     if len(lines) != 1:
         return f"{len(lines)} 'delkit: error:' lines on stderr: {err.strip()[:200]!r}"
     return None
@@ -126,8 +148,22 @@ def classify_error_text(err: str) -> str | None:
 def run_case(case: Case) -> Outcome:
     """Run one case in the current process (the worker), with the alarm already armed by the caller."""
     d = tempfile.mkdtemp(prefix="delkit-fuzz-")
+    saved = {k: os.environ.get(k) for k, _ in case.env}
     try:
         argv = _materialise(case, d)
+        if case.mode != "inprocess":
+            try:
+                if case.mode == "process":
+                    from fuzzsafety import run_process_case
+
+                    return run_process_case(case, d)
+                import importlib
+
+                module, _, fn = case.argv[0].partition(":")
+                return getattr(importlib.import_module(module), fn)(case, d)
+            except _Hang:
+                return Outcome("hang", None, f"no answer within {case.budget:g} s")
+        os.environ.update(dict(case.env))
         t0 = time.perf_counter()
         try:
             rc, out, err, exc, tb = _call(argv)
@@ -146,7 +182,9 @@ def run_case(case: Case) -> Outcome:
             where = [ln.strip() for ln in tb.splitlines() if ln.strip().startswith("File ")][-1:]
             return Outcome("crash", None, f"{last[:240]} @ {where[0][:200] if where else '?'}", secs)
         if rc == 2:
-            bad = classify_error_text(err)
+            from delkit.resources import _batch_line
+
+            bad = classify_error_text(err, batch=_batch_line(argv))
             return Outcome("crash" if bad else "error", rc, bad or err.strip()[:240], secs)
         if rc not in ANSWER_STATUS:
             return Outcome("crash", rc, f"unexpected exit status {rc}; stderr {err.strip()[:200]!r}", secs)
@@ -169,6 +207,11 @@ def run_case(case: Case) -> Outcome:
                 return Outcome("wrong", rc, why, secs)
         return Outcome("ok", rc, "", secs)
     finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
         shutil.rmtree(d, ignore_errors=True)
 
 
