@@ -756,7 +756,7 @@ class Mission:
                              executed=False)
             rec.message = f"no primitive actions for {t.name} from the poses and the colours seen: {exc}"
             steps.append(rec)
-            raise _Divergence(f"action {k} ({t.name}): {rec.message}", by="shield" if holds else "") from None
+            raise _Divergence(f"action {k} ({t.name}): {rec.message}", by="classical precondition") from None
         t.parsed = parsed
         views = None
         for pos, prim in enumerate(parsed):
@@ -1013,3 +1013,32 @@ def random_world(n_colours: int, seed: int, *, blocks_per_robot: tuple[int, int]
             colours[name] = cols[kb]
         stacks[r] = st
     return world_from_layout(stacks, colours)
+
+
+def duplicate_layout(n_colours: int, seed: int) -> Any:
+    """A seeded e-PICO layout (:class:`planners.epico.Layout`) in which each robot has several blocks of one
+    colour: per robot 3–5 blocks on 3 stacks (at most 3 per stack), a random non-empty set of the first
+    ``n_colours`` e-PICO colours, one of them on two or three blocks. Block names say nothing about colours
+    (``a0``, ``a1``, … for robot1, ``b0``, … for robot2)."""
+    from planners.epico import PALETTE, ROBOTS, Layout
+
+    rng = np.random.default_rng(seed)
+    pal = list(PALETTE[:n_colours])
+    stacks: dict[str, tuple[tuple[str, ...], ...]] = {}
+    colours: dict[str, str] = {}
+    for i, r in enumerate(ROBOTS):
+        chosen = [c for c in pal if rng.random() < 0.6] or [pal[int(rng.integers(len(pal)))]]
+        twice = chosen[int(rng.integers(len(chosen)))]
+        cols = chosen + [twice] * int(rng.integers(1, 3))
+        while len(cols) < 3:
+            cols.append(chosen[int(rng.integers(len(chosen)))])
+        cols = cols[:5]
+        cols = [cols[j] for j in rng.permutation(len(cols))]
+        st: list[list[str]] = [[], [], []]
+        for kb, c in enumerate(cols):
+            s = int(rng.choice([j for j in range(3) if len(st[j]) < 3]))
+            name = f"{'ab'[i]}{kb}"
+            st[s].append(name)
+            colours[name] = c
+        stacks[r] = tuple(tuple(x) for x in st)
+    return Layout(MappingProxyType(stacks), MappingProxyType(colours))

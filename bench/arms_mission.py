@@ -39,28 +39,38 @@ sys.path.insert(0, str(ROOT))
 
 def one(goal: str, colors: int, seed: int | None, fault: str, shield: bool = True, symmetric: bool = True,
         ik: str = "analytic") -> dict:
+    """One mission. ``fault``: ``none``, one fault, several joined by ``+`` (``repaint@0+drop-msg@0``), and
+    ``duplicates`` among them for a layout with several blocks of one colour per robot
+    (``arms.mission.duplicate_layout(colors, seed)``)."""
     import arms.executor
     from arms.cli.epico_run import run_mission
-    from arms.mission import parse_fault
+    from arms.mission import duplicate_layout, parse_fault
 
     arms.executor.DEFAULT_IK = ik  # the executor's per-tick IK (--ik)
 
-    faults = () if fault == "none" else (parse_fault(fault),)
+    parts = [] if fault == "none" else fault.split("+")
+    layout = duplicate_layout(colors, seed or 0) if "duplicates" in parts else None
+    faults = tuple(parse_fault(f) for f in parts if f != "duplicates")
     base = {"goal": goal, "colors": colors, "seed": seed, "fault": fault, "shield": shield}
     c0 = time.process_time()
     try:
-        _inst, res, _m = run_mission(goal, colors, seed, faults=faults, shield=shield, symmetric=symmetric)
+        _inst, res, _m = run_mission(goal, colors, seed, faults=faults, shield=shield,
+                                     symmetric=None if symmetric else False, layout=layout)
     except Exception as exc:  # a crash is a failed mission, reported with its message
         return {**base, "success": False, "reason": f"{type(exc).__name__}: {exc}", "replans": 0, "sim_s": 0.0,
-                "cpu_s": time.process_time() - c0, "exec_s": 0.0, "guard_s": 0.0, "belief_s": 0.0, "fired": False,
-                "caught": False, "unsafe": 0, "audit": 0, "fault_log": [], "unfired": []}
+                "cpu_s": time.process_time() - c0, "exec_s": 0.0, "guard_s": 0.0, "belief_s": 0.0, "fired": 0,
+                "caught": 0, "caught_by": [], "unsafe": 0, "unheeded": 0, "audit_agrees": False, "fault_log": [],
+                "unfired": [], "discarded": 0, "revisions": 0}
     log = res.faults
-    fired = any(" fired" in x and "never" not in x for x in log)
-    caught = any("caught" in x for x in log) and not any("NOT caught" in x for x in log)
+    fired = sum(1 for x in log if " fired at" in x or x.startswith("occlusion fired"))
+    caught = len(res.caught_by)
     return {**base, "success": res.success, "reason": res.reason, "replans": res.replans, "sim_s": res.sim_seconds,
             "cpu_s": time.process_time() - c0, "exec_s": res.exec_cpu_seconds, "guard_s": res.guard_cpu_seconds,
-            "belief_s": res.belief_cpu_seconds, "fired": fired, "caught": caught, "unsafe": len(res.unsafe_steps),
-            "audit": len(res.audit), "goal_in_beliefs": res.goal_in_beliefs, "goal_in_world": res.goal_in_world,
+            "belief_s": res.belief_cpu_seconds, "fired": fired, "caught": caught,
+            "caught_by": sorted({c["by"] for c in res.caught_by}), "unsafe": len(res.unsafe_steps),
+            "unheeded": len(res.unheeded), "audit_agrees": bool(res.audit["final"]["agrees"]),
+            "revisions": sum(e["kind"] == "revision" for e in res.belief_log),
+            "goal_in_beliefs": res.goal_in_beliefs, "goal_in_world": res.goal_in_world,
             "fault_log": log, "unfired": res.unfired, "planning_s": res.planning_seconds}
 
 
@@ -69,24 +79,26 @@ def _star(args):
 
 
 def table(rows: list[dict]) -> str:
-    head = ("| colours | fault | shield | missions | fired | caught | success | unsafe step | audit | replans mean "
-            "| sim s mean | CPU s mean (mission) | CPU s mean (execution) | RTF sim/exec CPU | shield+checks % | "
-            "belief updates % |")
-    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    head = ("| colours | fault | shield | missions | faults fired | caught | caught by | success | audit agrees at end "
+            "| unsafe step | unheeded divergence | wrong step shown | revisions | replans mean | sim s mean "
+            "| CPU s mean (mission) | CPU s mean (execution) | shield+checks % | belief updates % |")
+    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     keys = sorted({(r["colors"], r["fault"], r["shield"]) for r in rows},
                   key=lambda k: (k[0], k[1] != "none", k[1], not k[2]))
     for c, f, sh in keys:
         rs = [r for r in rows if r["colors"] == c and r["fault"] == f and r["shield"] == sh]
         n = len(rs)
         ok = sum(r["success"] for r in rs)
-        sim = sum(r["sim_s"] for r in rs)
         ex = sum(r["exec_s"] for r in rs)
+        by = sorted({b for r in rs for b in r.get("caught_by", [])})
+        wrong = sum(bool(r["unsafe"] or r["unheeded"] or not r["audit_agrees"]) for r in rs)
         out.append(
-            f"| {c} | {f} | {'on' if sh else 'OFF'} | {n} | {sum(r['fired'] for r in rs) if f != 'none' else '-'} | "
-            f"{sum(r['fired'] and r['caught'] for r in rs) if f != 'none' else '-'} | {ok}/{n} | "
-            f"{sum(r['unsafe'] > 0 for r in rs)} | {sum(r['audit'] > 0 for r in rs)} | "
-            f"{sum(r['replans'] for r in rs) / n:.2f} | {sim / n:.1f} | {sum(r['cpu_s'] for r in rs) / n:.2f} | "
-            f"{ex / n:.2f} | {sim / ex if ex else 0:.1f} | "
+            f"| {c} | {f} | {'on' if sh else 'OFF'} | {n} | {sum(r['fired'] for r in rs)} | "
+            f"{sum(min(r['caught'], r['fired']) for r in rs)} | {', '.join(by) or '-'} | {ok}/{n} | "
+            f"{sum(r['audit_agrees'] for r in rs if r['success'])}/{ok} | {sum(r['unsafe'] > 0 for r in rs)} | "
+            f"{sum(r['unheeded'] > 0 for r in rs)} | {wrong if not sh else '-'} | {sum(r['revisions'] for r in rs)} | "
+            f"{sum(r['replans'] for r in rs) / n:.2f} | {sum(r['sim_s'] for r in rs) / n:.1f} | "
+            f"{sum(r['cpu_s'] for r in rs) / n:.2f} | {ex / n:.2f} | "
             f"{100 * sum(r['guard_s'] for r in rs) / ex if ex else 0:.2f} | "
             f"{100 * sum(r['belief_s'] for r in rs) / ex if ex else 0:.2f} |")
     return "\n".join(out)
@@ -122,7 +134,10 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--colors", type=int, nargs="+", default=[1, 2, 3, 4])
     ap.add_argument("--layouts", type=int, default=20)
     ap.add_argument("--first-seed", type=int, default=0)
-    ap.add_argument("--faults", nargs="+", default=["none", "drop-msg@0", "repaint@0", "occlusion"])
+    ap.add_argument("--faults", nargs="+", default=["none", "repaint@0", "drop-msg@0", "occlusion",
+                                                    "repaint@0+drop-msg@0", "duplicates+repaint@0"],
+                    help="faults per mission; several joined by + ; 'duplicates' = a layout with several blocks of "
+                         "one colour per robot")
     ap.add_argument("--no-shield-too", action="store_true", help="run every faulty mission again with --no-shield")
     ap.add_argument("--reading", choices=["symmetric", "owner"], default="symmetric")
     ap.add_argument("--perf", action="store_true", help="the α/4 default mission, --repeat times")
