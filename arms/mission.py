@@ -335,6 +335,11 @@ def observe_fluents(views: Iterable[Any], robot: str, props: Iterable[str], stan
     return out
 
 
+def _swapped_blocks(world: World, swapped: World) -> list[str]:
+    """The blocks the swap-colours fault repainted."""
+    return [b for b in world.blocks if swapped.colors[b] != world.colors[b]]
+
+
 class Mission:
     """One closed-loop mission on the planner's DEL belief state (see module docstring)."""
 
@@ -362,6 +367,8 @@ class Mission:
         self.exec_cpu = 0.0     # CPU of executing the plans' tasks (physics, control, sensing, shield, checks, updates)
         self.belief_cpu = 0.0   # CPU of the belief updates (event models applied, knowledge listed for the log)
         self.audit_log: list[dict] = []         # the judge's findings per task (never read by the loop)
+        self._swapped: set[str] = set()         # swap-colours: the blocks whose paint was exchanged
+        self.pending: list[str] = []            # faults fired but not caught yet
 
     # -- helpers ---------------------------------------------------------------------------------------
     def _say(self, msg: str) -> None:
@@ -497,6 +504,13 @@ class Mission:
                                       "viewpoint")
                 self.caught_by.append({"fault": "occlusion", "by": "look", "step": rec.index})
         seen = {b: c for v in views for b, c in v.blocks.items()}
+        if "swap-colours" in self.pending and set(seen) & self._swapped:
+            # the generator's colours were never the robots' beliefs: the first look at a swapped block
+            # reports its real colour, and nothing was planned from the other one
+            self.pending.remove("swap-colours")
+            self.fault_log.append(f"swap-colours: caught at action {rec.index} by a look: "
+                                  + ", ".join(f"{b} seen {seen[b]}" for b in sorted(set(seen) & self._swapped)))
+            self.caught_by.append({"fault": "swap-colours", "by": "look", "step": rec.index})
         rec.observed.setdefault("seen", {}).update(seen)
         self.seen_colours.update(seen)
         return views
@@ -551,6 +565,7 @@ class Mission:
         first_put = next((t.name for t in tasks if t.name.startswith("put_on_shared_")), None)
         for f in [f for f in faults if f.kind == "swap-colours"]:
             true_world, msg = _swap_colours(self.world, self._fault_block(first_put))
+            self._swapped = set(_swapped_blocks(self.world, true_world))
             self.fault_log.append(msg)
             faults.remove(f)
         for f in [f for f in faults if f.kind == "occlusion"]:
@@ -735,7 +750,7 @@ class Mission:
         pre_text = pretty(act.executable)
         repaint = drop_msg = None
         g0 = time.process_time()
-        holds = belief.holds(act.executable)
+        holds = self._shield(belief, act)
         self.guard_cpu += time.process_time() - g0
         if not holds:
             failed = [pretty(c) for c in _conjuncts(act.executable) if not belief.holds(c)]
@@ -871,6 +886,11 @@ class Mission:
         if not parsed:  # a task without primitive actions: only its event model
             self._apply_task(belief, t.name, t.robot, force=not self.shield)
         return state, k
+
+    @staticmethod
+    def _shield(belief: BeliefState, act: Any) -> bool:
+        """The shield: the task's precondition (epistemic parts included) in the belief state."""
+        return belief.holds(act.executable)
 
     def _repaint(self, ex: Executor, robot: str, rest: list, rec: StepRecord, fault: Fault) -> None:
         """The repaint fault: a block standing in front of ``robot`` gets another colour (a block of the colour

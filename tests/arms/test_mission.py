@@ -129,7 +129,8 @@ def test_without_the_shield_the_same_run_goes_wrong(fault):
     assert not res.success
     # the wrong step: an action executed on a belief the robot does not hold, or a divergence nobody acted on,
     # or the run ends with the goal false in the belief state
-    assert res.unsafe_steps or res.audit or not res.goal_in_beliefs, res.to_json()
+    assert res.unsafe_steps or res.unheeded or not res.audit["final"]["agrees"] or not res.goal_in_beliefs, \
+        res.to_json()
     assert not res.shield
 
 
@@ -198,20 +199,21 @@ def test_seeded_belief_faults_are_caught_and_repaired(colors, seed, fault):
     _executed_steps_hold(res, m)
     _inst, bad, _m = epico_run.run_mission("alpha", colors, seed, symmetric=True, faults=(parse_fault(fault),),
                                            shield=False)
-    assert not bad.success and (bad.unsafe_steps or bad.audit or not bad.goal_in_beliefs)
+    assert not bad.success and (bad.unsafe_steps or bad.unheeded or not bad.audit["final"]["agrees"]
+                                or not bad.goal_in_beliefs)
 
 
 @pytest.mark.slow
-def test_a_wrong_block_on_the_shared_table_is_cleared_and_the_belief_revised(monkeypatch):
-    """swap-colours with the anchoring check off: the wrong block reaches the shared table, the check after
-    put_on_shared names occup_by(robot1, …); the owner takes it back, everybody sees the empty table, and
-    the replan from the belief state succeeds."""
-    from arms import mission
+@pytest.mark.parametrize(("colors", "seed"), [(c, s) for c in (1, 2, 3, 4) for s in range(20)])
+def test_seeded_duplicate_colour_layouts_with_a_repaint(colors, seed):
+    """Several blocks of one colour per robot (arms.mission.duplicate_layout) and a repaint after the first
+    sensing: caught by a look, the audit agrees with the beliefs at the end, no unsafe step."""
+    from arms.mission import duplicate_layout
 
-    monkeypatch.setattr(mission.Mission, "_check_anchoring", lambda self, seen: None)
-    _inst, res, m = epico_run.run_mission("alpha", 2, None, symmetric=True, faults=(parse_fault("swap-colours"),))
-    assert res.success and res.replans == 1, res.reason
-    bad = [s for s in res.steps if not s.ok]
-    assert len(bad) == 1 and "occup_by(robot1, red) is false in the world" in bad[0].message
-    assert [e["kind"] for e in res.belief_log].count("observation") == 1
+    _inst, res, m = epico_run.run_mission("alpha", colors, seed, layout=duplicate_layout(colors, seed),
+                                          faults=(parse_fault("repaint@0"),))
+    assert res.success, res.reason
+    assert not any("NOT caught" in x for x in res.faults), res.faults
+    assert all(c["by"] in ("look", "shield", "ack", "pose") for c in res.caught_by), res.caught_by
+    assert res.audit["final"]["agrees"], res.audit["final"]
     _executed_steps_hold(res, m)
