@@ -504,6 +504,14 @@ class Mission:
                                       "viewpoint")
                 self.caught_by.append({"fault": "occlusion", "by": "look", "step": rec.index})
         seen = {b: c for v in views for b, c in v.blocks.items()}
+        changed = {b: (self.seen_colours[b], c) for b, c in seen.items()
+                   if b in self.seen_colours and self.seen_colours[b] != c}
+        if changed:  # a block looks other than at the last look: the classical level uses the new colour
+            rec.checks["colour change"] = "; ".join(f"{b} was seen {a}, now {c}" for b, (a, c) in changed.items())
+            for p in [p for p in self.pending if p.startswith("repaint")]:
+                self.pending.remove(p)
+                self.fault_log.append(f"{p}: caught at action {rec.index} by a look: {rec.checks['colour change']}")
+                self.caught_by.append({"fault": p, "by": "look", "step": rec.index})
         if "swap-colours" in self.pending and set(seen) & self._swapped:
             # the generator's colours were never the robots' beliefs: the first look at a swapped block
             # reports its real colour, and nothing was planned from the other one
