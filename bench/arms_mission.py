@@ -4,6 +4,7 @@
         [--faults none drop-msg@0 repaint@0 occlusion] [--no-shield-too] [--reading symmetric|owner]
         [--workers 1] [--json FILE] [--results FILE] [--summarise FILE]
     .venv/bin/python bench/arms_mission.py --perf [--repeat 3]
+    .venv/bin/python bench/arms_mission.py --cells
 
 Missions: for every colour count and layout seed 0 … N−1 (``planners.epico.generate(goal, colors, seed,
 symmetric=True)``: a random both-robot layout), one mission per fault: the e-PICO plan executed on the two
@@ -129,6 +130,29 @@ def perf(repeat: int, ik: str = "analytic") -> str:
     return "\n".join(lines)
 
 
+def cells() -> str:
+    """Every defined Table-1 cell (N ≤ 4) on the seed's layout, one mission each (no fault)."""
+    from arms.cli.epico_run import run_mission
+
+    lines = ["| goal | colours | success | audit agrees at end | executed steps | every executed precondition true "
+             "| looks | sim s | mission CPU s | execution CPU s | planning CPU s | shield+checks CPU s | "
+             "belief updates CPU s |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for g in ("alpha", "beta", "gamma", "delta"):
+        for n in (1, 2, 3, 4):
+            if g in ("gamma", "delta") and n == 1:
+                continue
+            c0 = time.process_time()
+            _inst, res, _m = run_mission(g, n, None)
+            cpu = time.process_time() - c0
+            ex = [s for s in res.steps if s.executed and s.task not in ("final look", "recovery")]
+            looks = sum(1 for s in res.steps if "look" in s.checks)
+            lines.append(f"| {g} | {n} | {res.success} | {res.audit['final']['agrees']} | {len(ex)} | "
+                         f"{all(s.precondition_holds for s in ex)} | {looks} | {res.sim_seconds:.1f} | {cpu:.2f} | "
+                         f"{res.exec_cpu_seconds:.2f} | {sum(res.planning_cpu_seconds):.3f} | "
+                         f"{res.guard_cpu_seconds:.3f} | {res.belief_cpu_seconds:.3f} |")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--goal", default="alpha")
@@ -142,6 +166,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--no-shield-too", action="store_true", help="run every faulty mission again with --no-shield")
     ap.add_argument("--reading", choices=["symmetric", "owner"], default="symmetric")
     ap.add_argument("--perf", action="store_true", help="the α/4 default mission, --repeat times")
+    ap.add_argument("--cells", action="store_true", help="every defined Table-1 cell (N ≤ 4), seed's layout")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--ik", choices=("analytic", "mink"), default="analytic",
                     help="the executor's per-tick IK (default analytic; mink: the QP on every tick)")
@@ -157,6 +182,11 @@ def main(argv: list[str] | None = None) -> int:
         print(table(rows), "", "Failures:" if fails else "Failures: none", *fails, sep="\n")
         return 0
 
+    if args.cells:
+        load0 = os.getloadavg()[0]
+        print(cells())
+        print(f"load average {load0:.1f} → {os.getloadavg()[0]:.1f}; {platform.machine()}, {os.cpu_count()} cores")
+        return 0
     if args.perf:
         load0 = os.getloadavg()[0]
         text = perf(args.repeat, args.ik)
