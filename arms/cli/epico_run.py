@@ -189,6 +189,16 @@ def _print_report(inst, res, note: str) -> None:
     for e in res.belief_log:
         learnt = ", ".join(e["learnt"]) or "nothing new"
         con.print(f"  t={e['t_sim_s']:6.2f} s  {e['task']} ({e['chosen']}): {learnt}")
+    for s in res.unsafe_steps:
+        con.print(f"[red]WRONG STEP[/red] {s.index} ({s.text}) [{s.task}]: executed although its precondition "
+                  f"{s.precondition} is false in the belief state")
+    for i, msg in res.unheeded:
+        con.print(f"[red]UNHEEDED[/red] after step {i}: {msg}")
+    audit = res.audit.get("final", {})
+    if audit:
+        bad = audit["actual_world_differs"] + [f"false belief {b}" for b in audit["false_beliefs"]]
+        con.print("audit (ground truth, not used by the loop): "
+                  + ("agrees with the belief state" if audit["agrees"] else "; ".join(bad)))
     verdict = "[green]SUCCESS[/green]" if res.success else "[red]FAILURE[/red]"
     if res.unfired:
         verdict += f" [red](fault(s) NEVER FIRED: {', '.join(res.unfired)})[/red]"
