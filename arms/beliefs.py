@@ -8,8 +8,9 @@ the planner itself applies), with the event chosen by what the simulation observ
 
 * a **sensing** task (``sense_table ?ag``): the observation (fluent ↦ truth value read by the camera)
   selects the one event of the sensing model whose precondition it satisfies — only that event is
-  designated. If no designated world satisfies it, the observation contradicts the belief state
-  (:class:`BeliefError`); an observation that does not decide every sensed fluent (occlusion) is refused;
+  designated. If no designated world satisfies it, the observation contradicts the belief state: the
+  contradicted fluents are revised (:meth:`revise`) and the sensing applied after the revision; an
+  observation that does not decide every sensed fluent (occlusion) is refused;
 * an **announcement**: heard → the task's event model; not heard (lost message; messages are acknowledged,
   so the speaker knows) → the same announcement with the listeners oblivious (their state is unchanged);
 * an **ontic** task: its event model as the planner applies it.
@@ -19,8 +20,14 @@ included), :meth:`valuation` is the actual world (the check compares it with the
 :meth:`key` is the canonical bisimulation key (the check compares it with the plan's prediction),
 :meth:`knowledge` lists the knowledge formulas ``K_a p`` / ``K_a ¬p`` that hold (the belief log).
 :meth:`forget` is the public event "these fluents may have changed unnoticed" (every assignment one event,
-nobody distinguishes them, all designated): how a divergence the physics check found enters the state
-before the robots sense again (DEL has no belief revision; this is its standard substitute).
+nobody distinguishes them, all designated). **Evidence is never discarded**: an observation that contradicts
+every actual world of the state is a named *belief revision* (:meth:`revise`): the public "may have
+changed" event on exactly the fluents the observation contradicts (logged as ``kind: revision`` with what
+was revised and why), after which the observation is applied as the sensing event it is. (DEL's product
+update cannot remove a belief; this is the standard substitute — the forget-then-sense reading of
+revision, not Baltag–Smets plausibility models.) :meth:`look` is a robot's own look at some fluents (it
+fully observes, the other robots see it looking): what the mission's checks apply when a look disagrees
+with the state.
 
 This module uses delkit only; the planner's task and space are passed in (``arms`` does not need
 ``planners`` to import it).
@@ -61,7 +68,7 @@ class BeliefEvent:
 
     time: float
     task: str
-    kind: str           # sensing / announcement / ontic / forget
+    kind: str           # sensing / announcement / ontic / forget / revision / look / observation
     robot: str
     chosen: str         # e.g. "observed hold(robot1, red), ¬hold(robot1, black)" or "heard by robot2"
     learnt: tuple[str, ...] = ()
@@ -70,11 +77,13 @@ class BeliefEvent:
     forgot: tuple[str, ...] = ()     # forget: the fluents
     forced: bool = False             # applied with a false precondition (--no-shield only)
     public: str = ""                 # observe: the formula everybody observed (delkit syntax)
+    revised: tuple[str, ...] = ()    # revision: what was believed of each revised fluent and what was seen
 
     def to_json(self) -> dict:
         return {"t_sim_s": round(self.time, 3), "task": self.task, "kind": self.kind, "robot": self.robot,
                 "chosen": self.chosen, "learnt": list(self.learnt), "observed": self.observed, "heard": self.heard,
-                "forgot": list(self.forgot), "forced": self.forced, "public": self.public}
+                "forgot": list(self.forgot), "forced": self.forced, "public": self.public,
+                "revised": list(self.revised)}
 
 
 class BeliefState:
@@ -220,6 +229,15 @@ class BeliefState:
             # are those where the observed outcome happened (single-pointed: the same as designating only the
             # observed event; multi-pointed after a forget: the observation removes the worlds it excludes)
             lit = conj([f if observed[f.name] else Not(f) for f in sensed])  # type: ignore[attr-defined]
+            contra = self.contradicted({f.name: bool(observed[f.name]) for f in sensed})  # type: ignore
+            if contra is not None and not force:
+                # evidence is never discarded: the contradicted fluents are revised, then the task's sensing
+                self.revise(contra, {p: bool(observed[p]) for p in contra}, time=time,
+                            why=f"{robot}'s {name} contradicts every actual world")
+                em = self.event_model(name)
+                if em is None:
+                    raise BeliefError(f"{name}: its precondition {pretty(act.executable)} does not hold after "
+                                      "the revision")
             self._apply_em(em, name)
             self._restrict(lit, name, force=force)
             chosen = "observed " + ", ".join(pretty(("" if observed[f.name] else "¬") + f.name)  # type: ignore
@@ -267,5 +285,62 @@ class BeliefState:
         gone = tuple(k for k in before if k not in set(self.knowledge()))
         ev = BeliefEvent(time, "forget", "forget", "", why or ("may have changed: " + ", ".join(map(pretty, props))),
                          tuple(f"no longer: {g}" for g in gone), forgot=tuple(props))
+        self.log.append(ev)
+        return ev
+
+    # -- revision and looks ---------------------------------------------------------------------------
+    def contradicted(self, observed: Mapping[str, bool]) -> list[str] | None:
+        """None if some actual world agrees with every observed fluent; else the fluents to revise: those
+        whose observed value differs from the actual worlds' (all of them if the worlds disagree)."""
+        m = self.kripke()
+        lit = conj([Prop(p) if v else Not(Prop(p)) for p, v in observed.items()])
+        truth = m.check(lit)
+        if any(truth[w] for w in m.designated):
+            return None
+        val = self.valuation()
+        out = [p for p, v in observed.items() if val.get(p) is not None and val[p] != v]
+        return out or sorted(observed)
+
+    def revise(self, props: Iterable[str], seen: Mapping[str, bool], *, time: float = 0.0,
+               why: str = "") -> BeliefEvent:
+        """Named belief revision: the public "may have changed" event on ``props`` (the fluents an
+        observation contradicts; ``seen`` their observed values), logged as ``kind: revision``."""
+        props = sorted(set(props))
+        val = self.valuation()
+        revised = tuple(f"{pretty(p)}: believed {str(val.get(p)).lower() if val.get(p) is not None else 'unknown'}"
+                        f" at the actual world, seen {str(seen[p]).lower() if p in seen else 'undecided'}"
+                        for p in props)
+        ev = self.forget(props, time=time, why=why or "revision")
+        ev = replace(ev, kind="revision", chosen=f"revision ({why or 'an observation contradicts the state'}): "
+                     + ", ".join(map(pretty, props)) + " may have changed", revised=revised)
+        self.log[-1] = ev
+        return ev
+
+    def look(self, robot: str, observed: Mapping[str, bool], *, time: float = 0.0, what: str = "",
+             public: bool = False) -> BeliefEvent:
+        """``robot`` looks and sees ``observed`` (fluent ↦ value): a sensing event per fluent in which it is
+        the full observer and the other agents partial (they see it look), the observed outcome actual;
+        ``public``: every robot looks at it (e.g. both side cameras at the shared table) and all see all. An
+        observation that contradicts every actual world revises the contradicted fluents first."""
+        from delkit.events import sensing
+
+        observed = {p: bool(v) for p, v in observed.items()}
+        contra = self.contradicted(observed)
+        if contra is not None:
+            self.revise(contra, {p: observed[p] for p in contra}, time=time,
+                        why=f"{robot}'s look contradicts every actual world")
+        before = set(self.knowledge())
+        others = [] if public else [a for a in self.task.agents if a != robot]
+        full = list(self.task.agents) if public else [robot]
+        for p in sorted(observed):
+            self._apply_em(sensing(Prop(p), self.task.agents, full=full, partial=others, name=f"look {p}"),
+                           what or f"{robot} looks")
+        self._restrict(conj([Prop(p) if v else Not(Prop(p)) for p, v in sorted(observed.items())]),
+                       what or f"{robot} looks")
+        kind = "observation" if public else "look"
+        ev = BeliefEvent(time, "look", kind, robot, what or f"{robot} looks: " + ", ".join(
+            pretty(("" if v else "¬") + p) for p, v in sorted(observed.items())),
+            tuple(k for k in self.knowledge() if k not in before), observed=dict(observed),
+            public="public" if public else "")
         self.log.append(ev)
         return ev

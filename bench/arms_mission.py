@@ -4,6 +4,7 @@
         [--faults none drop-msg@0 repaint@0 occlusion] [--no-shield-too] [--reading symmetric|owner]
         [--workers 1] [--json FILE] [--results FILE] [--summarise FILE]
     .venv/bin/python bench/arms_mission.py --perf [--repeat 3]
+    .venv/bin/python bench/arms_mission.py --cells
 
 Missions: for every colour count and layout seed 0 … N−1 (``planners.epico.generate(goal, colors, seed,
 symmetric=True)``: a random both-robot layout), one mission per fault: the e-PICO plan executed on the two
@@ -39,28 +40,38 @@ sys.path.insert(0, str(ROOT))
 
 def one(goal: str, colors: int, seed: int | None, fault: str, shield: bool = True, symmetric: bool = True,
         ik: str = "analytic") -> dict:
+    """One mission. ``fault``: ``none``, one fault, several joined by ``+`` (``repaint@0+drop-msg@0``), and
+    ``duplicates`` among them for a layout with several blocks of one colour per robot
+    (``arms.mission.duplicate_layout(colors, seed)``)."""
     import arms.executor
     from arms.cli.epico_run import run_mission
-    from arms.mission import parse_fault
+    from arms.mission import duplicate_layout, parse_fault
 
     arms.executor.DEFAULT_IK = ik  # the executor's per-tick IK (--ik)
 
-    faults = () if fault == "none" else (parse_fault(fault),)
+    parts = [] if fault == "none" else fault.split("+")
+    layout = duplicate_layout(colors, seed or 0) if "duplicates" in parts else None
+    faults = tuple(parse_fault(f) for f in parts if f != "duplicates")
     base = {"goal": goal, "colors": colors, "seed": seed, "fault": fault, "shield": shield}
     c0 = time.process_time()
     try:
-        _inst, res, _m = run_mission(goal, colors, seed, faults=faults, shield=shield, symmetric=symmetric)
+        _inst, res, _m = run_mission(goal, colors, seed, faults=faults, shield=shield,
+                                     symmetric=None if symmetric else False, layout=layout)
     except Exception as exc:  # a crash is a failed mission, reported with its message
         return {**base, "success": False, "reason": f"{type(exc).__name__}: {exc}", "replans": 0, "sim_s": 0.0,
-                "cpu_s": time.process_time() - c0, "exec_s": 0.0, "guard_s": 0.0, "belief_s": 0.0, "fired": False,
-                "caught": False, "unsafe": 0, "audit": 0, "fault_log": [], "unfired": []}
+                "cpu_s": time.process_time() - c0, "exec_s": 0.0, "guard_s": 0.0, "belief_s": 0.0, "fired": 0,
+                "caught": 0, "caught_by": [], "unsafe": 0, "unheeded": 0, "audit_agrees": False, "fault_log": [],
+                "unfired": [], "discarded": 0, "revisions": 0}
     log = res.faults
-    fired = any(" fired" in x and "never" not in x for x in log)
-    caught = any("caught" in x for x in log) and not any("NOT caught" in x for x in log)
+    fired = sum(1 for x in log if " fired at" in x or x.startswith("occlusion fired"))
+    caught = len(res.caught_by)
     return {**base, "success": res.success, "reason": res.reason, "replans": res.replans, "sim_s": res.sim_seconds,
             "cpu_s": time.process_time() - c0, "exec_s": res.exec_cpu_seconds, "guard_s": res.guard_cpu_seconds,
-            "belief_s": res.belief_cpu_seconds, "fired": fired, "caught": caught, "unsafe": len(res.unsafe_steps),
-            "audit": len(res.audit), "goal_in_beliefs": res.goal_in_beliefs, "goal_in_world": res.goal_in_world,
+            "belief_s": res.belief_cpu_seconds, "fired": fired, "caught": caught,
+            "caught_by": sorted({c["by"] for c in res.caught_by}), "unsafe": len(res.unsafe_steps),
+            "unheeded": len(res.unheeded), "audit_agrees": bool(res.audit["final"]["agrees"]),
+            "revisions": sum(e["kind"] == "revision" for e in res.belief_log),
+            "goal_in_beliefs": res.goal_in_beliefs, "goal_in_world": res.goal_in_world,
             "fault_log": log, "unfired": res.unfired, "planning_s": res.planning_seconds}
 
 
@@ -69,26 +80,29 @@ def _star(args):
 
 
 def table(rows: list[dict]) -> str:
-    head = ("| colours | fault | shield | missions | fired | caught | success | unsafe step | audit | replans mean "
-            "| sim s mean | CPU s mean (mission) | CPU s mean (execution) | RTF sim/exec CPU | shield+checks % | "
-            "belief updates % |")
-    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    head = ("| colours | fault | shield | missions | faults fired | caught | caught by | success | audit agrees at end "
+            "| unsafe step | unheeded divergence | wrong step shown | revisions | replans mean | sim s mean "
+            "| CPU s mean (mission) | CPU s mean (execution) | shield+checks % of execution "
+            "| belief updates CPU s mean |")
+    out = [head, "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     keys = sorted({(r["colors"], r["fault"], r["shield"]) for r in rows},
                   key=lambda k: (k[0], k[1] != "none", k[1], not k[2]))
     for c, f, sh in keys:
         rs = [r for r in rows if r["colors"] == c and r["fault"] == f and r["shield"] == sh]
         n = len(rs)
         ok = sum(r["success"] for r in rs)
-        sim = sum(r["sim_s"] for r in rs)
         ex = sum(r["exec_s"] for r in rs)
+        by = sorted({b for r in rs for b in r.get("caught_by", [])})
+        wrong = sum(bool(r["unsafe"] or r["unheeded"] or not r["audit_agrees"]) for r in rs)
         out.append(
-            f"| {c} | {f} | {'on' if sh else 'OFF'} | {n} | {sum(r['fired'] for r in rs) if f != 'none' else '-'} | "
-            f"{sum(r['fired'] and r['caught'] for r in rs) if f != 'none' else '-'} | {ok}/{n} | "
-            f"{sum(r['unsafe'] > 0 for r in rs)} | {sum(r['audit'] > 0 for r in rs)} | "
-            f"{sum(r['replans'] for r in rs) / n:.2f} | {sim / n:.1f} | {sum(r['cpu_s'] for r in rs) / n:.2f} | "
-            f"{ex / n:.2f} | {sim / ex if ex else 0:.1f} | "
+            f"| {c} | {f} | {'on' if sh else 'OFF'} | {n} | {sum(r['fired'] for r in rs)} | "
+            f"{sum(min(r['caught'], r['fired']) for r in rs)} | {', '.join(by) or '-'} | {ok}/{n} | "
+            f"{sum(r['audit_agrees'] for r in rs if r['success'])}/{ok} | {sum(r['unsafe'] > 0 for r in rs)} | "
+            f"{sum(r['unheeded'] > 0 for r in rs)} | {wrong if not sh else '-'} | {sum(r['revisions'] for r in rs)} | "
+            f"{sum(r['replans'] for r in rs) / n:.2f} | {sum(r['sim_s'] for r in rs) / n:.1f} | "
+            f"{sum(r['cpu_s'] for r in rs) / n:.2f} | {ex / n:.2f} | "
             f"{100 * sum(r['guard_s'] for r in rs) / ex if ex else 0:.2f} | "
-            f"{100 * sum(r['belief_s'] for r in rs) / ex if ex else 0:.2f} |")
+            f"{sum(r['belief_s'] for r in rs) / n:.3f} |")
     return "\n".join(out)
 
 
@@ -116,16 +130,43 @@ def perf(repeat: int, ik: str = "analytic") -> str:
     return "\n".join(lines)
 
 
+def cells() -> str:
+    """Every defined Table-1 cell (N ≤ 4) on the seed's layout, one mission each (no fault)."""
+    from arms.cli.epico_run import run_mission
+
+    lines = ["| goal | colours | success | audit agrees at end | executed steps | every executed precondition true "
+             "| looks | sim s | mission CPU s | execution CPU s | planning CPU s | shield+checks CPU s | "
+             "belief updates CPU s |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for g in ("alpha", "beta", "gamma", "delta"):
+        for n in (1, 2, 3, 4):
+            if g in ("gamma", "delta") and n == 1:
+                continue
+            c0 = time.process_time()
+            _inst, res, _m = run_mission(g, n, None)
+            cpu = time.process_time() - c0
+            ex = [s for s in res.steps if s.executed and s.task not in ("final look", "recovery")]
+            looks = sum(1 for s in res.steps if "look" in s.checks)
+            lines.append(f"| {g} | {n} | {res.success} | {res.audit['final']['agrees']} | {len(ex)} | "
+                         f"{all(s.precondition_holds for s in ex)} | {looks} | {res.sim_seconds:.1f} | {cpu:.2f} | "
+                         f"{res.exec_cpu_seconds:.2f} | {sum(res.planning_cpu_seconds):.3f} | "
+                         f"{res.guard_cpu_seconds:.3f} | {res.belief_cpu_seconds:.3f} |")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--goal", default="alpha")
     ap.add_argument("--colors", type=int, nargs="+", default=[1, 2, 3, 4])
     ap.add_argument("--layouts", type=int, default=20)
     ap.add_argument("--first-seed", type=int, default=0)
-    ap.add_argument("--faults", nargs="+", default=["none", "drop-msg@0", "repaint@0", "occlusion"])
+    ap.add_argument("--faults", nargs="+", default=["none", "repaint@0", "drop-msg@0", "occlusion",
+                                                    "repaint@0+drop-msg@0", "duplicates+repaint@0"],
+                    help="faults per mission; several joined by + ; 'duplicates' = a layout with several blocks of "
+                         "one colour per robot")
     ap.add_argument("--no-shield-too", action="store_true", help="run every faulty mission again with --no-shield")
     ap.add_argument("--reading", choices=["symmetric", "owner"], default="symmetric")
     ap.add_argument("--perf", action="store_true", help="the α/4 default mission, --repeat times")
+    ap.add_argument("--cells", action="store_true", help="every defined Table-1 cell (N ≤ 4), seed's layout")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--ik", choices=("analytic", "mink"), default="analytic",
                     help="the executor's per-tick IK (default analytic; mink: the QP on every tick)")
@@ -141,6 +182,11 @@ def main(argv: list[str] | None = None) -> int:
         print(table(rows), "", "Failures:" if fails else "Failures: none", *fails, sep="\n")
         return 0
 
+    if args.cells:
+        load0 = os.getloadavg()[0]
+        print(cells())
+        print(f"load average {load0:.1f} → {os.getloadavg()[0]:.1f}; {platform.machine()}, {os.cpu_count()} cores")
+        return 0
     if args.perf:
         load0 = os.getloadavg()[0]
         text = perf(args.repeat, args.ik)

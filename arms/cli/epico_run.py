@@ -60,53 +60,92 @@ class EpicoModel:
         return BeliefState(self.task, self.space)
 
     def plan(self, belief, world_json: dict) -> tuple[list[TaskPlan], dict]:
-        """The plan from ``belief`` (a :class:`arms.beliefs.BeliefState`) and the observed world."""
+        """The epistemic plan from ``belief`` (a :class:`arms.beliefs.BeliefState`); each task's primitive
+        actions are made when it is about to run (:meth:`breakdown`), from what the robots have seen by then.
+        With takes seen by both robots, a robot takes back only its own block (a take by the other robot
+        moves the block to the taker's table, after which ``hold(owner, c)`` may be false: the mission
+        models that, the planner's domain does not)."""
         from dataclasses import replace
 
         from arms.mission import GoalUnreachable
-        from planners.epico import EpicoError, Layout
         from planners.epistemic import Limits, bfs, make_space
-        from planners.hierarchy import process_e_plan
         from planners.macros import with_macros
 
         t0, c0 = time.perf_counter(), time.process_time()
         task = replace(self.task, initial=belief.kripke(), _cache={})
+        if self.inst.reading.takes != "handover":
+            task = replace(task, actions=tuple(a for a in task.actions if not _foreign_take(a.name)), _cache={})
         ptask = with_macros(task, self.ms) if self.macros else task
         res = bfs(make_space(ptask, engine=self.engine), Limits(timeout=self.limits.timeout))  # type: ignore[arg-type]
         if not res.solved:
             raise GoalUnreachable(f"the epistemic planner finds no plan from the belief state: {res.reason}")
-        try:
-            layout = Layout.from_world(world_json, {b: self.owner[b] for b in world_json.get("barrier", [])})
-            records, _final, _calls = process_e_plan(task, tuple(res.plan or ()), layout.classical(), self.limits,
-                                                     macros=self.ms)
-        except EpicoError as exc:
-            raise GoalUnreachable(str(exc)) from None
+        by_name = {m.name: m for m in self.ms}
         out = []
-        for rec in records:
-            act = self.task.action(rec.task)
-            robot = rec.actions[0]["robot"] if rec.actions else next(
-                (r for r in self.task.agents if r in rec.task.split("_")), "")
-            out.append(TaskPlan(rec.task, act.kind, robot, [dict(a, task=rec.task) for a in rec.actions]))
+        for name in res.plan or ():
+            for simple in (by_name[name].step_names if name in by_name else (name,)):
+                act = self.task.action(simple)
+                robot = next((r for r in self.task.agents if r in simple.split("_")), "")
+                out.append(TaskPlan(simple, act.kind, robot, []))
         return out, {"epistemic_plan": list(res.plan or ()), "expanded": res.expanded,
                      "wall_s": time.perf_counter() - t0, "cpu_s": time.process_time() - c0}
+
+    def breakdown(self, name: str, world_json: dict) -> list[dict]:
+        """The primitive actions of task ``name`` from the observed world (block positions measured, colours
+        as the cameras saw them, ``unseen`` for the others; owners of blocks on the shared table from where
+        they stood): the classical level for an ontic task (BFS, fewest arm actions), the arms' ``sense`` /
+        ``announce`` for an epistemic one."""
+        from planners.classical import CState, goal_for, solve_bfs
+        from planners.hierarchy import _epistemic_primitive
+
+        st = CState.make(world_json["stacks"], tuple(world_json.get("barrier", ())), world_json["colors"],
+                         world_json.get("owners", {}))
+        act = self.task.action(name)
+        if act.kind != "ontic":
+            return [_epistemic_primitive(name, st, self.task)]
+        goal = goal_for(name, st, self.task.agents)
+        r = solve_bfs(st, goal, max_steps=self.limits.classical_max_steps, timeout=self.limits.classical_timeout)
+        return [a.to_json() for a in r.actions]
+
+
+def _foreign_take(name: str) -> bool:
+    """``take_from_shared_R_O_C`` with R ≠ O."""
+    if not name.startswith("take_from_shared_"):
+        return False
+    taker, owner, _c = name[len("take_from_shared_"):].split("_")
+    return taker != owner
 
 
 def run_mission(goal: str, colors: int, seed: int | None, *, faults=(), grasp: str = "friction",
                 max_replans: int = 4, macros: bool = True, symmetric: bool | None = None, record_fps: float = 0.0,
-                shield: bool = True, engine: str = "compact", progress=None):
+                shield: bool = True, engine: str = "compact", progress=None, sensing: str = "table",
+                takes: str = "seen", layout=None):
     """Generate, plan, execute; returns (instance, MissionResult, Mission). ``symmetric=None``: the
-    generator's default instance."""
+    generator's default instance; ``layout``: a given :class:`planners.epico.Layout` (e.g. several blocks of
+    one colour per robot, :func:`arms.mission.duplicate_layout`)."""
     from arms.mission import Mission
     from arms.world import World
     from planners.epico import generate
 
     # the paper's reading (both robots ignorant of their own colours) unless the reduced one is asked for
-    inst = generate(goal, colors, seed, owners=("robot1",) if symmetric is False else None)
+    inst = generate(goal, colors, seed, layout=layout, owners=("robot1",) if symmetric is False else None,
+                    sensing=sensing, takes=takes)
     world = World.from_json(inst.layout.to_world())
     model = EpicoModel(inst, macros=macros, engine=engine)
     m = Mission(world, inst.goal, model, faults=tuple(faults), grasp=grasp, max_replans=max_replans,
                 record_fps=record_fps, progress=progress, shield=shield)
     return inst, m.run(), m
+
+
+def _process_times() -> dict:
+    """CPU (user + system, this process and its finished children) and wall seconds since the process
+    started: the whole command, start-up and imports included."""
+    import os
+
+    from delkit.resources import process_start
+
+    t = os.times()
+    return {"cpu_s": round(t.user + t.system + t.children_user + t.children_system, 3),
+            "wall_s": round(time.monotonic() - process_start(), 3)}
 
 
 def _render(m, res, out: Path) -> str:
@@ -131,7 +170,8 @@ def _print_report(inst, res, note: str) -> None:
     from rich.table import Table
 
     con = Console()
-    reading = "both robots' colours (the paper's reading)" if len(inst.owners) > 1 else "robot1's colours only"
+    reading = ("both robots' colours (the paper's reading)" if len(inst.owners) > 1 else "robot1's colours only") + (
+        f", sensing {inst.reading.sensing}, takes {inst.reading.takes}")
     table = Table(title=f"e-PICO {inst.goal}, {inst.colors} colour(s), {reading}: closed-loop execution on the "
                         f"planner's DEL belief state ({res.backend} backend, shield {'on' if res.shield else 'OFF'})",
                   show_lines=True)
@@ -149,6 +189,16 @@ def _print_report(inst, res, note: str) -> None:
     for e in res.belief_log:
         learnt = ", ".join(e["learnt"]) or "nothing new"
         con.print(f"  t={e['t_sim_s']:6.2f} s  {e['task']} ({e['chosen']}): {learnt}")
+    for s in res.unsafe_steps:
+        con.print(f"[red]WRONG STEP[/red] {s.index} ({s.text}) [{s.task}]: executed although its precondition "
+                  f"{s.precondition} is false in the belief state")
+    for i, msg in res.unheeded:
+        con.print(f"[red]UNHEEDED[/red] after step {i}: {msg}")
+    audit = res.audit.get("final", {})
+    if audit:
+        bad = audit["actual_world_differs"] + [f"false belief {b}" for b in audit["false_beliefs"]]
+        con.print("audit (ground truth, not used by the loop): "
+                  + ("agrees with the belief state" if audit["agrees"] else "; ".join(bad)))
     verdict = "[green]SUCCESS[/green]" if res.success else "[red]FAILURE[/red]"
     if res.unfired:
         verdict += f" [red](fault(s) NEVER FIRED: {', '.join(res.unfired)})[/red]"
@@ -184,6 +234,10 @@ def register(epico_app: typer.Typer) -> None:
                                         "guards off (only to show the run that goes wrong without them)"),
             engine: str = typer.Option("compact", "--engine", help="DEL backend of the belief state: compact "
                                        "(the planner's default) or del (numpy)"),
+            sensing: str = typer.Option("table", "--sensing", help="table: one sense_table per robot (default); "
+                                        "color: one sense_color per robot and colour"),
+            takes: str = typer.Option("seen", "--takes", help="seen: a robot takes its own block back, both see it "
+                                      "(default); handover: the other robot takes, the owner partially observes"),
             timeout: float = typer.Option(0.0, "--timeout", min=0.0, help="wall-clock limit in seconds for "
                                           "planning, replanning, physics and rendering (0: none)"),
             as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
@@ -202,6 +256,10 @@ def register(epico_app: typer.Typer) -> None:
         reading = True if symmetric else False if owner == "robot1" else None
         if engine not in ("compact", "del"):
             raise ArmsError(f"--engine must be compact or del, not {engine!r}")
+        if sensing not in ("table", "color"):
+            raise ArmsError(f"--sensing must be table or color, not {sensing!r}")
+        if takes not in ("seen", "handover"):
+            raise ArmsError(f"--takes must be seen or handover, not {takes!r}")
         if grasp not in ("weld", "friction"):
             raise ArmsError(f"--grasp must be friction or weld, not {grasp!r}")
         faults = [parse_fault(f) for f in fault]
@@ -217,6 +275,7 @@ def register(epico_app: typer.Typer) -> None:
             try:
                 inst, res, m = run_mission(goal, colors, seed, faults=faults, grasp=grasp, max_replans=max_replans,
                                            macros=macros, symmetric=reading, shield=shield, engine=engine,
+                                           sensing=sensing, takes=takes,
                                            record_fps=10.0 if out is not None else 0.0,
                                            progress=lambda msg: cb(0, msg))
             finally:
@@ -229,13 +288,17 @@ def register(epico_app: typer.Typer) -> None:
         for f in res.faults:  # e.g. drop@K with K beyond the last primitive action: the run never tested it
             if "not fired" in f:
                 print(f"delkit: warning: --fault {f}", file=sys.stderr)
+        process = _process_times()
         if as_json:
             obj = res.to_json()
             obj["instance"] = {"goal": inst.goal, "colors": inst.colors, "seed": seed,
-                               "layout": inst.layout.to_json()}
+                               "layout": inst.layout.to_json(), "reading": inst.reading.to_json()}
             obj["render"] = note
+            obj["process"] = process
             print(json.dumps(obj))
         else:
             _print_report(inst, res, note)
+            print(f"whole process: {process['cpu_s']:.2f} s CPU, {process['wall_s']:.2f} s wall (start-up, imports, "
+                  "planning, physics, rendering)")
         sys.stdout.flush()
         raise typer.Exit(0 if res.success and not res.unfired else 1)

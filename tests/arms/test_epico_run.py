@@ -69,3 +69,20 @@ def test_delkit_epico_run_is_registered_and_errors_are_one_line(capsys):
     assert main(["epico", "run", "--goal", "alpha", "--colors", "1", "--fault", "melt@2"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("delkit: error:") and "unknown fault" in err and len(err.strip().splitlines()) == 1
+
+
+def test_cli_sensing_and_takes_readings_and_whole_process_times(capsys):
+    from delkit.cli import main
+
+    code = main(["epico", "run", "--goal", "alpha", "--colors", "1", "--sensing", "color", "--takes", "handover",
+                 "--json"])
+    obj = json.loads(capsys.readouterr().out)
+    assert code == 0 and obj["success"], obj["reason"]
+    assert obj["instance"]["reading"]["sensing"] == "color" and obj["instance"]["reading"]["takes"] == "handover"
+    assert any(s["task"].startswith("sense_color_") for s in obj["steps"])
+    # whole-process CPU and wall: at least the mission's own, start-up and imports included
+    assert obj["process"]["cpu_s"] >= obj["cpu_s"] and obj["process"]["wall_s"] >= obj["wall_s"]
+    assert obj["audit"]["final"]["agrees"]
+    assert main(["epico", "run", "--goal", "alpha", "--colors", "1", "--takes", "given"]) == 2
+    err = capsys.readouterr().err
+    assert "--takes must be seen or handover" in err and len(err.strip().splitlines()) == 1

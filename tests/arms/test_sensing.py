@@ -182,3 +182,132 @@ def test_a_top_block_sensor_fails_the_property(monkeypatch):
     layout = Layout(MappingProxyType(stacks), MappingProxyType({"a": "red", "b": "black", "d": "black"}))
     with pytest.raises(AssertionError):
         check_layout(2, layout, None)
+
+
+# -- the mission's own observation code over layouts reached after takes and hand-overs -------------------------
+def _moved(layout: Layout, moves) -> list[tuple[Layout, dict]]:
+    """The layouts a sequence of moves passes through: ("put", robot) — robot puts the top block of its
+    first non-empty stack on the shared table; ("take", robot, stack) — robot takes the shared block onto
+    its own stack (a hand-over when robot is not the robot it came from). With each layout, the truth:
+    block ↦ the robot in front of which it stands (a shared block: the one it came from)."""
+    stacks = {r: [list(s) for s in layout.stacks[r]] for r in ROBOTS}
+    shared: list[str] = []
+    stands = {b: r for r in ROBOTS for s in stacks[r] for b in s}
+    out = []
+
+    def snap():
+        lay = Layout(MappingProxyType({r: tuple(tuple(s) for s in stacks[r]) for r in ROBOTS}),
+                     MappingProxyType(dict(layout.colors)), tuple(shared),
+                     MappingProxyType({b: stands[b] for b in shared}))
+        out.append((lay, dict(stands)))
+
+    snap()
+    for mv in moves:
+        if mv[0] == "put" and not shared:
+            src = next((s for s in stacks[mv[1]] if s), None)
+            if src is None:
+                continue
+            shared.append(src.pop())
+        elif mv[0] == "take" and shared and len(stacks[mv[1]][mv[2]]) < 3:
+            b = shared.pop()
+            stacks[mv[1]][mv[2]].append(b)
+            stands[b] = mv[1]
+        else:
+            continue
+        snap()
+    return out
+
+
+def _task_for(n: int):
+    one = Layout(MappingProxyType({"robot1": (("x",), (), ()), "robot2": (("y",), (), ())}),
+                 MappingProxyType({"x": PALETTE[0], "y": PALETTE[0]}))
+    inst = generate("alpha", n, layout=one)
+    task, _, _ = epistemic_task(inst, macros=False)
+    return task
+
+
+_TASKS: dict[int, object] = {}
+
+
+def check_reached(n, layout, moves, occ=None):
+    """The mission's own code — ``Mission._stand`` over the states the moves pass through, then on the final
+    poses; ``Mission._look`` (side cameras, high view where the low one is blocked) and
+    ``Mission.observation`` — decides exactly the looking robot's ``hold`` fluents and every ``occup_by``, each
+    as the layout has it, and selects the true event of the planner's ``sense_table``."""
+    from types import SimpleNamespace
+
+    from arms.executor import Executor
+    from arms.mission import Mission, StepRecord
+    from arms.world import initial_state
+
+    task = _TASKS.get(n) or _TASKS.setdefault(n, _task_for(n))
+    path = _moved(layout, moves)
+    final, stands = path[-1]
+    world = World.from_json(final.to_world())
+    occluders = ()
+    if occ is not None:
+        xy = world.layout.stack_xy(ROBOTS.index(occ[0]), occ[1], 3)
+        occluders = ((float(xy[0] + 0.10), float(xy[1]), occ[2]),)
+    m = Mission(world, "alpha", SimpleNamespace(task=task, colours=PALETTE[:n]))
+    m._occlusion_pending, m.pending = [], []
+    for lay, _truth in path:  # the mission's ownership update, state by state as the loop sees them
+        m._stand(initial_state(World.from_json(lay.to_world())))
+    ex = Executor(world, occluders=occluders)
+    m._stand(m._observe_state(ex, set())[0])
+    belief = BeliefState(task, make_space(task))
+    colour = dict(final.colors)
+    for r in ROBOTS:
+        rec = StepRecord(0, 0, "look", r, f"{r}: look()", True, "", {}, 0.0, float("nan"))
+        obs = m.observation(m._look(ex, r, rec), r, task.props)
+        truth = {}
+        for p in task.props:
+            kind, rest = ("occup_by", p[9:]) if p.startswith("occup_by_") else ("hold", p[5:])
+            owner, c = rest.split("_", 1)
+            if kind == "occup_by":
+                truth[p] = any(stands[b] == owner and colour[b] == c for b in final.shared)
+            elif owner == r:
+                truth[p] = any(colour[b] == c for s in final.stacks[r] for b in s) or any(
+                    stands[b] == r and colour[b] == c for b in final.shared)
+        assert obs == truth, (r, moves, obs, truth)
+        em = belief.event_model(f"sense_table_{r}")
+        sensed = {p: obs[p] for p in obs if p.startswith(f"hold_{r}_")}
+        rest = {q: False for q in task.props if q not in sensed}
+        picked = [e for e in em.designated if _sat(em.pre[e], sensed | rest, task.props, task.agents)]
+        true_e = [e for e in em.designated
+                  if _sat(em.pre[e], {p: truth[p] for p in sensed} | rest, task.props, task.agents)]
+        assert len(picked) == 1 and picked == true_e, (r, sensed)
+
+
+#: a hand-over and back: robot1's black block goes to robot2's table, then robot2 puts it on the shared table
+HANDOVER_START = Layout(MappingProxyType({"robot1": (("a0", "a1"), (), ()), "robot2": (("b0",), (), ())}),
+                        MappingProxyType({"a0": "red", "a1": "black", "b0": "red"}))
+HANDOVER_MOVES = (("put", "robot1"), ("take", "robot2", 0), ("put", "robot2"))
+
+
+@st.composite
+def reached(draw):
+    n, layout, occ = draw(layouts())
+    moves = draw(st.lists(st.one_of(st.tuples(st.just("put"), st.sampled_from(ROBOTS)),
+                                    st.tuples(st.just("take"), st.sampled_from(ROBOTS), st.integers(0, 2))),
+                          min_size=1, max_size=5))
+    return n, layout, tuple(moves), occ
+
+
+def test_the_missions_observation_after_a_hand_over():
+    check_reached(2, HANDOVER_START, HANDOVER_MOVES)
+    check_reached(2, HANDOVER_START, HANDOVER_MOVES[:2])
+
+
+@settings(max_examples=8, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True)
+@given(reached())
+def test_the_missions_observation_is_the_truth_after_takes(case):
+    n, layout, moves, occ = case
+    check_reached(n, layout, moves, occ)
+
+
+@pytest.mark.slow
+@settings(max_examples=220, deadline=None, suppress_health_check=list(HealthCheck), derandomize=True)
+@given(reached())
+def test_the_missions_observation_is_the_truth_after_takes_many_layouts(case):
+    n, layout, moves, occ = case
+    check_reached(n, layout, moves, occ)
