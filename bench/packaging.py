@@ -3,13 +3,15 @@
 Steps, each timed (wall and the CPU of the child processes):
 
 1. ``python -m venv`` (a fresh directory, removed first);
-2. ``pip install <repo>`` — no extras: the DEL core, the planner and checker, the SMCDEL language, drawing;
+2. ``pip wheel --no-deps`` builds the wheel from a copy of the checkout, then ``pip install`` installs *that
+   wheel* (not the tree) — no extras: the DEL core, the planner and checker, the SMCDEL language, drawing;
    ``du`` of the venv and the number of installed distributions are taken right after this step;
 3. smoke commands in the bare venv, run from an empty directory so that the checkout cannot shadow the
    installed package: ``delkit --version``, ``python -m delkit --version``, ``delkit plan`` and ``delkit check``
-   on the Coin-in-the-Box specs, ``delkit smcdel`` on muddy children, ``delkit model draw`` to SVG and PNG —
-   each must exit 0 — and ``delkit arms demo`` / ``delkit epico solve --classical clingo``, which must exit 2
-   with one line naming ``delkit[arms]`` / ``delkit[asp]``;
+   on the Coin-in-the-Box specs, ``delkit smcdel`` on muddy children, ``delkit model draw`` to SVG and PNG,
+   ``delkit demo`` and ``delkit epico solve`` (both read the specs packaged in the wheel) — each must exit 0 —
+   and ``delkit arms demo`` / ``delkit epico solve --classical clingo``, which must exit 2 with one line
+   naming ``delkit[arms]`` / ``delkit[asp]``;
 4. pytest and hypothesis added (test runners, not counted in the size), then the core's tests
    (``tests/delkit`` and ``tests/test_layers.py``, not slow) against the installed package.
 
@@ -66,6 +68,9 @@ def _smoke(venv: Path, work: Path) -> list[dict]:
         ("smcdel", [delkit, "smcdel", str(muddy)], 0, None),
         ("draw svg", [delkit, "model", "draw", str(muddy), "-o", str(work / "muddy.svg")], 0, None),
         ("draw png", [delkit, "model", "draw", str(muddy), "-o", str(work / "muddy.png")], 0, None),
+        ("demo (packaged specs)", [delkit, "demo"], 0, None),
+        ("epico solve (packaged specs)", [delkit, "epico", "solve", "--goal", "alpha", "--colors", "1", "--json"],
+         0, None),
         ("arms demo (needs [arms])", [delkit, "arms", "demo"], 2, "delkit[arms]"),
         ("clingo (needs [asp])", [delkit, "epico", "solve", "--goal", "alpha", "--colors", "1",
                                   "--classical", "clingo"], 2, "delkit[asp]"),
@@ -103,7 +108,15 @@ def main(argv: list[str] | None = None) -> int:
         src = Path(build) / "src"
         shutil.copytree(ROOT, src, ignore=shutil.ignore_patterns(".venv*", "build", "out", ".git", "*.egg-info",
                                                                    "__pycache__", ".pytest_cache", ".hypothesis"))
-        steps.append(dict(_run(pip + [str(src)], env=env), name="pip install . (no extras)"))
+        wheels = Path(build) / "wheels"
+        steps.append(dict(_run([str(venv / "bin" / "python"), "-m", "pip", "wheel", "--quiet", "--no-deps",
+                                "--wheel-dir", str(wheels), str(src)], env=env), name="pip wheel . (build the wheel)"))
+        built = sorted(wheels.glob("delkit-*.whl"))
+        if not built:
+            steps.append({"name": "pip wheel . made no delkit-*.whl", "rc": 1, "wall_s": 0.0, "cpu_s": 0.0,
+                          "cmd": "pip wheel", "stdout": "", "stderr": ""})
+        else:
+            steps.append(dict(_run(pip + [str(built[0])], env=env), name=f"pip install {built[0].name} (no extras)"))
     size_mb = _du_mb(venv)
     listed = _run([str(venv / "bin" / "python"), "-m", "pip", "list", "--format=json"], env=env)
     packages = sorted(p["name"] for p in json.loads(listed["stdout"] or "[]"))

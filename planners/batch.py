@@ -52,6 +52,11 @@ def plan_files(files: Sequence[Path], *, jobs: int | None = None, scheduler: str
     files = [Path(f) for f in files]
     jobs = _check_jobs(jobs, "delkit plan", scheduler)
     if is_batch(files, {"jobs": jobs, "scheduler": scheduler}):
+        if options.get("plan_out") is not None:
+            from delkit.errors import ParseError
+
+            raise ParseError("--plan-out writes the plan of one task, planned in this process: leave out "
+                             "--jobs / --scheduler and give one SPEC or DOMAIN PROBLEM", source="delkit plan")
         units = plan_units(files)
         parallel = jobs is not None and jobs > 1
         # one task with --scheduler and no --jobs N: the batch runner (the task on one Dask worker); with

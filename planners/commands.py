@@ -29,8 +29,9 @@ def _echo(text: str) -> None:
 def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeout: float = 60.0,
              max_nodes: int | None = None, max_memory: float = 8192.0, engine: str = "auto",
              allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
-             strict: bool = False) -> int:
-    """The body of ``delkit plan``; returns the exit status."""
+             strict: bool = False, plan_out: Path | None = None) -> int:
+    """The body of ``delkit plan``; returns the exit status (``plan_out``: also write the plan there as a JSON
+    plan file, :mod:`planners.plan_file`)."""
     from delkit.errors import PlanningError
     from planners.epistemic import Limits, SearchResult, best_first, bfs
     from planners.lang import load_task
@@ -40,6 +41,11 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
         raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
     from delkit.resources import TimeLimit, command_start, counters, deadline, keep_alive, parse_timeout
 
+    inputs = [Path(p) for p in (spec, problem, *(library or ())) if p is not None]
+    if plan_out is not None:
+        from planners.plan_file import check_plan_out
+
+        check_plan_out(Path(plan_out), inputs)  # before any work: the plan must not replace an input
     limit = parse_timeout(timeout)  # 0 / inf: no limit; counted from the start of the process
     Limits(timeout=limit, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
     start = command_start()
@@ -79,7 +85,22 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
         return 3
     out = res.to_json()
     out["task"] = task.name
+    if plan_out is not None:
+        _plan_out(Path(plan_out), res, out, task.name, inputs)
     return report_search(res, out, search, as_json)
+
+
+def _plan_out(path: Path, res, out: dict, name: str, inputs: list[Path]) -> None:
+    """``--plan-out``: the plan file of a solved search; none written (said on stderr) without a plan."""
+    import sys
+
+    from planners.plan_file import plan_document, write_plan_file
+
+    if res.solved:
+        write_plan_file(path, plan_document(name, inputs, out), inputs)
+        out["plan_file"] = str(path)
+    else:
+        print(f"delkit plan: --plan-out {path}: not written: no plan ({res.status})", file=sys.stderr, flush=True)
 
 
 def report_search(res, out: dict, how: str, as_json: bool) -> int:

@@ -9,8 +9,9 @@ __all__ = ["run_demo", "specs_dir"]
 
 
 def specs_dir() -> Path:
-    """The project's ``specs/`` directory (next to the ``planners`` package)."""
-    return Path(__file__).resolve().parent.parent / "specs"
+    """The project's ``specs/``: ``planners/specs``, a link to the checkout's ``specs/`` in a source tree and
+    the packaged copy in an installed wheel (package data of ``planners``)."""
+    return Path(__file__).resolve().parent / "specs"
 
 
 def run_demo(out: Path | None = None, timeout: float = 10.0) -> dict[str, Any]:

@@ -51,7 +51,9 @@ class EpicoError(DelkitError):
 
 def domain_path() -> Path:
     """``specs/epico/domain.epddl``."""
-    return Path(__file__).resolve().parent.parent / "specs" / "epico" / "domain.epddl"
+    from planners.demo import specs_dir
+
+    return specs_dir() / "epico" / "domain.epddl"
 
 
 def goal_name(goal: str) -> str:

@@ -428,7 +428,9 @@ def macro_report(colors: int = 2, handwritten: str | None = None) -> dict[str, A
             continue
         p = prove_macro(task, m, states[where])
         proofs.append({**p.to_json(), "state": f"after {list(sol.flat_plan[:where]) or 'nothing'}"})
-    specs = Path(__file__).resolve().parent.parent / "specs" / "epico"
+    from planners.demo import specs_dir
+
+    specs = specs_dir() / "epico"
     path = Path(handwritten) if handwritten else specs / "listing4.txt"
     try:
         from delkit.files import read_input

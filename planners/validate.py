@@ -131,14 +131,18 @@ def parse_plan_text(text: str) -> list[str]:
 
 
 def read_plan(path: str | Path) -> list[str]:
-    """Read a plan file (see :func:`parse_plan_text`)."""
+    """Read a plan file: plan text (see :func:`parse_plan_text`) or a JSON plan file (``delkit plan
+    --plan-out``, :mod:`planners.plan_file`)."""
+    from planners.plan_file import looks_like_json, parse_plan_json
+
     p = Path(path)
     try:
         from delkit.files import read_input
 
-        return parse_plan_text(read_input(p, "plan file"))
+        text = read_input(p, "plan file")
     except (OSError, UnicodeDecodeError) as exc:
         raise ParseError(f"cannot read the plan file: {io_reason(exc)}", source=str(p)) from None
+    return parse_plan_json(text, str(p)) if looks_like_json(text) else parse_plan_text(text)
 
 
 _PROP_RE = re.compile(r"^\s*(always|eventually|at\s+end)\s+(.+)$", re.S)

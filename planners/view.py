@@ -17,6 +17,10 @@ from __future__ import annotations
 
 import io
 import json
+import math
+import os
+import re
+import stat
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -24,7 +28,8 @@ from typing import Any
 from delkit.errors import DelkitError
 from delkit.view.document import Document, Frame, Panel
 
-__all__ = ["task_viewer", "epico_viewer", "task_document", "epico_document", "stepper"]
+__all__ = ["task_viewer", "epico_viewer", "task_document", "epico_document", "stepper", "beliefs_by_frame",
+           "assign_log"]
 
 _TASK_SUFFIXES = (".epddl", ".pddl")
 _PLAN_SUFFIXES = (".plan", ".sol", ".txt")
@@ -143,77 +148,210 @@ def epico_viewer(paths: Sequence[Path], options: dict) -> Document | None:
         data = json.loads(paths[0].read_text(encoding="utf-8"))
     except (OSError, UnicodeDecodeError, json.JSONDecodeError):
         return None
-    if not isinstance(data, dict) or not {"belief_log", "steps", "goal", "beliefs"} <= set(data):
+    if not isinstance(data, dict) or not {"belief_log", "steps", "goal"} <= set(data):
         return None
+    if not isinstance(data["belief_log"], list) or not isinstance(data["steps"], list):
+        raise DelkitError(f"{paths[0]}: not an e-PICO result: belief_log and steps must be lists (write it with "
+                          f"delkit epico run --out DIR)")
     return epico_document(data, paths[0])
 
 
-def _picture(base: Path, name: Any) -> Path | None:
-    """A picture the run wrote, looked up by file name in the result's own directory only."""
+def _picture(base: Path, name: Any) -> tuple[Path | None, str | None]:
+    """A picture the run wrote, looked up by file name in the result's own directory only: (path, None), or
+    (None, why it is not shown). The path is resolved (symlinks followed) and must stay inside the result's
+    directory — a ``final.png`` linking to a file elsewhere is refused — and be a regular PNG/GIF file of at
+    most :data:`MAX_IMAGE` bytes."""
     if not isinstance(name, str) or not name:
-        return None
+        return None, None
     p = base / Path(name).name
-    if p.is_file() and p.stat().st_size <= MAX_IMAGE and p.suffix.lower() in (".png", ".gif"):
-        return p
-    return None
+    root = Path(os.path.realpath(base))
+    real = Path(os.path.realpath(p))
+    if not os.path.lexists(p):
+        return None, None
+    if not real.is_relative_to(root):
+        return None, (f"{p.name}: not shown: it resolves to {real}, outside the result's folder {root} (the viewer "
+                      f"shows only the run's own files)")
+    try:
+        st = os.stat(real)
+    except OSError:
+        return None, None
+    if not stat.S_ISREG(st.st_mode):
+        return None, f"{p.name}: not shown: not a regular file"
+    if st.st_size > MAX_IMAGE:
+        return None, f"{p.name}: not shown: {st.st_size} bytes, the viewer reads at most {MAX_IMAGE}"
+    if p.suffix.lower() not in (".png", ".gif") or real.suffix.lower() not in (".png", ".gif"):
+        return None, f"{p.name}: not shown: not a .png or .gif file"
+    return real, None
 
 
-def beliefs_after(log: list[dict], t: float) -> dict[str, dict[str, str]]:
-    """Each robot's beliefs (block → colour) from the belief-log entries up to simulated time ``t``: a sensing
-    robot learns the colour it saw; an announcement's receivers learn it too."""
-    out: dict[str, dict[str, str]] = {}
-    for e in log:
-        if float(e.get("t_sim_s", 0.0)) > t + 1e-9:
-            break
-        for r in [e.get("robot"), *(e.get("to") or [])]:
-            if r:
-                out.setdefault(str(r), {})[str(e.get("block"))] = str(e.get("colour"))
+def _read_confined(path: Path) -> bytes | None:
+    """The bytes of a picture :func:`_picture` accepted (not following a link swapped in since: O_NOFOLLOW)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | os.O_NOFOLLOW | os.O_NONBLOCK)
+    except OSError:
+        return None
+    with os.fdopen(fd, "rb") as fh:
+        if not stat.S_ISREG(os.fstat(fh.fileno()).st_mode):
+            return None
+        data = fh.read(MAX_IMAGE + 1)
+    return data if len(data) <= MAX_IMAGE else None
+
+
+_KNOWS = re.compile(r"^K_(\S+) ")
+
+
+def _entry_formulas(e: dict) -> tuple[list[str], list[str]]:
+    """(formulas an entry of the belief log added, formulas it removed): ``learnt`` of the current schema
+    (``no longer: F`` removes F); an entry of the older schema (block, colour) reads as ``block is colour``."""
+    added, removed = [], []
+    learnt = e.get("learnt")
+    if isinstance(learnt, list):
+        for f in learnt:
+            f = str(f)
+            if f.startswith("no longer: "):
+                removed.append(f[len("no longer: "):])
+            else:
+                added.append(f)
+    elif e.get("block") is not None:
+        added.append(f"{e.get('block')} is {e.get('colour')}")
+    return added, removed
+
+
+def _owner(formula: str, e: dict) -> list[str]:
+    """Whose knowledge a formula of the log is: ``K_robot2 …`` → robot2; else the entry's robot and receivers."""
+    m = _KNOWS.match(formula)
+    if m:
+        return [m.group(1)]
+    return [str(r) for r in [e.get("robot"), *(e.get("to") or [])] if r]
+
+
+def assign_log(log: list[dict], steps: list[dict]) -> list[list[int]]:
+    """Which belief-log entries belong to which frame (frame 0: before any step; frame i: after step i): an
+    entry goes to the last step of its own task whose simulated time is not after the entry's (the belief
+    state is updated once a task's last primitive action is done), else to the last step before it; entries
+    keep the log's order."""
+    out: list[list[int]] = [[] for _ in range(len(steps) + 1)]
+    cur = 0
+    times = [_num(s.get("t_sim_s")) for s in steps]
+    for k, e in enumerate(log):
+        t = _num(e.get("t_sim_s"))
+        cands = [j for j in range(max(cur, 1), len(steps) + 1) if times[j - 1] <= t + 1e-6]
+        same = [j for j in cands if steps[j - 1].get("task") == e.get("task")]
+        j = max(same) if same else max(cands) if cands else cur
+        out[j].append(k)
+        cur = j
     return out
+
+
+def _num(x: Any) -> float:
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return 0.0
+    return v if math.isfinite(v) else 0.0
+
+
+def beliefs_by_frame(data: dict) -> list[dict]:
+    """Per frame: ``known`` (robot → formulas the belief log has added so far and not removed), ``learnt``
+    (robot → formulas added at this frame), ``entries`` (the log entries of this frame)."""
+    log = [e for e in data.get("belief_log") or [] if isinstance(e, dict)]
+    steps = [s for s in data.get("steps") or [] if isinstance(s, dict)]
+    known: dict[str, list[str]] = {}
+    frames = []
+    for idx in assign_log(log, steps):
+        learnt: dict[str, list[str]] = {}
+        for k in idx:
+            added, removed = _entry_formulas(log[k])
+            for f in removed:
+                for r in _owner(f, log[k]):
+                    if f in known.get(r, []):
+                        known[r].remove(f)
+            for f in added:
+                for r in _owner(f, log[k]):
+                    if f not in known.setdefault(r, []):
+                        known[r].append(f)
+                    learnt.setdefault(r, []).append(f)
+        frames.append({"known": {r: list(v) for r, v in known.items()}, "learnt": learnt,
+                       "entries": [log[k] for k in idx]})
+    return frames
+
+
+def _final_beliefs(data: dict) -> dict[str, list[str]]:
+    """The result's ``beliefs`` (robot → knowledge formulas at the end; older schema: block → colour)."""
+    b = data.get("beliefs")
+    out: dict[str, list[str]] = {}
+    if isinstance(b, dict):
+        for r, v in b.items():
+            if isinstance(v, list):
+                out[str(r)] = [str(x) for x in v]
+            elif isinstance(v, dict):
+                out[str(r)] = [f"{k} is {c}" for k, c in sorted(v.items())]
+    return out
+
+
+def _entry_text(e: dict) -> str:
+    added, removed = _entry_formulas(e)
+    what = ", ".join(added + [f"no longer {f}" for f in removed]) or "nothing new"
+    who = f" by {e.get('robot')}" if e.get("robot") else ""
+    return f"t = {_num(e.get('t_sim_s')):.2f} s: {e.get('kind', '?')}{who} ({e.get('chosen', '')}): {what}"
 
 
 def epico_document(data: dict, path: Path) -> Document:
     base = path.parent
-    files = data.get("files") or {}
-    video, final = _picture(base, files.get("video")), _picture(base, files.get("png"))
+    files = data.get("files") if isinstance(data.get("files"), dict) else {}
+    (video, why_v), (final, why_f) = _picture(base, files.get("video")), _picture(base, files.get("png"))
+    refused = [w for w in (why_v, why_f) if w]
     gif = _gif_count(video) if video is not None else None
-    sim = float(data.get("sim_seconds") or 0.0)
-    robots = sorted({str(r) for e in data["belief_log"] for r in [e.get("robot"), *(e.get("to") or [])] if r}
-                    | set(data.get("beliefs") or {}))
+    sim = _num(data.get("sim_seconds"))
+    per = beliefs_by_frame(data)
+    end = _final_beliefs(data)
+    robots = sorted(set(end) | {r for f in per for r in f["known"]})
 
-    def table(t: float) -> list[list[str]]:
-        b = beliefs_after(data["belief_log"], t)
-        rows = [["robot", "believes (block: colour)"]]
+    def table(k: int, last: bool) -> list[list[str]]:
+        f = per[k]
+        head = ["robot", "learnt at this step", "known so far (belief log)"] + (["at the end (result)"] if last
+                                                                                   else [])
+        rows = [head]
         for r in robots:
-            rows.append([r, ", ".join(f"{k}: {v}" for k, v in sorted(b.get(r, {}).items())) or "nothing yet"])
+            row = [r, "\n".join(f["learnt"].get(r, [])) or "—", "\n".join(f["known"].get(r, [])) or "nothing yet"]
+            if last:
+                row.append("\n".join(end.get(r, [])) or "nothing")
+            rows.append(row)
         return rows
 
     def image(t: float, last: bool) -> bytes | None:
         if last and final is not None:
-            return final.read_bytes()
-        if gif is None:
+            return _read_confined(final)
+        if gif is None or video is None:
             return None
         k = 0 if sim <= 0 else round(min(max(t / sim, 0.0), 1.0) * (gif - 1))
         return _gif_frame(video, k)
 
-    frames = [Frame("0: start", [], ["no arm step yet"], table(-1.0), image(0.0, False))]
-    steps = data["steps"]
+    steps = [s for s in data.get("steps") or [] if isinstance(s, dict)]
+    log_notes = [_entry_text(e) for e in per[0]["entries"]]
+    frames = [Frame("0: start", [], ["no arm step yet", *log_notes], table(0, not steps), image(0.0, not steps),
+                    data={"beliefs": per[0]})]
     for i, s in enumerate(steps, 1):
-        t = float(s.get("t_sim_s") or 0.0)
+        t = _num(s.get("t_sim_s"))
         notes = [f"{s.get('text')} (task {s.get('task')}, plan {s.get('plan')}), t = {t:.2f} s simulated",
-                 ("ok: " if s.get("ok") else "DIVERGED: ") + str(s.get("message", ""))]
-        seen = (s.get("observed") or {}).get("seen")
-        if seen:
+                 ("ok" if s.get("ok") else "DIVERGED") + (f": {s.get('message')}" if s.get("message") else "")]
+        seen = (s.get("observed") or {}).get("seen") if isinstance(s.get("observed"), dict) else None
+        if isinstance(seen, dict) and seen:
             notes.append("observed: " + ", ".join(f"{k} is {v}" for k, v in seen.items()))
         if s.get("fault"):
             notes.append(f"fault: {s['fault']}")
+        notes += ["belief log: " + _entry_text(e) for e in per[i]["entries"]]
         if i == len(steps):
             notes.append(f"mission: {'SUCCESS' if data.get('success') else 'FAILURE'}: {data.get('reason', '')}")
-        frames.append(Frame(f"{i}: {s.get('text')}", [], notes, table(t), image(t, i == len(steps))))
+        frames.append(Frame(f"{i}: {s.get('text')}", [], notes, table(i, i == len(steps)),
+                            image(t, i == len(steps)), data={"beliefs": per[i]}))
     pic = ("the run's GIF frame nearest each step's simulated time; the last frame: its final PNG"
            if gif is not None else "the run wrote no picture next to result.json" if final is None else
            "the run's final PNG on the last frame")
     notes = [f"e-PICO goal {data.get('goal')}: {'SUCCESS' if data.get('success') else 'FAILURE'}; "
-             f"{len(steps)} arm step(s), {data.get('replans', 0)} replan(s)", f"pictures: {pic}"]
+             f"{len(steps)} arm step(s), {data.get('replans', 0)} replan(s)", f"pictures: {pic}",
+             "beliefs: what the run's belief log added (K_a p, K_a ¬p), step by step; knowledge held from the "
+             "start is not in the log — the last step also lists the result's final beliefs", *refused]
     return Document(f"e-PICO run ({path.parent.name}/{path.name})", "mission", [str(path)], frames, notes)
 
 

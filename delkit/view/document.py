@@ -199,7 +199,7 @@ def _smcdel_parser(path: Path, model: Any) -> Callable[[str], Any]:
             except ParseError as exc:
                 if exc.line == first_line:
                     col = (exc.column or 8) - 7
-                    if col > (first.column or 0):
+                    if col > (getattr(first, "column", None) or 0):  # an unknown symbol has no column
                         raise ParseError(str(exc).split(": ", 1)[-1].strip() + " (SMCDEL syntax)",
                                          source="formula", line=1, column=col) from None
                 raise first from None

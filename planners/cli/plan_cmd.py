@@ -72,6 +72,8 @@ def register(app: typer.Typer) -> None:
                                                                   "one per core)"),
         scheduler: str | None = typer.Option(None, "--scheduler", help="run a batch on the Dask cluster at "
                                                                       "ADDRESS (e.g. tcp://host:8786)"),
+        plan_out: Path | None = typer.Option(None, "--plan-out", help="also write the plan to FILE as JSON (read "
+                                             "by delkit check and delkit view; one task only)"),
     ) -> None:
         """Find a plan (BFS: of minimal length) for an mA*, E-PDDL (2021) or EPDDL (2026) problem — or for every
         task of many files in one command (a batch: JSON lines, a summary, one process per core)."""
@@ -79,11 +81,13 @@ def register(app: typer.Typer) -> None:
 
         raise typer.Exit(plan_files(files, search=search, timeout=timeout, max_nodes=max_nodes,
                                     max_memory=max_memory, engine=engine, allow_inconsistent=allow_inconsistent,
-                                    as_json=as_json, library=library, strict=strict, jobs=jobs, scheduler=scheduler))
+                                    as_json=as_json, library=library, strict=strict, jobs=jobs, scheduler=scheduler,
+                                    **({"plan_out": plan_out} if plan_out is not None else {})))
 
     @app.command("check", help=_CHECK_HELP)
     def check_command(
-        files: list[Path] = typer.Argument(..., help="SPEC [PROBLEM] PLAN_FILE"),
+        files: list[Path] = typer.Argument(..., help="SPEC [PROBLEM] PLAN_FILE (plan text, or the JSON of delkit "
+                                                     "plan --plan-out / --json)"),
         library: list[Path] = typer.Option([], "--library", "-l", help="EPDDL action-type library (repeatable)"),
         strict: bool = typer.Option(False, "--strict", help="refuse mA* duplicate declarations"),
         prop: list[str] = typer.Option([], "--property", "-p",
@@ -171,7 +175,7 @@ _PLAN_OPTS = {"--search": ("search", "str"), "--timeout": ("timeout", "float"), 
               "--max-memory": ("max_memory", "float"), "--engine": ("engine", "str"),
               "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),
               "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag"),
-              **_BATCH_OPTS}
+              "--plan-out": ("plan_out", "path"), **_BATCH_OPTS}
 _CHECK_OPTS = {"--property": ("prop", "list"), "-p": ("prop", "list"), "--properties": ("props_file", "path"),
                "--timeout": ("timeout", "float"),
                "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),

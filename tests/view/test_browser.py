@@ -25,7 +25,6 @@ ROOT = Path(__file__).resolve().parents[2]
 OUT = ROOT / "out" / "view"
 
 COIN = ROOT / "specs" / "coin_in_the_box"
-EPICO = Path(__file__).parent / "data" / "epico_alpha2" / "result.json"
 
 
 def js(drv, script: str, *args):
@@ -161,22 +160,93 @@ def test_plan_stepper_matches_check_trace_json(name, browser, serve, tmp_path):
     assert answer["holds"] == trace["steps"][-1]["goal"] is True
 
 
-def test_epico_result(browser, serve):
-    data = json.loads(EPICO.read_text())
-    doc = load_document([EPICO])
-    open_page(browser, serve(doc))
-    frames = browser.execute_script("return window.delkitView.doc.frames.length")
-    assert frames == len(data["steps"]) + 1
-    browser.execute_script(f"window.delkitView.show({frames - 1})")
-    time.sleep(0.3)
-    rows = browser.execute_script(
-        "return [...document.querySelectorAll('#frame-table tr')].slice(1)"
-        ".map(r => [...r.cells].map(c => c.textContent))")
-    want = {r: ", ".join(f"{b}: {c}" for b, c in sorted(bel.items())) for r, bel in data["beliefs"].items()}
-    assert {r: txt for r, txt in rows if txt != "nothing yet"} == want  # the run's final beliefs, from its log
+def _cells(drv) -> list[dict[str, list[str]]]:
+    """The beliefs table the page shows, per frame: {column: {robot: formulas (one a line)}}."""
+    out = []
+    for k in range(drv.execute_script("return window.delkitView.doc.frames.length")):
+        drv.execute_script(f"window.delkitView.show({k})")
+        rows = drv.execute_script("return [...document.querySelectorAll('#frame-table tr')]"
+                                  ".map(r => [...r.cells].map(c => c.innerText))")
+        head, body = rows[0], rows[1:]
+        out.append({col: {r[0]: [x for x in r[i].split("\n") if x not in ("", "—", "nothing yet", "nothing")]
+                          for r in body} for i, col in enumerate(head) if i})
+    return out
+
+
+def shown_in_order(frames) -> list[tuple[str, str]]:
+    return [(r, f) for fr in frames for r, fs in fr["learnt at this step"].items() for f in fs]
+
+
+def test_epico_run_beliefs_shown_are_the_belief_log(browser, serve, epico_result):
+    """A run made now: the formulas the page lists as learnt, frame after frame, are the belief log's
+    ``learnt`` formulas, each once, in the log's order, each under the robot it is about (K_robot2 … under
+    robot2) and on the frame of the step of its own task; "known so far" accumulates them; the last frame
+    also lists the result's final beliefs."""
+    data = json.loads(epico_result.read_text())
+    open_page(browser, serve(load_document([epico_result])))
+    frames = _cells(browser)
+    assert len(frames) == len(data["steps"]) + 1
+    shown = [(r, f) for fr in frames for r, fs in sorted(fr["learnt at this step"].items()) for f in fs]
+    logged = [(f.split(" ", 1)[0][2:], f) for e in data["belief_log"] for f in e["learnt"]
+              if not f.startswith("no longer")]
+    assert sorted(shown) == sorted(logged) and len(shown) == len(logged) > 0
+    for robot in {r for r, _ in logged}:  # per robot, the log's order
+        assert [f for r, f in shown_in_order(frames) if r == robot] == [f for r, f in logged if r == robot]
+    known: dict[str, list[str]] = {}
+    for fr in frames:
+        for r, fs in fr["learnt at this step"].items():
+            known.setdefault(r, []).extend(f for f in fs if f not in known.get(r, []))
+        assert {r: v for r, v in fr["known so far (belief log)"].items() if v} == {r: v for r, v in known.items() if v}
+    where = []  # the frame of each entry that learnt something
+    for e in data["belief_log"]:
+        fs = [f for f in e["learnt"] if not f.startswith("no longer")]
+        if fs:
+            k = next(k for k, fr in enumerate(frames) if fs[0] in sum(fr["learnt at this step"].values(), []))
+            where.append(k)
+            if k and e["task"] in {s["task"] for s in data["steps"]}:
+                assert data["steps"][k - 1]["task"] == e["task"], (k, e)
+    assert where == sorted(where)
+    final = {r: v for r, v in frames[-1]["at the end (result)"].items() if v}
+    assert final == {r: v for r, v in data["beliefs"].items() if v}
+    end = time.monotonic() + 15
+    while time.monotonic() < end and not browser.execute_script(
+            "const i = document.getElementById('frame-image'); return i.complete && i.naturalWidth > 0"):
+        time.sleep(0.05)
     width = browser.execute_script("return document.getElementById('frame-image').naturalWidth")
-    assert width > 0  # the run's picture is served
-    screenshot(browser, "epico-alpha2-last-step.png")
+    assert width > 0 or not data["files"].get("png")  # the run's own picture is served
+    used = browser.execute_script("""const m = document.querySelector('main').getBoundingClientRect();
+        const b = [...document.querySelectorAll('#side > .box')].filter(x => !x.hidden)
+          .map(x => x.getBoundingClientRect());
+        return Math.max(...b.map(r => r.right)) - Math.min(...b.map(r => r.left)) > 0.8 * m.width""")
+    assert used  # the page's width is used (no empty two thirds)
+    screenshot(browser, "epico-run-last-step.png")
+
+
+def test_formula_box_shows_underscores(browser, serve):
+    """``K_b Kw_a p`` typed into the formula box: its two underscores are drawn (the box's own pixels differ
+    from those of ``K b Kw a p``, in two places), i.e. not clipped by the line height or the font."""
+    import io
+
+    from PIL import Image, ImageChops
+    from selenium.webdriver.common.by import By
+
+    path = ROOT / "specs" / "smcdel" / "muddy3.smcdel.txt"
+    open_page(browser, serve(load_document([path])))
+    box = browser.find_element(By.ID, "formula")
+    shots = []
+    for text in ("K_b Kw_a p", "K b Kw a p"):  # the same glyph positions in a monospace font
+        browser.execute_script("arguments[0].value = arguments[1]; arguments[0].blur()", box, text)
+        time.sleep(0.1)
+        shots.append(Image.open(io.BytesIO(box.screenshot_as_png)).convert("L"))
+    diff = np.asarray(ImageChops.difference(*shots)) > 60
+    cols = np.flatnonzero(diff.any(axis=0))
+    assert cols.size > 0, "the underscores are not drawn inside the formula box"
+    runs = 1 + int((np.diff(cols) > 1).sum())
+    assert runs == 2, f"expected two underscores, found {runs} runs of changed pixels"
+    rows = np.flatnonzero(diff.any(axis=1))
+    assert rows.max() < diff.shape[0] - 1  # below the baseline and inside the box, not on its border
+    OUT.mkdir(parents=True, exist_ok=True)
+    shots[0].save(OUT / "formula-box-underscores.png")
 
 
 def test_thousand_world_model(browser, serve, tmp_path):

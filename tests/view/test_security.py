@@ -88,6 +88,7 @@ def test_long_formula_and_bad_json_are_refused(client):
                                   "eval('1')", "open('/etc/passwd').read()", "p; import os"])
 def test_formulas_are_parsed_never_executed(client, tmp_path, monkeypatch, text):
     marker = tmp_path / "executed"
+    client.post(f"/{TOKEN}/api/eval", json={"formula": "p &"})  # the error path's lazy imports (namedtuple uses eval)
     calls = []
     import builtins
     import os
@@ -143,3 +144,157 @@ def test_only_named_files_are_read(tmp_path):
     with pytest.raises(Exception, match="no such file"):
         load_document([tmp_path / "missing.json"])
     assert Path(document.__file__).parent.joinpath("static", "cytoscape.LICENSE.txt").is_file()
+
+
+# ------------------------------------------------------------------------------ attacks on the explorer
+
+
+def test_non_ascii_and_huge_image_numbers_are_4xx(client):
+    for part in ("%C2%B2", "%D9%A3", "1" * 5000, "-1", "0x1", "%EF%BC%91"):  # ², Arabic 3, 5,000 digits, fullwidth 1
+        r = client.get(f"/{TOKEN}/api/image/{part}")
+        assert 400 <= r.status_code < 500, (part, r.status_code)
+        assert r.json()["ok"] is False
+
+
+@pytest.mark.parametrize("body", [b'{"frame": ' + b"9" * 5000 + b', "formula": "p"}',
+                                  b'{"formula": "p", "frame": 0, "x": ' + b"1" * 4400 + b"}",
+                                  b'{"frame": 1e99999, "formula": "p"}', b"[" * 100_000])
+def test_unreadable_json_numbers_and_nesting_are_400(client, body):
+    r = client.post(f"/{TOKEN}/api/eval", content=body[:MAX_BODY])
+    assert r.status_code in (400, 413) and r.json()["ok"] is False
+
+
+@pytest.fixture
+def smcdel_client(tmp_path):
+    path = tmp_path / "muddy.smcdel.txt"
+    path.write_text((Path(__file__).resolve().parents[2] / "specs" / "smcdel" / "muddy3.smcdel.txt").read_text())
+    return TestClient(make_app(load_document([path]), TOKEN), base_url="http://127.0.0.1")
+
+
+@pytest.mark.parametrize("formula", ["K_zed p", "nosuchvar", "K_a q7", "p &", "(((", "K_b Kw_a p", "1 &",
+                                     "amy knows whether", "¬¬¬", "\x00"])
+def test_formulas_over_a_structure_answer_4xx_or_a_truth_value(smcdel_client, formula):
+    r = smcdel_client.post(f"/{TOKEN}/api/eval", json={"frame": 0, "panel": "state", "formula": formula})
+    assert r.status_code in (200, 400), (formula, r.status_code, r.text[:300])
+    if r.status_code == 400:
+        assert r.json()["error"]
+
+
+@pytest.mark.parametrize("headers", [{"origin": "http://evil.example"}, {"origin": "null"},
+                                     {"origin": "http://127.0.0.1:1"}, {"sec-fetch-site": "cross-site"},
+                                     {"sec-fetch-site": "same-site"}])
+def test_cross_origin_posts_are_refused(client, headers):
+    r = client.post(f"/{TOKEN}/api/eval", json={"frame": 0, "panel": "state", "formula": "p"}, headers=headers)
+    assert r.status_code == 403 and "cross-origin" in r.json()["error"]
+
+
+def test_same_origin_posts_are_answered(client):
+    for headers in ({}, {"origin": "http://127.0.0.1"},
+                    {"origin": "http://localhost", "sec-fetch-site": "same-origin"}):
+        r = client.post(f"/{TOKEN}/api/eval", json={"frame": 0, "panel": "state", "formula": "p"}, headers=headers)
+        assert r.status_code == 200, (headers, r.text)
+
+
+def _result_dir(tmp_path, link_target=None):
+    """A minimal e-PICO result folder (current schema) whose final.png is a picture, or a link to ``link_target``."""
+    from PIL import Image
+
+    d = tmp_path / "run"
+    d.mkdir()
+    if link_target is None:
+        Image.new("RGB", (8, 8), (200, 10, 10)).save(d / "final.png")
+    else:
+        (d / "final.png").symlink_to(link_target)
+    result = {"success": True, "goal": "alpha", "reason": "", "steps": [
+        {"index": 0, "task": "sense_table_robot1", "text": "robot1: sense()", "t_sim_s": 0.1, "ok": True,
+         "message": "", "observed": {}}],
+        "belief_log": [{"t_sim_s": 0.1, "task": "sense_table_robot1", "kind": "sensing", "robot": "robot1",
+                        "chosen": "observed", "learnt": ["K_robot1 hold(robot1, red)"]}],
+        "beliefs": {"robot1": ["K_robot1 hold(robot1, red)"], "robot2": []},
+        "files": {"png": str(d / "final.png")}, "sim_seconds": 0.1}
+    (d / "result.json").write_text(json.dumps(result))
+    return d / "result.json"
+
+
+def test_a_picture_linking_outside_the_result_folder_is_not_served(tmp_path):
+    secret = tmp_path / "secret.png"
+    secret.write_bytes(b"\x89PNG\r\n\x1a\nSECRET-BYTES")
+    doc = load_document([_result_dir(tmp_path, secret)])
+    c = TestClient(make_app(doc, TOKEN), base_url="http://127.0.0.1")
+    for k in range(len(doc.frames)):
+        r = c.get(f"/{TOKEN}/api/image/{k}")
+        assert b"SECRET-BYTES" not in r.content and r.status_code == 404
+    assert any("outside the result's folder" in n for n in doc.notes)
+
+
+def test_a_picture_linking_to_a_device_or_a_fifo_is_not_read(tmp_path):
+    import os
+
+    path = _result_dir(tmp_path, "/dev/zero")
+    fifo = path.parent / "pipe.png"
+    os.mkfifo(fifo)
+    doc = load_document([path])
+    assert all(f.image is None for f in doc.frames)
+    (path.parent / "final.png").unlink()
+    (path.parent / "final.png").symlink_to(fifo)  # a FIFO inside the folder: not a regular file, never opened
+    doc = load_document([path])
+    assert all(f.image is None for f in doc.frames) and any("not a regular file" in n for n in doc.notes)
+
+
+def test_the_run_s_own_picture_is_served(tmp_path):
+    doc = load_document([_result_dir(tmp_path)])
+    c = TestClient(make_app(doc, TOKEN), base_url="http://127.0.0.1")
+    r = c.get(f"/{TOKEN}/api/image/{len(doc.frames) - 1}")
+    assert r.status_code == 200 and r.content.startswith(b"\x89PNG")
+
+
+def _raw(url: str, chunks, pause: float) -> bytes:
+    """Send ``chunks`` to the server ``pause`` seconds apart; what it answered up to its first line (b'' if it
+    closed the connection)."""
+    import socket
+    import time
+    from urllib.parse import urlsplit
+
+    u = urlsplit(url)
+    s = socket.create_connection((u.hostname, u.port), timeout=10)
+    got = b""
+    try:
+        for i, c in enumerate(chunks):
+            if i:
+                time.sleep(pause)
+            s.sendall(c)
+        s.settimeout(5)
+        while b"\r\n" not in got:
+            b = s.recv(65536)
+            if not b:
+                break
+            got += b
+    except OSError:  # reset or broken pipe: the server cut the slow client off
+        pass
+    finally:
+        s.close()
+    return got
+
+
+def test_a_slow_header_is_cut_off(tmp_path):
+    import time
+
+    path = tmp_path / "m.json"
+    path.write_text(dumps(KripkeModel.build([{"p"}], {"a": [[0]]}, designated=[0])))
+    r = start(load_document([path]), header_timeout=0.5, body_timeout=0.5)
+    try:
+        t0 = time.monotonic()
+        head = f"GET /{r.token}/api/doc HTTP/1.1\r\nHost: 127.0.0.1:{r.port}\r\n".encode()
+        got = _raw(r.url, [head[i:i + 4] for i in range(0, len(head), 4)], 0.1)  # 4 bytes every 0.1 s
+        assert b"HTTP/1.1 200" not in got and time.monotonic() - t0 < 10
+        silent = _raw(r.url, [b""], 0.0)  # connects and sends nothing
+        assert silent == b""
+        body = f"POST /{r.token}/api/eval HTTP/1.1\r\nHost: 127.0.0.1:{r.port}\r\nContent-Length: 40\r\n\r\n".encode()
+        got = _raw(r.url, [body, b'{"formula"'], 0.1)  # the header in time, the body never completed
+        assert b" 408 " in got.split(b"\r\n", 1)[0]
+        import urllib.request
+
+        with urllib.request.urlopen(r.url + "api/doc", timeout=10) as resp:  # still serving
+            assert resp.status == 200
+    finally:
+        r.stop()

@@ -206,6 +206,8 @@ function renderFrame(k) {
   const fr = doc.frames[k];
   document.getElementById("frame-select").value = String(k);
   document.getElementById("frame-title").textContent = fr.title;
+  // a frame without graphs (an e-PICO mission step): its table and picture take the whole width
+  document.querySelector("main").classList.toggle("no-graphs", fr.panels.length === 0);
   const panels = document.getElementById("panels");
   for (const v of Object.values(state.views)) v.destroy();
   state.views = {};
