@@ -40,7 +40,7 @@ def register(app: typer.Typer) -> None:
 
     @sub.command("generate")
     def generate_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
-                     colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
+                     colors: int = typer.Option(2, "--colors", help="number of colours, 1..8"),
                      seed: int | None = typer.Option(None, "--seed",
                                                      help="random layout (default: the layout of the e-PICO paper)"),
                      owner: list[str] = typer.Option([], "--owner", help=_OWNER_HELP),
@@ -73,7 +73,7 @@ def register(app: typer.Typer) -> None:
 
     @sub.command("solve")
     def solve_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
-                  colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
+                  colors: int = typer.Option(2, "--colors", help="number of colours, 1..8"),
                   owner: list[str] = typer.Option([], "--owner", help=_OWNER_HELP + "; with --world also "
                                                   "BLOCK=ROBOT: whose block lies on the shared table"),
                   sensing: str = typer.Option("table", "--sensing", help=_SENSING_HELP),
@@ -160,7 +160,7 @@ def register(app: typer.Typer) -> None:
             typer.echo(f"wrote {out}")
 
     @sub.command("macros")
-    def macros_cmd(colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
+    def macros_cmd(colors: int = typer.Option(2, "--colors", help="number of colours, 1..8"),
                    handwritten: Path | None = typer.Option(None, "--handwritten", help="a hand-written macro "
                                                            "(:action ...) to check (default: Listing 4 of the e-PICO "
                                                            "paper)"),
