@@ -27,7 +27,8 @@ from planners.classical import CAction, CState, goal_for, solve_bfs, solve_class
 from planners.epico import ROBOTS, EpicoError, Instance, Reading
 from planners.task import ActionSpec, EventAction, MacroSpec, Task
 
-__all__ = ["EpicoLimits", "Solution", "solve", "process_e_plan", "TaskRecord", "epistemic_task"]
+__all__ = ["EpicoLimits", "Solution", "solve", "process_e_plan", "TaskRecord", "epistemic_task", "EXTERNAL",
+           "perspective_check", "plan_from_perspective", "PerspectiveCheck", "local_state", "actor_of"]
 
 
 @dataclass(frozen=True)
@@ -164,9 +165,15 @@ def _search(space, limits: EpicoLimits):
 
 
 def solve(instance: Instance, *, macros: bool | Iterable[str] = True, known: Mapping[str, Iterable[Any]] | None = None,
-          limits: EpicoLimits = EpicoLimits()) -> Solution:
+          limits: EpicoLimits = EpicoLimits(), perspective: str | None = None) -> Solution:
     """Spec → epistemic plan (with or without macros) → flattened plan → classical breakdown → plan/1.
     ``macros``: True (all the domain's macros), False, or the names of the macro declarations to offer.
+
+    ``perspective``: None or ``"external"`` — the e-PICO paper's reading: an external planner that knows the
+    actual world plans for both robots (each step is checked at the actual world); a robot's name — the plan
+    must work in every world that robot considers possible, every step known applicable by the robot that
+    executes it (implicit coordination, Engesser et al. 2017; :func:`plan_from_perspective`, on explicit
+    Kripke models: 4^n worlds, practical up to about 3 colours).
 
     ``known`` (robot ↦ colours, or (owner, colour) pairs) says what each robot already knows, e.g. when
     replanning from what was observed. Raises :class:`EpicoError` if no plan is found within the limits or
@@ -184,10 +191,23 @@ def solve(instance: Instance, *, macros: bool | Iterable[str] = True, known: Map
     task, ptask, ms = epistemic_task(instance, macros=macros)
     space = _space(ptask)  # the initial state: grounded task, its Kripke model and its compact form
     t_init, c_init = time.perf_counter() - t0, time.process_time() - c0
-    res = _search(space, limits)
+    view = perspective or EXTERNAL
+    if view == EXTERNAL:
+        res = _search(space, limits)
+    else:
+        res = plan_from_perspective(ptask, view, limits)
     if not res.solved:
+        hint = ""
+        if view != EXTERNAL:
+            ext = _search(space, limits)
+            if ext.solved:
+                chk = perspective_check(ptask, ext.plan or (), view)
+                hint = (f"; the external planner's plan {', '.join(ext.plan or ()) or '(empty)'} fails from "
+                        f"{view}'s perspective at step {(chk.step or 0) + 1}: {chk.reason}")
         raise EpicoError(f"epistemic planner: no plan for {instance.goal} with {instance.colors} colour(s) "
-                         f"({instance.reading.name} reading, {_macro_words(macros)}): {res.reason}")
+                         f"({instance.reading.name} reading, {_macro_words(macros)}, "
+                         f"{'external planner' if view == EXTERNAL else view + chr(39) + 's perspective'}): "
+                         f"{res.reason}{hint}")
     eplan = tuple(res.plan or ())
     flat = tuple(flatten(eplan, ms))
     t1 = time.perf_counter()
@@ -205,7 +225,17 @@ def solve(instance: Instance, *, macros: bool | Iterable[str] = True, known: Map
                      "classical_cpu": sum(c for _, c in calls)},
                     len(calls), tuple(w for w, _ in calls), tuple(records),
                     {"expanded": res.expanded, "generated": res.generated, "dead_ends": res.dead_ends,
-                     "search": res.search, "length": len(eplan)}, final, tuple(c for _, c in calls))
+                     "search": res.search, "length": len(eplan), "perspective": view,
+                     "perspective_meaning": perspective_meaning(view)}, final, tuple(c for _, c in calls))
+
+
+def perspective_meaning(view: str) -> str:
+    """One line: what a plan of this reading guarantees."""
+    if view == EXTERNAL:
+        return ("external planner (the e-PICO paper's reading): a planner that knows the actual world plans for "
+                "both robots; every step is applicable in the actual world")
+    return (f"{view}'s perspective (implicit coordination, Engesser et al. 2017): the plan works in every world "
+            f"{view} considers possible, every step known applicable by the robot that executes it")
 
 
 def _macro_words(macros: bool | tuple[str, ...]) -> str:
@@ -515,9 +545,18 @@ class PerspectiveCheck:
                 "actor": self.actor or None, "reason": self.reason, "designated_worlds": list(self.worlds)}
 
 
-def _world_text(model, w: int, props: Iterable[str]) -> str:
-    true = sorted(model.true_props(w) & set(props))
-    return "{" + ", ".join(true) + "}" if true else "{nothing true}"
+def _world_text(model, w: int, props: Iterable[str], about=None) -> str:
+    """A world as the propositions true there; with ``about`` (a formula) only its propositions, each with its
+    truth value."""
+    true = model.true_props(w)
+    if about is not None:
+        from delkit.formula import props_of
+
+        mine = sorted(props_of(about) & set(props))
+        if mine:
+            return "where " + ", ".join(f"{p} is {'true' if p in true else 'false'}" for p in mine)
+    shown = sorted(true & set(props))
+    return "where " + (", ".join(shown) + " (only) are true" if shown else "no fluent is true")
 
 
 def perspective_step(task: Task, model, act):
@@ -535,7 +574,7 @@ def perspective_step(task: Task, model, act):
         bad = [int(w) for w in loc.designated if not loc.holds(st.executable, [int(w)])]
         if bad:
             return None, (f"{st.name}: {i} does not know it is applicable: its precondition fails in a world "
-                          f"{i} considers possible, {_world_text(loc, bad[0], task.props)}")
+                          f"{i} considers possible, {_world_text(loc, bad[0], task.props, st.executable)}")
         em = task.event_model(st, loc)
         unc = uncovered_worlds(em, loc)
         if unc:
