@@ -1,4 +1,4 @@
-"""e-PICO instances (seed 004, Sec. 4.4 and 5): the two-arm block world, goals α β γ δ, 1–6 colours.
+"""e-PICO instances (seed 004, Sec. 4.4 and 5): the two-arm block world, goals α β γ δ, 1–8 colours.
 
 One :class:`Layout` (which block is where, its colour, what lies on the shared table) feeds both levels:
 
@@ -39,7 +39,7 @@ __all__ = ["EpicoError", "Layout", "Instance", "Reading", "generate", "GOALS", "
 
 ROBOTS = ("robot1", "robot2")
 #: colour names in the order instances use them (1 colour = red, 2 = red black, ...)
-PALETTE = ("red", "black", "green", "blue", "yellow", "white")
+PALETTE = ("red", "black", "green", "blue", "yellow", "white", "orange", "purple")
 GOALS = ("alpha", "beta", "gamma", "delta")
 _GREEK = {"α": "alpha", "β": "beta", "γ": "gamma", "δ": "delta", "a": "alpha", "b": "beta", "c": "gamma",
           "d": "delta"}
@@ -172,9 +172,9 @@ class Layout:
 def default_layout(colors: int) -> Layout:
     """The seed's scene generalised to ``colors`` colours: robot1 has one block of every colour, with *red*
     under *black* in stack 1 (Listing 5), *green* in stack 0, *blue* in stack 2, then *yellow* on *green* and
-    *white* on *blue*; robot2 has one block of every colour, named ``COLOUR_2``, spread over its stacks."""
+    *white* on *blue*, *orange* and *purple* on top of those; robot2 has one block of every colour, named ``COLOUR_2``, spread over its stacks."""
     pal = PALETTE[:colors]
-    r1_slots = {"red": 1, "black": 1, "green": 0, "blue": 2, "yellow": 0, "white": 2}
+    r1_slots = {"red": 1, "black": 1, "green": 0, "blue": 2, "yellow": 0, "white": 2, "orange": 0, "purple": 2}
     r1: list[list[str]] = [[], [], []]
     for c in pal:
         r1[r1_slots[c]].append(c)

@@ -27,7 +27,8 @@ from planners.classical import CAction, CState, goal_for, solve_bfs, solve_class
 from planners.epico import ROBOTS, EpicoError, Instance, Reading
 from planners.task import ActionSpec, EventAction, MacroSpec, Task
 
-__all__ = ["EpicoLimits", "Solution", "solve", "process_e_plan", "TaskRecord", "epistemic_task"]
+__all__ = ["EpicoLimits", "Solution", "solve", "process_e_plan", "TaskRecord", "epistemic_task", "EXTERNAL",
+           "perspective_check", "plan_from_perspective", "PerspectiveCheck", "local_state", "actor_of"]
 
 
 @dataclass(frozen=True)
@@ -164,9 +165,15 @@ def _search(space, limits: EpicoLimits):
 
 
 def solve(instance: Instance, *, macros: bool | Iterable[str] = True, known: Mapping[str, Iterable[Any]] | None = None,
-          limits: EpicoLimits = EpicoLimits()) -> Solution:
+          limits: EpicoLimits = EpicoLimits(), perspective: str | None = None) -> Solution:
     """Spec → epistemic plan (with or without macros) → flattened plan → classical breakdown → plan/1.
     ``macros``: True (all the domain's macros), False, or the names of the macro declarations to offer.
+
+    ``perspective``: None or ``"external"`` — the e-PICO paper's reading: an external planner that knows the
+    actual world plans for both robots (each step is checked at the actual world); a robot's name — the plan
+    must work in every world that robot considers possible, every step known applicable by the robot that
+    executes it (implicit coordination, Engesser et al. 2017; :func:`plan_from_perspective`, on explicit
+    Kripke models: 4^n worlds, practical up to about 3 colours).
 
     ``known`` (robot ↦ colours, or (owner, colour) pairs) says what each robot already knows, e.g. when
     replanning from what was observed. Raises :class:`EpicoError` if no plan is found within the limits or
@@ -184,10 +191,23 @@ def solve(instance: Instance, *, macros: bool | Iterable[str] = True, known: Map
     task, ptask, ms = epistemic_task(instance, macros=macros)
     space = _space(ptask)  # the initial state: grounded task, its Kripke model and its compact form
     t_init, c_init = time.perf_counter() - t0, time.process_time() - c0
-    res = _search(space, limits)
+    view = perspective or EXTERNAL
+    if view == EXTERNAL:
+        res = _search(space, limits)
+    else:
+        res = plan_from_perspective(ptask, view, limits)
     if not res.solved:
+        hint = ""
+        if view != EXTERNAL:
+            ext = _search(space, limits)
+            if ext.solved:
+                chk = perspective_check(ptask, ext.plan or (), view)
+                hint = (f"; the external planner's plan {', '.join(ext.plan or ()) or '(empty)'} fails from "
+                        f"{view}'s perspective at step {(chk.step or 0) + 1}: {chk.reason}")
         raise EpicoError(f"epistemic planner: no plan for {instance.goal} with {instance.colors} colour(s) "
-                         f"({instance.reading.name} reading, {_macro_words(macros)}): {res.reason}")
+                         f"({instance.reading.name} reading, {_macro_words(macros)}, "
+                         f"{'external planner' if view == EXTERNAL else view + chr(39) + 's perspective'}): "
+                         f"{res.reason}{hint}")
     eplan = tuple(res.plan or ())
     flat = tuple(flatten(eplan, ms))
     t1 = time.perf_counter()
@@ -205,7 +225,17 @@ def solve(instance: Instance, *, macros: bool | Iterable[str] = True, known: Map
                      "classical_cpu": sum(c for _, c in calls)},
                     len(calls), tuple(w for w, _ in calls), tuple(records),
                     {"expanded": res.expanded, "generated": res.generated, "dead_ends": res.dead_ends,
-                     "search": res.search, "length": len(eplan)}, final, tuple(c for _, c in calls))
+                     "search": res.search, "length": len(eplan), "perspective": view,
+                     "perspective_meaning": perspective_meaning(view)}, final, tuple(c for _, c in calls))
+
+
+def perspective_meaning(view: str) -> str:
+    """One line: what a plan of this reading guarantees."""
+    if view == EXTERNAL:
+        return ("external planner (the e-PICO paper's reading): a planner that knows the actual world plans for "
+                "both robots; every step is applicable in the actual world")
+    return (f"{view}'s perspective (implicit coordination, Engesser et al. 2017): the plan works in every world "
+            f"{view} considers possible, every step known applicable by the robot that executes it")
 
 
 def _macro_words(macros: bool | tuple[str, ...]) -> str:
@@ -473,3 +503,177 @@ def run_demo(out) -> dict[str, Any]:
                + (f"inconsistent: {hw['counterexample'].get('difference', '')}" if not hw["consistent"]
                   else "consistent?!") + f"; plan: {out / 'plan.json'}")
     return {"ok": ok, "summary": summary, "solution": sol.to_json(), "macros": rep}
+
+
+# ----------------------------------------------------------------------------- plans from a robot's perspective
+
+#: the two readings of a plan: ``external`` (the e-PICO paper's: a planner that knows the actual world checks
+#: every step there) or a robot's name (implicit coordination, Engesser et al. 2017)
+EXTERNAL = "external"
+
+
+def actor_of(task: Task, act: ActionSpec | EventAction | MacroSpec) -> str:
+    """The agent who executes ``act``: the first agent named among its arguments (the e-PICO actions' ``?ag``,
+    e.g. ``take_from_shared_robot2_robot1_red`` is robot2's). A macro's steps have their own actors."""
+    tokens = act.name.split("_")
+    for t in tokens:
+        if t in task.agents:
+            return t
+    raise EpicoError(f"action {act.name!r} names no agent of the task ({', '.join(task.agents)}): its actor is "
+                     "unknown, so it cannot be planned from an agent's perspective")
+
+
+def local_state(model, agent: str):
+    """The agent's associated local state (Engesser et al. 2017, Def. 3): the same model with every world the
+    agent considers possible from a designated world designated."""
+    ws = sorted({int(v) for w in model.designated for v in model.successors(agent, int(w))})
+    return model.with_designated(ws)
+
+
+@dataclass(frozen=True)
+class PerspectiveCheck:
+    """Outcome of :func:`perspective_check`: ``valid`` iff every step is known applicable by its actor in every
+    world the planning agent's perspective reaches and the goal holds in all of them at the end; else the
+    first failing step (0-based; ``len(plan)`` = the goal), its actor and a world where it fails."""
+
+    agent: str
+    valid: bool
+    step: int | None = None
+    action: str = ""
+    actor: str = ""
+    reason: str = ""
+    worlds: tuple[int, ...] = ()
+
+    def to_json(self) -> dict[str, Any]:
+        return {"perspective": self.agent, "valid": self.valid, "step": self.step, "action": self.action or None,
+                "actor": self.actor or None, "reason": self.reason, "designated_worlds": list(self.worlds)}
+
+
+def _world_text(model, w: int, props: Iterable[str], about=None) -> str:
+    """A world as the propositions true there; with ``about`` (a formula) only its propositions, each with its
+    truth value."""
+    true = model.true_props(w)
+    if about is not None:
+        from delkit.formula import props_of
+
+        mine = sorted(props_of(about) & set(props))
+        if mine:
+            return "where " + ", ".join(f"{p} is {'true' if p in true else 'false'}" for p in mine)
+    shown = sorted(true & set(props))
+    return "where " + (", ".join(shown) + " (only) are true" if shown else "no fluent is true")
+
+
+def perspective_step(task: Task, model, act):
+    """One step of a plan from a perspective: ``act`` (an action, or a macro's steps in turn) by its actor i in
+    the local state of i of ``model`` (multi-pointed). Returns (the successor, whose designated worlds are the
+    updates of every world i considered possible, contracted) or (None, why not)."""
+    from delkit.bisimulation import contract
+    from delkit.update import product_update
+    from planners.task import uncovered_worlds
+
+    steps = act.steps if isinstance(act, MacroSpec) else (act,)
+    for st in steps:
+        i = actor_of(task, st)
+        loc = local_state(model, i)
+        bad = [int(w) for w in loc.designated if not loc.holds(st.executable, [int(w)])]
+        if bad:
+            return None, (f"{st.name}: {i} does not know it is applicable: its precondition fails in a world "
+                          f"{i} considers possible, {_world_text(loc, bad[0], task.props, st.executable)}")
+        em = task.event_model(st, loc)
+        unc = uncovered_worlds(em, loc)
+        if unc:
+            return None, (f"{st.name}: no event of it can happen in a world {i} considers possible, "
+                          f"{_world_text(loc, unc[0], task.props)}")
+        new = product_update(loc, em)
+        if not new.designated:
+            return None, f"{st.name}: nothing {i} considers possible survives it"
+        lost = new.inconsistent_agents()
+        if lost:
+            return None, f"{st.name}: leaves {lost[0][0]} believing ⊥ (no accessible world)"
+        model = contract(new)
+    return model, ""
+
+
+def perspective_initial(task: Task, agent: str):
+    """The planning agent's perspective on the initial state: its local state (every world it considers
+    possible from the actual world designated), contracted."""
+    from delkit.bisimulation import contract
+
+    if agent not in task.agents:
+        raise EpicoError(f"perspective {agent!r}: not an agent of the task; use one of {', '.join(task.agents)} "
+                         f"or {EXTERNAL!r} (the e-PICO paper's external planner)")
+    return contract(local_state(task.initial, agent))
+
+
+def perspective_check(task: Task, plan: Iterable[str], agent: str) -> PerspectiveCheck:
+    """Is ``plan`` (action or macro names of ``task``) a plan from ``agent``'s perspective (implicit
+    coordination, Engesser et al. 2017)? From ``agent``'s local state of the initial state, every step must be
+    applicable in every world its actor considers possible from the worlds reached so far (the actor's local
+    state: it knows the step is applicable), and the goal must hold in every world reached at the end. A plan
+    valid from a perspective is valid for the external planner too (the actual world is among those worlds);
+    not conversely."""
+    plan = list(plan)
+    s = perspective_initial(task, agent)
+    for k, name in enumerate(plan):
+        act = task.action(name)
+        nxt, why = perspective_step(task, s, act)
+        if nxt is None:
+            return PerspectiveCheck(agent, False, k, name, actor_of(task, act), why,
+                                    tuple(int(w) for w in s.designated))
+        s = nxt
+    bad = [int(w) for w in s.designated if not s.holds(task.goal, [int(w)])]
+    if bad:
+        return PerspectiveCheck(agent, False, len(plan), "", "", "the goal fails in a world reached, "
+                                + _world_text(s, bad[0], task.props), tuple(int(w) for w in s.designated))
+    return PerspectiveCheck(agent, True, worlds=tuple(int(w) for w in s.designated))
+
+
+def plan_from_perspective(task: Task, agent: str, limits: EpicoLimits = EpicoLimits(), *,
+                          max_depth: int = 12):
+    """Breadth-first search for a shortest plan from ``agent``'s perspective (see :func:`perspective_check`):
+    states are the multi-pointed models of :func:`perspective_step`, identified up to bisimulation. Returns a
+    :class:`planners.epistemic.SearchResult` (``search`` = ``perspective:AGENT``); ``unsolvable`` when every
+    perspective state within ``max_depth`` steps was expanded without reaching the goal."""
+    from collections import deque
+
+    from delkit.bisimulation import canonical_form
+    from planners.epistemic import SearchResult
+
+    t0 = time.perf_counter()
+    s0 = perspective_initial(task, agent)
+    name = f"perspective:{agent}"
+    if s0.holds(task.goal):
+        return SearchResult("solved", (), 0, 0, time.perf_counter() - t0, name)
+    seen = {canonical_form(s0)}
+    queue = deque([(s0, ())])
+    expanded = generated = 0
+    cut = False
+    while queue:
+        s, path = queue.popleft()
+        if len(path) >= max_depth:
+            cut = True
+            continue
+        if limits.timeout is not None and time.perf_counter() - t0 > limits.timeout:
+            return SearchResult("limit", None, expanded, generated, time.perf_counter() - t0, name,
+                                f"time limit {limits.timeout:g} s", distinct_states=len(seen))
+        expanded += 1
+        for act in task.actions:
+            nxt, _ = perspective_step(task, s, act)
+            if nxt is None:
+                continue
+            generated += 1
+            key = canonical_form(nxt)
+            if key in seen:
+                continue
+            seen.add(key)
+            if nxt.holds(task.goal):
+                return SearchResult("solved", (*path, act.name), expanded, generated, time.perf_counter() - t0,
+                                    name, distinct_states=len(seen))
+            queue.append((nxt, (*path, act.name)))
+    if cut:
+        return SearchResult("limit", None, expanded, generated, time.perf_counter() - t0, name,
+                            f"no plan from {agent}'s perspective within {max_depth} steps ({len(seen)} distinct "
+                            f"states; longer plans were not searched)", distinct_states=len(seen))
+    return SearchResult("unsolvable", None, expanded, generated, time.perf_counter() - t0, name,
+                        f"no plan from {agent}'s perspective: all {len(seen)} states reachable from its "
+                        f"perspective were expanded without reaching the goal in every world", distinct_states=len(seen))

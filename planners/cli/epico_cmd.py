@@ -40,7 +40,7 @@ def register(app: typer.Typer) -> None:
 
     @sub.command("generate")
     def generate_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
-                     colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
+                     colors: int = typer.Option(2, "--colors", help="number of colours, 1..8"),
                      seed: int | None = typer.Option(None, "--seed",
                                                      help="random layout (default: the layout of the e-PICO paper)"),
                      owner: list[str] = typer.Option([], "--owner", help=_OWNER_HELP),
@@ -73,7 +73,7 @@ def register(app: typer.Typer) -> None:
 
     @sub.command("solve")
     def solve_cmd(goal: str = typer.Option("alpha", "--goal", help="alpha, beta, gamma or delta"),
-                  colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
+                  colors: int = typer.Option(2, "--colors", help="number of colours, 1..8"),
                   owner: list[str] = typer.Option([], "--owner", help=_OWNER_HELP + "; with --world also "
                                                   "BLOCK=ROBOT: whose block lies on the shared table"),
                   sensing: str = typer.Option("table", "--sensing", help=_SENSING_HELP),
@@ -90,6 +90,11 @@ def register(app: typer.Typer) -> None:
                                                         "lies on the shared table of --world (repeatable)"),
                   known: list[str] = typer.Option([], "--known", help="ROBOT:COLOUR,COLOUR — colours whose "
                                                   "presence the robot already knows (repeatable)"),
+                  perspective: str = typer.Option("external", "--perspective", help="external: an external "
+                                                  "planner that knows the actual world (the e-PICO paper's "
+                                                  "reading, default); ROBOT: a plan that works in every world "
+                                                  "ROBOT considers possible, each step known applicable by the "
+                                                  "robot doing it (implicit coordination, Engesser et al. 2017)"),
                   out: Path | None = typer.Option(None, "--out", help="write the primitive plan (plan/1 JSON)"),
                   as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Solve one instance: epistemic plan, flattened plan, primitive plan, times, classical calls."""
@@ -98,6 +103,11 @@ def register(app: typer.Typer) -> None:
 
         if classical not in ("bfs", "clingo"):
             raise EpicoError(f"--classical {classical!r}: use bfs or clingo")
+        from planners.epico import ROBOTS
+
+        if perspective not in ("external", *ROBOTS):
+            raise EpicoError(f"--perspective {perspective!r}: use external (the e-PICO paper's reading) or a "
+                             f"robot ({', '.join(ROBOTS)})")
         if classical == "clingo":  # say so before the epistemic search, not after it
             from delkit.errors import require_extra
 
@@ -136,7 +146,7 @@ def register(app: typer.Typer) -> None:
             try:
                 sol = solve(generate(goal, colors, layout=layout, reading=_reading(owner, sensing, takes, symmetric)),
                             macros=macros, known=knows or None,
-                            limits=EpicoLimits(timeout=time_left(), classical=classical))
+                            limits=EpicoLimits(timeout=time_left(), classical=classical), perspective=perspective)
             except EpicoError as exc:
                 if limit is not None and "time limit" in str(exc):
                     raise time_limit() from None  # the search stopped at the deadline: exit 3 like every limit
@@ -148,6 +158,7 @@ def register(app: typer.Typer) -> None:
             return
         t = sol.times
         typer.echo(sol.instance.reading.describe())
+        typer.echo("plan reading: " + sol.search["perspective_meaning"])
         typer.echo(f"{sol.instance.goal}, {colors} colour(s), macros {'on' if macros else 'off'}: initial state "
                    f"{t['initial']:.3f} s, epistemic search {t['epistemic']:.3f} s, classical {t['classical']:.4f} s "
                    f"({sol.classical_calls} call(s))")
@@ -163,7 +174,7 @@ def register(app: typer.Typer) -> None:
             typer.echo(f"wrote {out}")
 
     @sub.command("macros")
-    def macros_cmd(colors: int = typer.Option(2, "--colors", help="number of colours, 1..6"),
+    def macros_cmd(colors: int = typer.Option(2, "--colors", help="number of colours, 1..8"),
                    handwritten: Path | None = typer.Option(None, "--handwritten", help="a hand-written macro "
                                                            "(:action ...) to check (default: Listing 4 of the e-PICO "
                                                            "paper)"),
