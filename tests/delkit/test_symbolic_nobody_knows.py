@@ -26,8 +26,8 @@ _cubes = st.lists(st.lists(st.tuples(st.integers(0, len(VARS) - 1), st.booleans(
 
 def _structure(law: Formula, blind: dict[str, set[str]], bdd: object = None) -> KnowledgeStructure:
     """Agents a_x (one per variable x), each observing everything but ``blind[a_x]`` (on manager ``bdd``)."""
-    return KnowledgeStructure.create(VARS, law, {a: [v for v in VARS if v not in hidden] for a, hidden in blind.items()},
-                                     bdd=bdd)
+    observed = {a: [v for v in VARS if v not in hidden] for a, hidden in blind.items()}
+    return KnowledgeStructure.create(VARS, law, observed, bdd=bdd)
 
 
 def _reference(ks: KnowledgeStructure, formula: Formula) -> object:
