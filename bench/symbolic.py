@@ -1,4 +1,4 @@
-"""Benchmark: delkit's symbolic (BDD) backend beside SMCDEL's figures measured on this machine.
+"""Benchmark: delkit's symbolic (BDD) backend beside SMCDEL, in the same run when SMCDEL is built here.
 
 Every delkit figure is in-process CPU time (``time.process_time``), imports and
 :func:`delkit.symbolic.prepare` excluded, BDD manager creation included — the same timed region as
@@ -14,17 +14,21 @@ SMCDEL's (structure + formula + evaluation):
   :func:`delkit.puzzles.sum_product.smcdel_sum_product` (in-process mode: also delkit's own dialogue).
 
 Protocols: ``--fresh-process`` (the headline; SMCDEL's): one row per process, ``--repeat`` processes per
-row, rows interleaved, min and median; each process limited to ``--timeout`` CPU seconds. With ``--cli`` the
+row, rows interleaved, min and median; each process stopped after 4 x ``--timeout`` wall seconds (no
+CPU-time limit: it coarsens the CPU clock, see ``_WALL_FACTOR``). With ``--cli`` the
 process is the ``delkit puzzle … --symbolic --json`` command line and the figure is the ``seconds`` it
 reports itself. Without ``--fresh-process``: every row ``--repeat`` times in this process after the rows
 before it (warm), minimum.
 
 With ``--smcdel-bin PATH`` (``--fresh-process`` only) SMCDEL runs in the same sitting: for every row and
 round one delkit process and one SMCDEL process (bench/peers/smcdel/SmcdelBench.hs: SMCDEL's own example
-modules, ``getCPUTime`` around structure + formula + evaluation, CacBDD manager creation inside), the order
-alternating from round to round, and the SMCDEL columns are that run's min and median (``--smcdel-warm``
-adds SMCDEL with its manager created before the clock). Without it the SMCDEL column holds recorded
-figures (SMCDEL v1.3.0, CacBDD, measured on this machine on another day; in-process CPU), labelled so.
+modules, ``getCPUTime`` around structure + formula + evaluation), the order alternating from round to
+round, and the SMCDEL columns are that run's min and median. ``--managers inside`` (default): both BDD
+managers are created inside the clock (delkit's ``new_manager``, CacBDD's set-up by the first BDD
+operation); ``outside``: both before it (delkit: the puzzle's manager made before the call and passed in;
+SMCDEL: ``--warm``); ``both``: both protocols interleaved in the same rounds, one table each. Without
+``--smcdel-bin`` the SMCDEL column holds figures recorded earlier on this machine (SMCDEL v1.3.0, CacBDD,
+in-process CPU), labelled "not this run".
 ``ratio`` = delkit / SMCDEL (below 1: delkit is faster).
 ``load`` is the machine's 1-minute load average when the row finished. The growth lines fit t ∝ N^k by
 least squares on log-log over N = 100…200 (SMCDEL's exponent beside) and over all muddy rows measured.
@@ -33,7 +37,7 @@ least squares on log-log over N = 100…200 (SMCDEL's exponent beside) and over 
     .venv/bin/python bench/symbolic.py --fresh-process --cli --repeat 7
     .venv/bin/python bench/symbolic.py --fresh-process --repeat 1 --muddy 300,400 --drinking "" --dining ""
     .venv/bin/python bench/symbolic.py --fresh-process --repeat 7 --muddy 10,20,40,60,80,100,150,200 \
-        --smcdel-bin /work/peers/smcdel/bin/smcdel-bench --smcdel-warm   # SMCDEL in the same run
+        --smcdel-bin /work/peers/smcdel/out/bin/smcdel-bench --managers both   # SMCDEL in the same run
     .venv/bin/python bench/symbolic.py --repeat 5                  # in-process repeats
 """
 
@@ -52,13 +56,13 @@ from rich.console import Console  # noqa: E402
 from rich.table import Table  # noqa: E402
 
 import delkit.symbolic  # noqa: E402,F401 - imports before any clock starts
-from delkit.puzzles.dining import smcdel_dining_check  # noqa: E402
-from delkit.puzzles.drinking import check_thirsty  # noqa: E402
+from delkit.puzzles.dining import smcdel_dining_check, smcdel_dining_manager  # noqa: E402
+from delkit.puzzles.drinking import check_thirsty, drinking_manager  # noqa: E402
 from delkit.puzzles.sum_product import smcdel_sum_product, solve_sum_product  # noqa: E402
-from delkit.symbolic import muddy_symbolic  # noqa: E402
+from delkit.symbolic import muddy_manager, muddy_symbolic  # noqa: E402
 
-SMCDEL = {  # SMCDEL v1.3.0 (CacBDD) built on this machine, run side by side with delkit,
-    # alternating fresh processes, CPU time in-process (getCPUTime around structure + formula + evaluation)
+SMCDEL = {  # SMCDEL v1.3.0 (CacBDD) built on this machine, recorded earlier (not this run): alternating fresh
+    # processes, CPU time in-process (getCPUTime around structure + formula + evaluation), manager inside
     ("muddy", 10): 0.0012, ("muddy", 20): 0.0044, ("muddy", 40): 0.029, ("muddy", 60): 0.113,
     ("muddy", 80): 0.295, ("muddy", 100): 0.627, ("muddy", 150): 2.56, ("muddy", 200): 6.21,
     ("drinking", 100): 0.034, ("drinking", 200): 0.169, ("drinking", 400): 0.980,
@@ -80,6 +84,7 @@ def _best(run, repeat: int) -> tuple[float, float, object]:
 
 
 def _fit(points: list[tuple[int, float]]) -> float:
+    points = [(n, max(t, 1e-9)) for n, t in points]
     xs = [math.log(n) for n, _ in points]
     ys = [math.log(t) for _, t in points]
     mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
@@ -95,19 +100,30 @@ def rows(muddy: list[int], drinking: list[int], dining: list[int], repeat: int):
         yield name, n, cpu, wall, bool(ok), SMCDEL.get((name, n))
 
 
-def _job(name: str, n: int):
-    """The timed call of one row: returns (CPU seconds, right answer)."""
+_MANAGERS = {  # the manager each row's call creates inside its clock unless given one made before it
+    "muddy": muddy_manager, "drinking": drinking_manager, "dining": smcdel_dining_manager,
+    "sum-product (SMCDEL formula)": lambda n: delkit.symbolic.new_manager(),
+}
+
+
+def _job(name: str, n: int, *, outside: bool = False):
+    """The timed call of one row: returns (CPU seconds, right answer). ``outside``: the row's BDD manager is
+    created (and the BDD library loaded) before the call, so outside its clock."""
+    bdd = None
+    if outside:
+        delkit.symbolic.prepare()
+        bdd = _MANAGERS[name](n)
     if name == "muddy":
-        r = muddy_symbolic(n, n)
+        r = muddy_symbolic(n, n, bdd=bdd)
         return r.seconds, r.nobody_knows_rounds == n - 1 and r.muddy_know_round == n
     if name == "drinking":
-        ok, sec = check_thirsty(n)
+        ok, sec = check_thirsty(n, bdd=bdd)
         return sec, ok
     if name == "dining":
-        ok, sec = smcdel_dining_check(n)
+        ok, sec = smcdel_dining_check(n, bdd=bdd)
         return sec, ok
     if name == "sum-product (SMCDEL formula)":
-        pairs, sec = smcdel_sum_product(n)
+        pairs, sec = smcdel_sum_product(n, bdd=bdd)
         return sec, pairs == [(4, 13)]
     r = solve_sum_product(n, symbolic=True)
     return r.seconds, r.solutions == ((4, 13),)
@@ -122,7 +138,16 @@ _CLI = {  # the command line whose own reported "seconds" is read (puzzle_cmd.py
 }
 
 
-def _spawn(name: str, n: int, cli: bool, timeout: float) -> tuple[float, bool] | None:
+# Fresh processes are stopped on the wall clock (at _WALL_FACTOR x --timeout), not by RLIMIT_CPU: while a
+# process has a CPU-time limit, Linux reads its CPU clock (CLOCK_PROCESS_CPUTIME_ID, behind both
+# time.process_time and GHC's getCPUTime) from the thread group's CPU timer, which advances only when the
+# scheduler accounts the running time (ticks, context switches); a region of a few milliseconds then reads
+# whole ticks too much or too little (dining 10, ~2 ms: 3.0-5.4 ms with the limit, 1.7-3.3 ms without;
+# muddy 10 with the manager made before the clock read 0.0 s).
+_WALL_FACTOR = 4
+
+
+def _spawn(name: str, n: int, cli: bool, timeout: float, outside: bool = False) -> tuple[float, bool] | None:
     """One fresh process: this script's ``--one`` (the API call) or the ``delkit`` command line; its own
     reported CPU seconds and whether the answer was right; None when it ran out of ``timeout`` CPU seconds."""
     import json
@@ -133,19 +158,14 @@ def _spawn(name: str, n: int, cli: bool, timeout: float) -> tuple[float, bool] |
     if cli:
         cmd = [str(Path(sys.executable).with_name("delkit")), *_CLI[name](n)]
     else:
-        cmd = [sys.executable, str(Path(__file__).resolve()), "--one", name, str(n)]
-    import resource
-
-    def limit_cpu() -> None:  # the limit is CPU time (as the figures): a loaded machine stretches wall time
-        resource.setrlimit(resource.RLIMIT_CPU, (int(timeout), int(timeout) + 1))
-
-    try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=20 * timeout,
-                              preexec_fn=limit_cpu)
+        cmd = [sys.executable, str(Path(__file__).resolve()), "--one", name, str(n),
+               *(["--manager-outside"] if outside else [])]
+    try:  # a wall-clock limit (_WALL_FACTOR x timeout), no RLIMIT_CPU: see _WALL_FACTOR
+        proc = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=_WALL_FACTOR * timeout)
     except subprocess.TimeoutExpired:
         return None
-    if proc.returncode != 0:  # killed by SIGXCPU/SIGKILL at the CPU limit
-        if proc.returncode < 0 or "CPU" in proc.stderr:
+    if proc.returncode != 0:
+        if proc.returncode < 0:
             return None
         raise RuntimeError(f"{' '.join(cmd)} failed: {proc.stderr.strip()[-400:]}")
     out = proc.stdout
@@ -195,22 +215,26 @@ def main(argv: list[str] | None = None) -> int:
                     help="one row per process (SMCDEL's protocol): min and median over --repeat processes")
     ap.add_argument("--cli", action="store_true", help="with --fresh-process: run the `delkit puzzle` command "
                     "line and read its own reported seconds")
-    ap.add_argument("--timeout", type=float, default=60.0, help="CPU seconds per fresh process (RLIMIT_CPU; "
-                    "then the row says '> T s')")
+    ap.add_argument("--timeout", type=float, default=60.0, help="a fresh process is stopped after "
+                    f"{_WALL_FACTOR} x TIMEOUT wall seconds (then the row says '> T s')")
     ap.add_argument("--smcdel-bin", metavar="PATH", help="with --fresh-process: SMCDEL's side "
                     "(bench/peers/smcdel/SmcdelBench.hs, built as its README says) run alternately with delkit, "
                     "fresh process each, same repeats; the SMCDEL column is then this run's min and median")
-    ap.add_argument("--smcdel-warm", action="store_true", help="with --smcdel-bin: also run SMCDEL with its "
-                    "CacBDD manager created before the clock (--warm) and report that column too")
+    ap.add_argument("--managers", choices=("inside", "outside", "both"), default="inside",
+                    help="with --smcdel-bin: both BDD managers created inside the clock, both before it, or both "
+                    "protocols in the same rounds (two tables)")
+    ap.add_argument("--manager-outside", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--one", nargs=2, metavar=("PUZZLE", "N"), help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
-    if (args.smcdel_bin or args.smcdel_warm) and not (args.fresh_process and args.smcdel_bin):
-        ap.error("--smcdel-bin runs with --fresh-process only, and --smcdel-warm needs --smcdel-bin")
+    if args.smcdel_bin and not args.fresh_process:
+        ap.error("--smcdel-bin runs with --fresh-process only")
+    if args.managers != "inside" and not args.smcdel_bin:
+        ap.error("--managers outside/both needs --smcdel-bin (the protocols compare delkit with SMCDEL)")
 
     if args.one:
         import json
 
-        cpu, ok = _job(args.one[0], int(args.one[1]))
+        cpu, ok = _job(args.one[0], int(args.one[1]), outside=args.manager_outside)
         print(json.dumps({"cpu": cpu, "ok": bool(ok)}))
         return 0
 
@@ -229,7 +253,7 @@ def _main_fresh(args, ints) -> int:
         return _main_fresh_peer(args, jobs)
     where = "the CLI's own reported seconds" if args.cli else "the API call"
     cols = ("puzzle", "N", "right answer", "delkit CPU s (min)", "delkit CPU s (median)",
-            "SMCDEL CPU s (recorded figures, not this run)", "ratio (min)", "ratio (median)", "processes", "load")
+            "SMCDEL CPU s (recorded earlier, not this run)", "ratio (min)", "ratio (median)", "processes", "load")
     md = ["| " + " | ".join(cols) + " |", "|" + "---|" * len(cols)]
     table = Table(title=f"delkit symbolic vs SMCDEL: fresh process per run, {where} (CPU seconds)")
     for col in cols:
@@ -264,16 +288,14 @@ def _spawn_smcdel(binary: str, name: str, n: int, timeout: float, warm: bool) ->
     """One fresh SMCDEL process (bench/peers/smcdel/SmcdelBench.hs): its getCPUTime seconds around structure +
     formula + evaluation and whether its answer was right; None when it ran out of ``timeout`` CPU seconds."""
     import json
-    import resource
     import subprocess
 
     cmd = [binary, *(["--warm"] if warm else []), *_SMCDEL_ARGS[name](n)]
     try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=20 * timeout, preexec_fn=lambda: (
-            resource.setrlimit(resource.RLIMIT_CPU, (int(timeout), int(timeout) + 1))))
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=_WALL_FACTOR * timeout)
     except subprocess.TimeoutExpired:
         return None
-    if proc.returncode < 0:  # SIGXCPU/SIGKILL at the CPU limit
+    if proc.returncode < 0:  # killed
         return None
     try:
         if proc.returncode != 0:
@@ -287,13 +309,13 @@ def _spawn_smcdel(binary: str, name: str, n: int, timeout: float, warm: bool) ->
 
 
 def fresh_rows_peer(jobs: list[tuple[str, int]], repeat: int, cli: bool, timeout: float, binary: str,
-                    warm: bool):
-    """Like :func:`fresh_rows`, with SMCDEL beside delkit: round r runs, for every row, one delkit process and
-    one SMCDEL process (and with ``warm`` one SMCDEL process whose manager exists before its clock), which
-    goes first alternating from round to round. Yields name, N, {side: (min, median, runs)}, ok, load range."""
+                    protocols: tuple[bool, ...]):
+    """Like :func:`fresh_rows`, with SMCDEL beside delkit: round r runs, for every row and every protocol
+    (False: managers inside the clock, True: outside), one delkit process and one SMCDEL process; which goes
+    first alternates from round to round. Yields name, N, {(side, outside): (min, median, runs)}, ok, load range."""
     import statistics
 
-    sides = ["delkit", "smcdel"] + (["smcdel-warm"] if warm else [])
+    sides = [(side, outside) for outside in protocols for side in ("delkit", "smcdel")]
     times = {(j, side): [] for j in jobs for side in sides}
     oks = dict.fromkeys(jobs, True)
     dead: set = set()
@@ -303,8 +325,9 @@ def fresh_rows_peer(jobs: list[tuple[str, int]], repeat: int, cli: bool, timeout
             for side in sides if rnd % 2 == 0 else sides[::-1]:
                 if (job, side) in dead:
                     continue
-                got = (_spawn(*job, cli=cli, timeout=timeout) if side == "delkit" else
-                       _spawn_smcdel(binary, *job, timeout=timeout, warm=side == "smcdel-warm"))
+                who, outside = side
+                got = (_spawn(*job, cli=cli, timeout=timeout, outside=outside) if who == "delkit" else
+                       _spawn_smcdel(binary, *job, timeout=timeout, warm=outside))
                 loads[job].append(os.getloadavg()[0])
                 if got is None:
                     dead.add((job, side))
@@ -318,51 +341,56 @@ def fresh_rows_peer(jobs: list[tuple[str, int]], repeat: int, cli: bool, timeout
 
 
 def _main_fresh_peer(args, jobs: list[tuple[str, int]]) -> int:
-    """The --fresh-process table with a same-run SMCDEL column (--smcdel-bin)."""
+    """The --fresh-process tables with a same-run SMCDEL column (--smcdel-bin): one per manager protocol."""
     if not (os.path.isfile(args.smcdel_bin) and os.access(args.smcdel_bin, os.X_OK)):
         print(f"bench/symbolic.py: --smcdel-bin {args.smcdel_bin}: no such executable; build it with "
               "bench/peers/smcdel/build.sh (see bench/peers/smcdel/README.md)", file=sys.stderr)
         return 2
+    if args.cli and args.managers != "inside":
+        print("bench/symbolic.py: --cli creates the manager inside the command's clock; use --managers inside",
+              file=sys.stderr)
+        return 2
+    protocols = {"inside": (False,), "outside": (True,), "both": (False, True)}[args.managers]
     where = "the CLI's own reported seconds" if args.cli else "the API call"
     cols = ["puzzle", "N", "right answer (both)", "delkit s (min)", "delkit s (median)", "SMCDEL s (min)",
-            "SMCDEL s (median)", "ratio (min)", "ratio (median)"]
-    cols += ["SMCDEL s, manager before clock (min)"] if args.smcdel_warm else []
-    cols += ["SMCDEL s (recorded figures, another day)", "processes each", "load (1-min, range)"]
-    title = f"delkit symbolic vs SMCDEL, same run: fresh process each, alternating, {where} (CPU seconds)"
-    out: list[list[str]] = []
+            "SMCDEL s (median)", "ratio (min)", "ratio (median)", "processes each", "load (1-min, range)"]
     over = f"> {args.timeout:.0f} s"
-    curves: dict[str, list[tuple[int, float]]] = {"delkit": [], "SMCDEL": []}
+    tables: dict[bool, list[list[str]]] = {p: [] for p in protocols}
+    curves = {p: {"delkit": [], "SMCDEL": []} for p in protocols}
     for name, n, stats, ok, (lo_load, hi_load) in fresh_rows_peer(jobs, args.repeat, args.cli, args.timeout,
-                                                                   args.smcdel_bin, args.smcdel_warm):
-        mine, peer = stats["delkit"], stats["smcdel"]
-        ref = SMCDEL.get((name, n))
-        cells = [name, str(n), "yes" if ok else "NO",
-                 f"{mine[0]:.4f}" if mine else over, f"{mine[1]:.4f}" if mine else "—",
-                 f"{peer[0]:.4f}" if peer else over, f"{peer[1]:.4f}" if peer else "—",
-                 f"{mine[0] / peer[0]:.2f}" if mine and peer else "—",
-                 f"{mine[1] / peer[1]:.2f}" if mine and peer else "—"]
-        if args.smcdel_warm:
-            cells.append(f"{stats['smcdel-warm'][0]:.4f}" if stats["smcdel-warm"] else over)
-        cells += [f"{ref:.4g}" if ref else "—", "/".join(str(s[2]) if s else "0" for s in stats.values()),
-                  f"{lo_load:.1f}–{hi_load:.1f}"]
-        if name == "muddy":
-            for side, got in (("delkit", mine), ("SMCDEL", peer)):
-                if got:
-                    curves[side].append((n, got[0]))
-        out.append(cells)
-    if args.markdown:
-        print("\n".join("| " + " | ".join(row) + " |" for row in [cols, ["---"] * len(cols), *out]))
-    else:
-        table = Table(*cols, title=title)
-        for row in out:
-            table.add_row(*row)
-        Console().print(table)
-    both = {n for n, _ in curves["delkit"]} & {n for n, _ in curves["SMCDEL"]}
-    for lo, hi in ((100, 200), (0, math.inf)):
-        fits = {side: [(n, t) for n, t in pts if lo <= n <= hi and n in both] for side, pts in curves.items()}
-        if len(fits["delkit"]) >= 2:
-            print(f"muddy growth (min) on N = {', '.join(str(n) for n, _ in fits['delkit'])}: "
-                  + ", ".join(f"{side} N^{_fit(pts):.2f}" for side, pts in fits.items()))
+                                                                   args.smcdel_bin, protocols):
+        for outside in protocols:
+            mine, peer = stats["delkit", outside], stats["smcdel", outside]
+            tables[outside].append([
+                name, str(n), "yes" if ok else "NO",
+                f"{mine[0]:.4f}" if mine else over, f"{mine[1]:.4f}" if mine else "—",
+                f"{peer[0]:.4f}" if peer else over, f"{peer[1]:.4f}" if peer else "—",
+                f"{mine[0] / peer[0]:.2f}" if mine and peer else "—",
+                f"{mine[1] / peer[1]:.2f}" if mine and peer else "—",
+                f"{mine[2] if mine else 0}/{peer[2] if peer else 0}", f"{lo_load:.1f}–{hi_load:.1f}"])
+            if name == "muddy":
+                for side, got in (("delkit", mine), ("SMCDEL", peer)):
+                    if got:
+                        curves[outside][side].append((n, got[0]))
+    for outside in protocols:
+        title = (f"delkit symbolic vs SMCDEL, same run, BDD managers created {'before' if outside else 'inside'} "
+                 f"the clock: fresh process each, alternating, {where} (CPU seconds)")
+        out = tables[outside]
+        if args.markdown:
+            print(f"\n{title}\n")
+            print("\n".join("| " + " | ".join(row) + " |" for row in [cols, ["---"] * len(cols), *out]))
+        else:
+            table = Table(*cols, title=title)
+            for row in out:
+                table.add_row(*row)
+            Console().print(table)
+        curve = curves[outside]
+        both = {n for n, _ in curve["delkit"]} & {n for n, _ in curve["SMCDEL"]}
+        for lo, hi in ((100, 200), (0, math.inf)):
+            fits = {side: [(n, t) for n, t in pts if lo <= n <= hi and n in both] for side, pts in curve.items()}
+            if len(fits["delkit"]) >= 2:
+                print(f"\nmuddy growth (min) on N = {', '.join(str(n) for n, _ in fits['delkit'])}: "
+                      + ", ".join(f"{side} N^{_fit(pts):.2f}" for side, pts in fits.items()))
     return 0
 
 

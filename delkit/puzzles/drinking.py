@@ -58,13 +58,21 @@ def drinking_model(wants: tuple[bool, ...]) -> KripkeModel:
     return KripkeModel(tuple(f"w{i}" for i in range(n)), tuple(rels), val, rels, (actual,))
 
 
-def drinking_structure(wants: tuple[bool, ...]) -> Any:
-    """The knowledge structure: V = {w_i}, θ = ⊤, logician ``l<i>`` observes w_i; actual state ``wants``."""
-    from delkit.symbolic import KnowledgeStructure, new_manager, puzzle_memory
+def drinking_manager(n: int) -> Any:
+    """The BDD manager :func:`drinking_structure` creates unless given one: sized to the puzzle (peak nodes
+    ~1.2 n^2: n = 400, 187 k)."""
+    from delkit.symbolic import new_manager, puzzle_memory
+
+    return new_manager(memory_estimate=puzzle_memory(2 * n ** 2))
+
+
+def drinking_structure(wants: tuple[bool, ...], *, bdd: Any = None) -> Any:
+    """The knowledge structure: V = {w_i}, θ = ⊤, logician ``l<i>`` observes w_i; actual state ``wants``
+    (on ``bdd``, by default a fresh :func:`drinking_manager`)."""
+    from delkit.symbolic import KnowledgeStructure
 
     props = [f"w{i}" for i in range(len(wants))]
-    # a manager sized to the puzzle (peak nodes ~1.2 n^2: n = 400, 187 k)
-    mgr = new_manager(memory_estimate=puzzle_memory(2 * len(props) ** 2))
+    mgr = drinking_manager(len(props)) if bdd is None else bdd
     return KnowledgeStructure.create(props, observed={f"l{i}": [p] for i, p in enumerate(props)},
                                      actual=conj(Prop(p) if w else Not(Prop(p)) for p, w in zip(props, wants,
                                                                                                  strict=True)),
@@ -109,15 +117,16 @@ def thirsty_formula(n: int) -> Formula:
     return conj([conj(does_not_know(i) for i in range(n)), stack])
 
 
-def check_thirsty(n: int, *, symbolic: bool = True) -> tuple[bool, float]:
+def check_thirsty(n: int, *, symbolic: bool = True, bdd: Any = None) -> tuple[bool, float]:
     """Truth of :func:`thirsty_formula` at the state where all n want (SMCDEL's ``thirstyCheck``), and the
-    CPU seconds of building the structure and evaluating the formula (formula construction included)."""
+    CPU seconds of building the structure and evaluating the formula (formula construction included;
+    manager creation too unless a fresh manager ``bdd`` is given, :func:`drinking_manager`)."""
     if symbolic:
         from delkit.symbolic import prepare
 
         prepare()  # imports and the interpreter's first full garbage collection before the clock starts
     t0 = time.process_time()
     wants = (True,) * n
-    model = drinking_structure(wants) if symbolic else drinking_model(wants)
+    model = drinking_structure(wants, bdd=bdd) if symbolic else drinking_model(wants)
     ok = model.holds(thirsty_formula(n))
     return bool(ok), time.process_time() - t0

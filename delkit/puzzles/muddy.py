@@ -115,13 +115,20 @@ def run_rounds(state: Any, children: int, muddy: int, *, max_rounds: int | None 
     # one formula object per distinct answer vector (the "nobody knows" rounds repeat one): built and
     # hashed once, a structure-independent key for the engines' caches
     said: dict[tuple[bool, ...], Formula] = {}
+    silent = (False,) * children
+    nobody = said[silent] = conj(unknown)
     limit = max_rounds if max_rounds is not None else children + 2
     sizes: list[int] = []
     nobody_rounds = 0
     muddy_round: int | None = None
     clean_round: int | None = None
     for rnd in range(1, limit + 1):
-        key = tuple([state.holds(k) for k in knows])  # children 0 … muddy-1 are the muddy ones
+        # "nobody knows" first, as one formula: one truth set per round (the announcement's own, cached by
+        # the engine) instead of one per child; the children's answers one by one only when someone knows
+        if state.holds(nobody):
+            key = silent
+        else:
+            key = tuple([state.holds(k) for k in knows])  # children 0 … muddy-1 are the muddy ones
         if muddy_round is None and all(key[:muddy]):
             muddy_round = rnd
         if clean_round is None and muddy < children and all(key[muddy:]):

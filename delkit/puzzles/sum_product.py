@@ -73,7 +73,7 @@ def _pairs_of(limit: int) -> tuple[np.ndarray, np.ndarray]:
     return x[keep].astype(np.int64), y[keep].astype(np.int64)
 
 
-def sum_product_structure(limit: int = 100) -> Any:
+def sum_product_structure(limit: int = 100, *, bdd: Any = None) -> Any:
     """SMCDEL's encoding as a knowledge structure: binary digits ``x* y* s* p*`` of x, y, x + y and x·y;
     θ = the disjunction of the 2352 (for 100) full assignments; S observes ``s*``, P observes ``p*``."""
     from delkit.symbolic import KnowledgeStructure, declare, new_manager
@@ -81,7 +81,7 @@ def sum_product_structure(limit: int = 100) -> Any:
     x, y = _pairs_of(limit)
     xp, yp, sp, pp = bit_props("x", x), bit_props("y", y), bit_props("s", x + y), bit_props("p", x * y)
     voc = xp + yp + sp + pp
-    mgr = new_manager()
+    mgr = new_manager() if bdd is None else bdd
     declare(mgr, voc)
     bits = np.concatenate([encode_bits(x, len(xp)), encode_bits(y, len(yp)), encode_bits(x + y, len(sp)),
                            encode_bits(x * y, len(pp))], axis=1)
@@ -135,16 +135,17 @@ def _value_is(name: str, props: tuple[str, ...], value: int) -> Formula:
     return conj(Prop(p) if (value >> int(p[len(name):])) & 1 else Not(Prop(p)) for p in props)
 
 
-def smcdel_sum_product(limit: int = 100) -> tuple[list[tuple[int, int]], float]:
+def smcdel_sum_product(limit: int = 100, *, bdd: Any = None) -> tuple[list[tuple[int, int]], float]:
     """SMCDEL's ``sapSolutions``: the states where ``f1 ∧ [!f1]f2 ∧ [!f1][!f2]f3`` holds, with
     f1 = K_S ¬knows_P, f2 = knows_P, f3 = knows_S and knows_A = ⋁_{(x,y)} K_A(x = a ∧ y = b); returns the
-    (x, y) of those states and the CPU seconds of building the structure and evaluating (formula included)."""
+    (x, y) of those states and the CPU seconds of building the structure and evaluating (formula included;
+    manager creation too unless a fresh manager ``bdd``, ``delkit.symbolic.new_manager()``, is given)."""
     from delkit.symbolic import prepare
 
     prepare()  # imports and the interpreter's first full garbage collection before the clock starts
 
     t0 = time.process_time()
-    ks = sum_product_structure(limit)
+    ks = sum_product_structure(limit, bdd=bdd)
     xp = tuple(v for v in ks.vocabulary if v[0] == "x")
     yp = tuple(v for v in ks.vocabulary if v[0] == "y")
     xs, ys = _pairs_of(limit)
