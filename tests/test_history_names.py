@@ -25,7 +25,10 @@ MAX_BYTES = 2_000_000
 
 #: branch names used for work on this repository that are not ordinary words (more are read from git)
 KNOWN_BRANCHES = {"epstart", "epsearch", "symtools", "symspeed", "integ", "explore2", "epicoplan", "viewwheel",
-                  "ground4"}
+                  "ground4", "lead25"}
+
+#: names with digits that are words of the trade, never taken for a branch name (py311, sha256, utf8, …)
+ORDINARY_TOKEN = re.compile(r"^(?:py|sha|utf|u?int|float|md|x86|arm|v|s|kd)\d", re.I)
 
 #: (what it is, pattern); matched case-insensitively unless the pattern says otherwise
 PATTERNS: list[tuple[str, re.Pattern[str]]] = [
@@ -64,7 +67,8 @@ def branch_names(root: Path = ROOT) -> set[str]:
     found = re.findall(r"[Mm]erge (?:branch )?'?([A-Za-z][\w-]*)'?(?: into '?([A-Za-z][\w-]*)'?)?", log)
     found += [(b.rsplit("/", 1)[-1], "") for b in branches.split()]
     for pair in found:
-        names |= {n for n in pair if n and re.search(r"\d", n) and re.search(r"[A-Za-z]{2}", n)}
+        names |= {n for n in pair if n and re.search(r"\d", n) and re.search(r"[A-Za-z]{2}", n)
+                  and not ORDINARY_TOKEN.match(n)}
     return names
 
 
