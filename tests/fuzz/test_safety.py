@@ -368,9 +368,8 @@ def test_quick_slice_of_the_file_and_address_families():
 
 
 def test_family_registry_takes_families_from_another_module():
-    from hypothesis import strategies as st
-
     from fuzzkit import Case
+    from hypothesis import strategies as st
 
     def extra():
         return st.just(Case("extra", ("fuzzsafety:no_such_function",), mode="call"))
