@@ -153,6 +153,9 @@ def test_inputs_that_are_not_regular_files_are_refused_at_once(tmp_path, capsys,
     rc, _, err = run_cli(capsys, [sub.get(a, a) for a in argv])
     assert time.monotonic() - t0 < 5  # a FIFO opened for reading would block here forever
     assert rc == 2 and classify_error_text(err) is None, err
+    why = {"fifo": "FIFO", "/dev/zero": "a device", "/dev/null": "a device", "dir": "directory",
+           "big": "DELKIT_MAX_INPUT_MB"}[kind]
+    assert why in err, err
 
 
 def test_check_input_stats_before_it_opens(tmp_path, monkeypatch):
@@ -180,8 +183,10 @@ def test_malformed_scheduler_addresses_are_refused_without_contact(value, monkey
     from delkit.executors import parse_scheduler
 
     monkeypatch.setattr(socket, "create_connection", lambda *a, **k: pytest.fail("contacted"))
-    with pytest.raises(DelkitError, match="--scheduler"):
+    with pytest.raises(DelkitError, match="--scheduler") as info:
         parse_scheduler(value)
+    if value.startswith("tls"):
+        assert "TLS" in str(info.value)
 
 
 def test_a_private_address_is_parsed_not_contacted(monkeypatch):
