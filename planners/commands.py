@@ -41,6 +41,7 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
     from delkit.resources import TimeLimit, command_start, counters, deadline, keep_alive, parse_timeout
 
     limit = parse_timeout(timeout)  # 0 / inf: no limit; counted from the start of the process
+    counters().update(expanded=0, generated=0)  # a limit answer before the search says so: nothing expanded
     Limits(timeout=limit, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
     start = command_start()
     reached = f"--timeout {timeout:g} s reached (counted from the start of the process)"
