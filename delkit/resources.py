@@ -259,7 +259,8 @@ def begin_command() -> None:
     first = _BEGUN_PID != pid and _on_main_thread()
     _LOCAL.t0 = process_start() if first else time.monotonic()
     _ANSWERED.clear()
-    counters().clear()  # the same dict: a watchdog started before (early_watchdog) reads this command's counts
+    if not first:
+        counters().clear()  # (the first command keeps what the early watchdog put there)  # the same dict: a watchdog started before (early_watchdog) reads this command's counts
     if first:
         _BEGUN_PID = pid
 
@@ -391,6 +392,8 @@ def early_watchdog(argv: list[str]) -> None:
         return
     name = " ".join(a for a in argv[:2] if not a.startswith("-"))
     message = f"delkit {name}: no answer within {option} {limit:g} s; give it more time with {option}"
+    if argv[0] == "plan":  # an answer before the search has started: it has expanded nothing yet
+        counters().update(expanded=0, generated=0)
     t0 = process_start()
     threading.Thread(target=_watchdog, args=(t0 + limit + _GRACE + 0.1, message, [False], counters(), t0),
                      daemon=True).start()
