@@ -123,7 +123,7 @@ def _role(path: Path) -> str:
     from planners.lang.detect import detect_text
 
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         text = read_input(path)
         dialect = detect_text(text, str(path))[0]

@@ -124,7 +124,7 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
         raise ParseError(f"expected SPEC PLAN_FILE or DOMAIN PROBLEM PLAN_FILE, got {len(files)} file(s)",
                          source="delkit check")
     if trace_json is not None:  # before anything is read or written: the trace never replaces an input
-        from delkit.files import refuse_overwrite_input
+        from delkit.paths import refuse_overwrite_input
 
         refuse_overwrite_input([trace_json], [*files, props_file, *(library or ())], option="--trace-json")
     task = load_task(files[0], files[1] if len(files) == 3 else None, list(library or ()), strict=strict)
@@ -132,7 +132,7 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
     texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop or ()]   # (text, source, line)
     if props_file is not None:
         try:
-            from delkit.files import read_input
+            from delkit.paths import read_input
 
             lines = read_input(props_file, "properties file").splitlines()
         except (OSError, UnicodeDecodeError) as exc:

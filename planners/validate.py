@@ -134,7 +134,7 @@ def read_plan(path: str | Path) -> list[str]:
     """Read a plan file (see :func:`parse_plan_text`)."""
     p = Path(path)
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         return parse_plan_text(read_input(p, "plan file"))
     except (OSError, UnicodeDecodeError) as exc:

@@ -115,7 +115,7 @@ def test_epico_solve_out_never_replaces_the_world(tmp_path, capsys):
 
 def test_refuse_overwrite_input_compares_files_not_names(tmp_path):
     from delkit.errors import ParseError
-    from delkit.files import refuse_overwrite_input
+    from delkit.paths import refuse_overwrite_input
 
     a = tmp_path / "a"
     a.write_text("x")
@@ -163,7 +163,7 @@ def test_check_input_stats_before_it_opens(tmp_path, monkeypatch):
     import builtins
 
     from delkit.errors import ParseError
-    from delkit.files import read_input
+    from delkit.paths import read_input
 
     x = tmp_path / "f"
     os.mkfifo(x)
