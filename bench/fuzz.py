@@ -102,12 +102,19 @@ def _register(fuzzgen, modules: str | None) -> dict[str, str]:
 
     origin = {name: "tests/fuzz/fuzzsafety.py" for name in getattr(sys.modules.get("fuzzsafety"), "FAMILIES", {})}
     if modules is None:
-        names = [p.stem for p in sorted(Path(__file__).resolve().parent.glob("fuzz_*.py"))]
-        sys.path.insert(0, str(Path(__file__).resolve().parent))
+        # by file path: bench/ itself must not go on sys.path (bench/packaging.py would shadow the 'packaging'
+        # distribution that matplotlib imports)
+        names = [str(p) for p in sorted(Path(__file__).resolve().parent.glob("fuzz_*.py"))]
     else:
         names = [m for m in modules.split(",") if m]
     for name in names:
-        module = importlib.import_module(name)
+        if name.endswith(".py"):
+            spec = importlib.util.spec_from_file_location(Path(name).stem, name)
+            module = importlib.util.module_from_spec(spec)
+            sys.modules[Path(name).stem] = module  # the worker finds "module:function" calls by this name
+            spec.loader.exec_module(module)
+        else:
+            module = importlib.import_module(name)
         fams = getattr(module, "FAMILIES", None)
         if not isinstance(fams, dict):
             continue

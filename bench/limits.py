@@ -7,7 +7,8 @@ Timed: wall seconds from just before ``subprocess.run`` starts the ``delkit`` pr
 child's CPU time (user + system, ``RUSAGE_CHILDREN``) and the load average beside it. The target is
 ``wall <= T + 0.5 s``. Tasks: an initial state slow to build (2^21 worlds), a single expansion of about
 1-2 s (40 actions on a 2^11-world state), ≥ 1 GB held at the deadline, and every other command with a
-``--timeout`` on a task that cannot finish in time.
+``--timeout`` on a task that cannot finish in time. Every command is run with ``--json``: the ``answer``
+column says whether stdout was one JSON limit answer (``status`` limit) and which counters it carried.
 """
 
 from __future__ import annotations
@@ -61,7 +62,54 @@ def cases(tmp: Path, t: str) -> list[tuple[str, list[str]]]:
         ("arms run demo_plan --no-video", ["arms", "run", str(ROOT / "arms" / "demo_plan.json"), "--no-video",
                                            "--timeout", t]),
         ("epico run alpha 2", ["epico", "run", "--goal", "alpha", "--colors", "2", "--timeout", t]),
+        ("smcdel: 3000 queries on 26 variables", ["smcdel", str(_big_smcdel(tmp)), "--timeout", t]),
+        ("plan: a search that cannot finish", ["plan", str(ROOT / "specs" / "cc_2_4_4" / "CC_2_4_4_s3__pl_7.txt"),
+                                               "--timeout", t]),
     ]
+
+
+def _big_smcdel(tmp: Path) -> Path:
+    p = tmp / "big.smcdel.txt"
+    p.write_text("VARS " + ",".join(str(i) for i in range(1, 27)) + "\nLAW Top\nOBS alice: 1\nbob: 2\n"
+                 + "VALID? alice knows whether 1\n" * 3000)
+    return p
+
+
+def _answer(stdout: str) -> str:
+    """What the --json limit answer was: 'JSON (counters)', or what was wrong with it."""
+    import json
+
+    lines = [ln for ln in stdout.splitlines() if ln.strip()]
+    if len(lines) != 1:
+        return f"{len(lines)} lines"
+    try:
+        rec = json.loads(lines[0])
+    except ValueError:
+        return "not JSON"
+    if rec.get("status") != "limit":
+        return f"status {rec.get('status')}"
+    keys = [f"{k}={rec[k]}" for k in ("expanded", "generated", "worlds", "steps_replayed", "queries_answered")
+            if k in rec]
+    return "JSON" + (f" ({', '.join(keys)})" if keys else "")
+
+
+def _batch_rows(delkit: str, env: dict, t: float) -> str:
+    """A batch of 6 searches that cannot finish, 2 workers, ``--timeout T`` per task: every task's record is a
+    limit answer; its ``wall`` (from the task's start in its worker) against T, and the batch's wall."""
+    import json
+
+    task = str(ROOT / "specs" / "cc_2_4_4" / "CC_2_4_4_s3__pl_7.txt")
+    load = os.getloadavg()[0]
+    p = timed_run([delkit, "plan", *[task] * 6, "--jobs", "2", "--timeout", f"{t:g}", "--json"], env=env,
+                  clock=time.monotonic)
+    recs = [json.loads(ln) for ln in p.stdout.splitlines() if ln.startswith("{")]
+    tasks = [r for r in recs if not r.get("summary")]
+    walls = [float(r.get("wall") or 0) for r in tasks]
+    counted = sum(1 for r in tasks if r.get("status") == "limit" and r.get("expanded"))
+    return ("| batch: 6 such searches, --jobs 2, per task | exit | tasks reported | limit answers with expanded > 0 "
+            "| max task wall − T | batch wall s | load |\n|---|---:|---:|---:|---:|---:|---:|\n"
+            f"| T = {t:g} s | {p.returncode} | {len(tasks)}/6 + {len(recs) - len(tasks)} summary | {counted} | "
+            f"{max(walls) - t:+.2f} | {p.wall:.2f} | {load:.1f} |")
 
 
 def main() -> int:
@@ -75,14 +123,15 @@ def main() -> int:
     t = float(args.timeout)
     head = (f"{platform.node()} ({platform.machine()}, Python {platform.python_version()}), "
             f"{time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}")
-    rows = ["| task | exit | wall s (from process start) | wall − T | CPU s | load |", "|---|---:|---:|---:|---:|---:|"]
+    rows = ["| task | exit | wall s (from process start) | wall − T | CPU s | load | --json answer |",
+            "|---|---:|---:|---:|---:|---:|---|"]
     print(head)
     print("\n".join(rows), flush=True)
     with tempfile.TemporaryDirectory() as d:
         for label, argv in cases(Path(d), args.timeout):
             if args.only not in label:
                 continue
-            cmd = [sys.executable, *argv[1:]] if argv[0] == "@hold" else [delkit, *argv]
+            cmd = [sys.executable, *argv[1:], "--json"] if argv[0] == "@hold" else [delkit, *argv, "--json"]
             load = os.getloadavg()[0]
             p = timed_run(cmd, env=env, clock=time.monotonic)
             wall, cpu = p.wall, p.cpu
@@ -91,9 +140,12 @@ def main() -> int:
             if argv[0] == "@hold":  # the script chose its limit after allocating
                 limit = float(next(ln.split()[1] for ln in p.stderr.splitlines() if ln.startswith("TIMEOUT")))
             row = (f"| {label} (T = {limit:g} s) | {p.returncode} | {wall:.2f} | {wall - limit:+.2f} | {cpu:.2f} "
-                   f"| {load:.1f} |")
+                   f"| {load:.1f} | {_answer(p.stdout)} |")
             rows.append(row)
             print(row, flush=True)
+        if not args.only or args.only in "batch":
+            rows += ["", _batch_rows(delkit, env, t)]
+            print(rows[-1], flush=True)
     if args.markdown:
         args.markdown.write_text(head + "\n\n" + "\n".join(rows) + "\n")
     return 0

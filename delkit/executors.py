@@ -76,6 +76,7 @@ def _worker(conn: Any, memory_mb: float | None) -> None:
     import resource
 
     _tie_to_parent()
+    _CURRENT[:] = [conn]
     if memory_mb:
         limit = int(memory_mb * 2**20)
         _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
@@ -89,9 +90,27 @@ def _worker(conn: Any, memory_mb: float | None) -> None:
             out = (False, exc)
         cpu = time.process_time() - t0
         try:
-            conn.send((*out, cpu))
+            with _SEND_LOCK:
+                conn.send((*out, cpu))
         except (pickle.PicklingError, TypeError, AttributeError) as exc:  # an unpicklable result or exception
             conn.send((False, RuntimeError(f"{type(out[1]).__name__}: {out[1]} (not picklable: {exc})"), cpu))
+
+
+_CURRENT: list = []  # in a pool worker: the connection to the parent (for :func:`answer_and_exit`)
+_SEND_LOCK = threading.Lock()
+
+
+def answer_and_exit(value: Any, cpu: float = 0.0) -> None:
+    """In a pool worker, from any thread: send ``value`` as the current run's result and end the worker at once
+    (``os._exit``) — for a watchdog whose run is stuck in native code past its limit: the run is answered (e.g.
+    with a limit record and the counters so far) and the pool replaces the worker. Outside a worker: no-op."""
+    if not _CURRENT:
+        return
+    try:
+        with _SEND_LOCK:
+            _CURRENT[0].send((True, value, cpu))
+    finally:
+        os._exit(0)
 
 
 def _requests(conn: Any) -> Iterator[Any]:
@@ -202,6 +221,8 @@ class IsolatedPool(Executor):
 
     def _dispatch(self) -> None:
         with self._lock:
+            for slot in [s for s in self._slots if s.job is None and not s.proc.is_alive()]:
+                self._replace(slot)  # a worker that answered and ended (executors.answer_and_exit)
             while self._queue:
                 idle = next((s for s in self._slots if s.job is None), None)
                 if idle is None:

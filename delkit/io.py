@@ -392,11 +392,13 @@ def loads(text: str, *, source: str = "<string>") -> KripkeModel | EventModel:
 
 
 def _read(path: str | Path) -> str:
-    from delkit.files import read_input
+    from delkit.paths import read_input
 
     p = Path(path)
     try:
         return read_input(p, "model file")
+    except ParseError as exc:  # not a regular file (a directory, a FIFO, a device) or over the size cap
+        raise ModelFileError(str(exc)) from None
     except FileNotFoundError:
         raise ModelFileError(f"{p}: no such file; check the path") from None
     except IsADirectoryError:

@@ -259,7 +259,10 @@ def begin_command() -> None:
     first = _BEGUN_PID != pid and _on_main_thread()
     _LOCAL.t0 = process_start() if first else time.monotonic()
     _ANSWERED.clear()
-    counters().clear()  # the same dict: a watchdog started before (early_watchdog) reads this command's counts
+    if not first:
+        # the same dict, emptied: a watchdog started before reads this command's counts (the process's first
+        # command keeps what the early watchdog put there)
+        counters().clear()
     if first:
         _BEGUN_PID = pid
 
@@ -391,6 +394,8 @@ def early_watchdog(argv: list[str]) -> None:
         return
     name = " ".join(a for a in argv[:2] if not a.startswith("-"))
     message = f"delkit {name}: no answer within {option} {limit:g} s; give it more time with {option}"
+    if argv[0] == "plan":  # an answer before the search has started: it has expanded nothing yet
+        counters().update(expanded=0, generated=0)
     t0 = process_start()
     threading.Thread(target=_watchdog, args=(t0 + limit + _GRACE + 0.1, message, [False], counters(), t0),
                      daemon=True).start()
@@ -510,13 +515,13 @@ def deadline(seconds: float | str | None, what: str, option: str = "--timeout", 
 
 def check_outputs(outputs, inputs, *, force: bool | None = None, folder=None, option: str = "-o") -> None:
     """Refuse (exit 2, nothing written) an output that is one of the ``inputs``
-    (:func:`delkit.files.refuse_overwrite_input`; ``force`` True: the input is overwritten on purpose, False:
+    (:func:`delkit.paths.refuse_overwrite_input`; ``force`` True: the input is overwritten on purpose, False:
     the command's --force was not given, None: it has none) or that lies outside ``folder``; call it for every
     output before writing the first one."""
     from pathlib import Path
 
     from delkit.errors import ParseError
-    from delkit.files import refuse_overwrite_input
+    from delkit.paths import refuse_overwrite_input
 
     base = Path(folder).resolve() if folder is not None else None
     outputs = list(outputs)

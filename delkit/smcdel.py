@@ -461,7 +461,7 @@ def check_file(path: str, *, max_states: int = MAX_STATES) -> list[dict]:
 
     p = Path(path)
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         text = read_input(p, "SMCDEL file")
     except UnicodeDecodeError:

@@ -128,7 +128,7 @@ def _role(path: Path) -> str:
     from planners.lang.detect import detect_text
 
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         text = read_input(path)
         dialect = detect_text(text, str(path))[0]
@@ -249,14 +249,43 @@ def _capture(fn: Callable[[], int]) -> tuple[int, str, str]:
     return code, out.getvalue(), err
 
 
-def _begin_task() -> None:
-    """A task's limits count from now (not from the worker's start), and its counters start at zero."""
-    from delkit.resources import begin_command
+def _begin_task(timeout: Any = None) -> Callable[[], None]:
+    """A task's limits count from now (not from the worker's start), and its counters start at zero. In a pool
+    worker with a ``timeout``, a watchdog answers for the task if it is still running 0.3 s after its limit
+    (stuck in native code, where the alarm cannot stop it): the limit record with the counters so far, and the
+    worker ends (the pool starts another). Returns the function that disarms the watchdog."""
+    import threading
+
+    import delkit.resources as resources
+    from delkit.resources import begin_command, parse_timeout
 
     begin_command()  # a worker's first command would count from the process start: mark a fresh start below
-    import delkit.resources as resources
+    resources._LOCAL.t0 = t0 = time.monotonic()
+    try:
+        limit = parse_timeout(timeout)
+    except Exception:  # noqa: BLE001 - the task's own run reports a bad value
+        limit = None
+    done = threading.Event()
+    if limit is None or threading.current_thread() is not threading.main_thread():
+        return done.set
+    live = resources.counters()
+    c0 = time.process_time()
 
-    resources._LOCAL.t0 = time.monotonic()
+    def watch() -> None:
+        if done.wait(limit + 0.3):
+            return
+        from delkit.executors import answer_and_exit
+
+        rec = resources.limit_record(f"no answer within --timeout {limit:g} s (counted from the task's start); give "
+                                     f"it more time with --timeout")
+        rec.update(dict(live), seconds=round(time.monotonic() - t0, 4))
+        rec.update(exit=3, cpu=round(time.process_time() - c0, 4), wall=rec["seconds"],
+                   stopped_by="watchdog")
+        answer_and_exit(rec, time.process_time() - c0)
+
+    threading.Thread(target=watch, daemon=True).start()
+    return done.set
+
 
 
 def _result(code: int, text: str, err: str, t0: float, c0: float, cpu: Callable[[], float]) -> dict[str, Any]:
@@ -277,11 +306,14 @@ def plan_one(spec: str, problem: str | None, options: dict[str, Any]) -> dict[st
     ``cpu`` and ``wall`` (the task's CPU and wall-clock seconds in this worker, reading included)."""
     from planners.commands import run_plan
 
-    _begin_task()
+    disarm = _begin_task(options.get("timeout"))
     cpu = _cpu_clock()
     t0, c0 = time.monotonic(), cpu()
-    code, text, err = _capture(lambda: run_plan(Path(spec), Path(problem) if problem else None,
-                                                as_json=True, **options))
+    try:
+        code, text, err = _capture(lambda: run_plan(Path(spec), Path(problem) if problem else None,
+                                                    as_json=True, **options))
+    finally:
+        disarm()
     return _result(code, text, err, t0, c0, cpu)
 
 
@@ -289,10 +321,13 @@ def check_one(files: list[str], options: dict[str, Any]) -> dict[str, Any]:
     """One group of a check batch, in a worker: :func:`run_check` with ``--json``."""
     from planners.commands import run_check
 
-    _begin_task()
+    disarm = _begin_task(options.get("timeout"))
     cpu = _cpu_clock()
     t0, c0 = time.monotonic(), cpu()
-    code, text, err = _capture(lambda: run_check([Path(f) for f in files], as_json=True, **options))
+    try:
+        code, text, err = _capture(lambda: run_check([Path(f) for f in files], as_json=True, **options))
+    finally:
+        disarm()
     return _result(code, text, err, t0, c0, cpu)
 
 
@@ -455,7 +490,8 @@ def _summary(results: list[dict[str, Any]], wall: float, workers: str, stop: Any
     solved = [r for r in results if r.get("exit") == 0]
     by: dict[str, int] = {}
     for r in results:
-        by[str(r.get("status"))] = by.get(str(r.get("status")), 0) + 1
+        status = str(r.get("status") or ("valid" if r.get("valid") else "invalid" if "valid" in r else None))
+        by[status] = by.get(status, 0) + 1
     cpu = sum(float(r.get("cpu") or 0.0) for r in results)
     return {"summary": True, "tasks": len(results), "ok": len(solved), "by_status": by,
             "task_cpu_s": round(cpu, 3), "wall_s": round(wall, 3), "workers": workers,
@@ -526,6 +562,9 @@ def run_check_batch(files: Sequence[Path], *, jobs: int | None = None, scheduler
 
 
 def _name(r: dict[str, Any]) -> str:
+    """The task's name: its problem or spec file (a check group: its files)."""
+    if r.get("files"):
+        return " ".join(Path(str(f)).name for f in r["files"])
     return Path(str(r.get("problem") or r.get("file"))).name
 
 

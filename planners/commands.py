@@ -47,6 +47,7 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
 
         check_plan_out(Path(plan_out), inputs)  # before any work: the plan must not replace an input
     limit = parse_timeout(timeout)  # 0 / inf: no limit; counted from the start of the process
+    counters().update(expanded=0, generated=0)  # a limit answer before the search says so: nothing expanded
     Limits(timeout=limit, max_expanded=max_nodes, max_memory_mb=max_memory)  # impossible limits: exit 2
     start = command_start()
     reached = f"--timeout {timeout:g} s reached (counted from the start of the process)"
@@ -144,7 +145,7 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
         raise ParseError(f"expected SPEC PLAN_FILE or DOMAIN PROBLEM PLAN_FILE, got {len(files)} file(s)",
                          source="delkit check")
     if trace_json is not None:  # before anything is read or written: the trace never replaces an input
-        from delkit.files import refuse_overwrite_input
+        from delkit.paths import refuse_overwrite_input
 
         refuse_overwrite_input([trace_json], [*files, props_file, *(library or ())], option="--trace-json")
     task = load_task(files[0], files[1] if len(files) == 3 else None, list(library or ()), strict=strict)
@@ -152,7 +153,7 @@ def _run_check(files: list[Path], prop: list[str] | None, props_file: Path | Non
     texts: list[tuple[str, str, int]] = [(t, "--property", 1) for t in prop or ()]   # (text, source, line)
     if props_file is not None:
         try:
-            from delkit.files import read_input
+            from delkit.paths import read_input
 
             lines = read_input(props_file, "properties file").splitlines()
         except (OSError, UnicodeDecodeError) as exc:

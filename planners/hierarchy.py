@@ -463,7 +463,7 @@ def macro_report(colors: int = 2, handwritten: str | None = None) -> dict[str, A
     specs = specs_dir() / "epico"
     path = Path(handwritten) if handwritten else specs / "listing4.txt"
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         text = read_input(path, "hand-written macro")
     except (OSError, UnicodeDecodeError) as exc:

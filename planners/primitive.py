@@ -181,7 +181,7 @@ def load_plan(path: str | Path) -> Plan:
     """Read a plan file."""
     path = Path(path)
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         obj = json.loads(read_input(path, "plan file"))
     except FileNotFoundError:

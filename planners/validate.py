@@ -137,7 +137,7 @@ def read_plan(path: str | Path) -> list[str]:
 
     p = Path(path)
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         text = read_input(p, "plan file")
     except (OSError, UnicodeDecodeError) as exc:

@@ -102,7 +102,7 @@ def read_movingai(path: str | Path, resolution: float = 1.0) -> WorldMap:
     """
     path = Path(path)
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         lines = read_input(path, "MovingAI map", encoding="ascii").splitlines()
     except OSError as exc:

@@ -97,7 +97,7 @@ def register(app: typer.Typer) -> None:
         if not tolerance > 0:
             raise ArmsError(f"--tolerance must be a positive distance in metres (e.g. 0.01), not {tolerance!r}")
         if out is not None:  # nothing written inside --out may replace the plan
-            from delkit.files import refuse_overwrite_input
+            from delkit.paths import refuse_overwrite_input
 
             refuse_overwrite_input([out / n for n in _OUTPUT_NAMES] + [out], [plan], option="--out")
         p = load_plan(plan)

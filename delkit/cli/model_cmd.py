@@ -257,10 +257,8 @@ def register(app: typer.Typer) -> None:
 
         if logic.upper() not in LOGICS:
             raise DelkitError(f"--logic {logic!r}: use one of {', '.join(LOGICS)}")
-        from delkit.resources import deadline
-
         from delkit.progress import progress
-        from delkit.resources import counters
+        from delkit.resources import counters, deadline
 
         counters()["worlds"] = worlds  # the size searched, for a limit answer
         with deadline(timeout, f"prove --worlds {worlds}", alarm=False), progress(quiet=as_json) as bar:

@@ -161,7 +161,7 @@ def _lone_problem(path: str) -> bool:
     import re
 
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         head = read_input(path, "input", errors="replace")[:4096]
     except OSError:

@@ -112,7 +112,7 @@ def register(app: typer.Typer) -> None:
             from delkit.errors import require_extra
 
             require_extra("asp", "clingo", what="--classical clingo")
-        from delkit.files import read_input, refuse_overwrite_input
+        from delkit.paths import read_input, refuse_overwrite_input
 
         refuse_overwrite_input([out], [world], option="--out")  # before the search: the plan never replaces --world
         layout = None

@@ -4,9 +4,9 @@ property checker) and ``delkit convert`` (write a task as EPDDL 2026 or mA*).
 Exit statuses: ``plan`` — 0 plan found, 1 no plan exists (state space exhausted), 3 no plan within the
 limits (the limit also covers reading, grounding and building the initial state); ``check`` — 0 valid,
 1 invalid, 3 ``--timeout`` reached (default 60 s, as for ``plan``); all — 2 bad input. ``--timeout``
-counts from the start of the process, 0 or inf means no limit (:func:`delkit.resources.parse_timeout`, the same for every command). A failure
-is never printed as an empty plan. The language of a file is decided by its content. Heavy imports stay
-inside the commands.
+counts from the start of the process, 0 or inf means no limit (:func:`delkit.resources.parse_timeout`, the
+same for every command). A failure is never printed as an empty plan. The language of a file is decided by
+its content. Heavy imports stay inside the commands.
 
 Start-up: typer (with the click and pydantic it imports) costs about 0.1 s, half of the 0.2 s budget of a
 ``delkit plan`` run on a small instance. :func:`fast_args` therefore parses the *plain* forms of a ``plan``

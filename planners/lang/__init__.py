@@ -19,7 +19,7 @@ def is_epddl(path: str | Path) -> bool:
     if p.suffix.lower() in (".epddl", ".pddl"):
         return True
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         head = read_input(p, "spec")[:4096]
     except (OSError, UnicodeDecodeError):  # the reader that is tried next reports it

@@ -67,7 +67,7 @@ def detect(path: str | Path) -> Dialect:
     """The dialect of the file at ``path`` (see :func:`detect_text`)."""
     p = Path(path)
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         text = read_input(p, "spec")
     except (OSError, UnicodeDecodeError) as exc:

@@ -515,7 +515,7 @@ def load_epddl(domain: str | Path, problem: str | Path | None = None) -> Task:
     """Read an E-PDDL domain file and problem file (or one file holding both)."""
     def read(p: str | Path) -> str:
         try:
-            from delkit.files import read_input
+            from delkit.paths import read_input
 
             return read_input(p, "E-PDDL file")
         except (OSError, UnicodeDecodeError) as exc:

@@ -184,7 +184,7 @@ def _sections(define: Node, source: str) -> tuple[str, str, list[Node]]:
 
 def _read_define(path: Path) -> tuple[str, str, list[Node]]:
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         text = read_input(path, "EPDDL file")
     except (OSError, UnicodeDecodeError) as exc:

@@ -389,7 +389,7 @@ def load_mastar(path: str | Path, *, strict: bool = False, deadline: float | Non
     """Read an mA* file (see :func:`parse_mastar`)."""
     p = Path(path)
     try:
-        from delkit.files import read_input
+        from delkit.paths import read_input
 
         text = read_input(p, "mA* file")
     except (OSError, UnicodeDecodeError) as exc:

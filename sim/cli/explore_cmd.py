@@ -56,9 +56,8 @@ def register(app: typer.Typer) -> None:
         as_json: bool = typer.Option(False, "--json", help="Print one JSON object."),
     ) -> None:
         """Run one mission and report mission time, distance, tasks done and communications."""
+        from delkit.paths import refuse_overwrite_input
         from sim.explore import Mission, MissionConfig
-
-        from delkit.files import refuse_overwrite_input
 
         refuse_overwrite_input([png], [map_file], option="--png")  # the snapshots never replace the map
         cfg = MissionConfig(case=case, n_robots=robots, method=method, seed=seed,

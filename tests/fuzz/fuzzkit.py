@@ -37,7 +37,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-KINDS = ("error", "ok", "crash", "limit", "hang", "wrong")
+#: ``late``: a limit answer that is right but came more than 0.5 s after T (a timing figure of the machine's
+#: load as much as of the code: counted and reported, not a bad outcome)
+KINDS = ("error", "ok", "late", "crash", "limit", "hang", "wrong")
 #: exit statuses that are answers (not bad input) per command: everything else must be exit 2 + one line
 ANSWER_STATUS = {0, 1, 3}
 

@@ -204,8 +204,8 @@ def address_cases(draw):
                 *(("--json",) if draw(st.booleans()) else ()))
         return _case(cmd, argv, files, budget=30.0, note="addresses:scheduler")
     if kind == "jobs":
-        value = draw(st.sampled_from(["+2", "1000000000", "0", "-1", "0x2", "1e3", "2.0", " 2", "", "99999999999999999999",
-                                      "257", "1", "2"]))
+        value = draw(st.sampled_from(["+2", "1000000000", "0", "-1", "0x2", "1e3", "2.0", " 2", "", "257", "1", "2",
+                                      "99999999999999999999"]))
         cmd = draw(st.sampled_from(["plan", "check"]))
         spelling = draw(st.sampled_from([["--jobs", value], [f"--jobs={value}"], ["-j", value]]))
         argv = (cmd, *spec, *(["{d}/x.plan"] if cmd == "check" else []), *spelling, "--json")
@@ -319,8 +319,20 @@ def _run_process(argv: list[str], d: str, *, signal_at: tuple[float, str] | None
             p.kill()
             p.wait()
     wall = time.monotonic() - t0
-    time.sleep(0.3)  # a worker killed by the parent's death needs a moment to be gone
+    # a worker killed at the parent's death (or multiprocessing's resource tracker, which leaves at the end of
+    # its pipe) needs a moment to be gone: what is still there after 3 s is left behind
+    deadline = time.monotonic() + 3.0
     orphans = _tagged_pids(tag)
+    while orphans and time.monotonic() < deadline:
+        time.sleep(0.1)
+        orphans = _tagged_pids(tag)
+    names = []
+    for pid in orphans:
+        try:
+            with open(f"/proc/{pid}/cmdline", "rb") as fh:
+                names.append(fh.read().replace(b"\0", b" ").decode(errors="replace")[:120])
+        except OSError:
+            pass
     for pid in orphans:
         try:
             os.kill(pid, signal.SIGKILL)  # a process this case started (it carries the case's tag)
@@ -329,7 +341,7 @@ def _run_process(argv: list[str], d: str, *, signal_at: tuple[float, str] | None
     outf.seek(0)
     errf.seek(0)
     res = {"rc": p.returncode, "out": outf.read().decode(errors="replace"), "err": errf.read().decode(errors="replace"),
-           "wall": wall, "orphans": orphans, "hung": hung}
+           "wall": wall, "orphans": orphans, "orphan_names": names, "hung": hung}
     outf.close()
     errf.close()
     return res
@@ -402,7 +414,8 @@ def run_batch_case(case, d: str):
     if "Traceback (most recent call last)" in r["err"]:
         return Outcome("crash", r["rc"], "traceback: " + r["err"].strip().splitlines()[-1][:200], r["wall"])
     if r["orphans"]:
-        return Outcome("wrong", r["rc"], f"{len(r['orphans'])} worker process(es) left behind", r["wall"])
+        return Outcome("wrong", r["rc"], f"{len(r['orphans'])} worker process(es) left behind: "
+                       f"{r['orphan_names']}", r["wall"])
     interrupted = r["rc"] in (130, 143, -2, -15)
     if interrupted and spec["signal"] and not r["out"].strip():
         # the signal came before the batch had started anything (interpreter start-up, imports): the process
@@ -431,13 +444,19 @@ def run_batch_case(case, d: str):
                 if rec.get("exit") != 3 or "expanded" not in rec and "seconds" not in rec:
                     return Outcome("wrong", r["rc"], f"a limit record without exit 3 / counters: {rec}", r["wall"])
                 if rec.get("wall") is not None and rec["wall"] > limit + 0.5 + MARGIN:
-                    return Outcome("wrong", r["rc"], f"a task ran {rec['wall']:.2f} s past its --timeout {limit:g} "
-                                   f"(per task: T + 0.5 s)", r["wall"])
+                    return Outcome("late", r["rc"], f"a task's limit answer came {rec['wall'] - limit:.2f} s after "
+                                   f"its --timeout {limit:g} (per task: T + 0.5 s), load "
+                                   f"{os.getloadavg()[0]:.1f}", r["wall"])
         if interrupted and not summary[0].get("interrupted"):
             return Outcome("wrong", r["rc"], "interrupted but the summary does not say so", r["wall"])
-    bad = [k for k in spec["kinds"] if k in ("missing", "garbage", "fifo", "problem")]
-    if bad and not interrupted and r["rc"] != 2 and "delkit: error:" not in r["err"]:
-        return Outcome("wrong", r["rc"], "a bad task's error is not on stderr", r["wall"])
+        # a bad task's error is in its record and on stderr (one of them may have met its --timeout first,
+        # e.g. while a fresh worker imports: then its record is a limit)
+        errors = [x for x in records if x.get("status") == "error"]
+        from planners.batch import _name
+
+        missing = [x for x in errors if f"delkit: error: {_name(x)}: " not in r["err"]]
+        if missing:
+            return Outcome("wrong", r["rc"], f"{len(missing)} bad task error(s) not on stderr", r["wall"])
     if not interrupted and r["rc"] not in (0, 1, 2, 3):
         return Outcome("wrong", r["rc"], f"exit {r['rc']}", r["wall"])
     return Outcome("ok", r["rc"], detail, r["wall"])
@@ -448,8 +467,8 @@ def _limit_argv(which: str, t: str, d: Path, spelling: str) -> tuple[list[str], 
     opt = [f"--timeout={t}"] if spelling == "equals" else ["--timeout", t]
     if which == "plan-search":
         return ["plan", str(SLOW_SEARCH[0]), "--json", *opt], True
-    if which == "plan-astar":
-        return ["plan", str(SLOW_SEARCH[-1]), "--search", "astar", "--json", *opt], True
+    if which == "plan-astar":  # its heuristic's set-up may take the whole budget: expanded may be 0
+        return ["plan", str(SLOW_SEARCH[-1]), "--search", "astar", "--json", *opt], False
     if which == "plan-initial":
         return ["plan", *_slow_initial(d), "--json", *opt], False
     if which == "check-initial":
@@ -503,13 +522,14 @@ def run_limit_case(case, d: str):
         if searching and limit >= 1.5 and "while searching" in str(rec.get("reason")) and not rec.get("expanded"):
             return Outcome("wrong", r["rc"], f"stopped while searching but expanded = {rec.get('expanded')}",
                            r["wall"])
-        if spec["which"] == "plan-initial" and "expanded" not in rec:
+        if spec["which"].startswith("plan") and "expanded" not in rec:
             return Outcome("wrong", r["rc"], "a plan limit answer without counters", r["wall"])
-    # a batch: each task's T counts from its own start in a worker (spawned: ~1 s of imports first)
-    bound = limit + 0.5 + MARGIN + (1.5 if batch else 0.0)
-    if r["wall"] > bound:
-        return Outcome("wrong", r["rc"], f"late: {detail}; the bound is T + 0.5 s"
-                       + (f" + {MARGIN:g} s margin" if MARGIN else ""), r["wall"])
+    # a batch: each task's T counts from its own start in its worker: its record's wall, not the batch's
+    late = max((float(x.get("wall") or 0) for x in answers), default=0.0) if batch else r["wall"]
+    if late > limit + 0.5 + MARGIN:
+        return Outcome("late", r["rc"], f"{detail}; the bound is T + 0.5 s"
+                       + (f" + {MARGIN:g} s margin" if MARGIN else "") + f", load {os.getloadavg()[0]:.1f}",
+                       r["wall"])
     return Outcome("ok", r["rc"], detail, r["wall"])
 
 

@@ -115,7 +115,7 @@ def test_epico_solve_out_never_replaces_the_world(tmp_path, capsys):
 
 def test_refuse_overwrite_input_compares_files_not_names(tmp_path):
     from delkit.errors import ParseError
-    from delkit.files import refuse_overwrite_input
+    from delkit.paths import refuse_overwrite_input
 
     a = tmp_path / "a"
     a.write_text("x")
@@ -153,6 +153,9 @@ def test_inputs_that_are_not_regular_files_are_refused_at_once(tmp_path, capsys,
     rc, _, err = run_cli(capsys, [sub.get(a, a) for a in argv])
     assert time.monotonic() - t0 < 5  # a FIFO opened for reading would block here forever
     assert rc == 2 and classify_error_text(err) is None, err
+    why = {"fifo": "FIFO", "/dev/zero": "a device", "/dev/null": "a device", "dir": "directory",
+           "big": "DELKIT_MAX_INPUT_MB"}[kind]
+    assert why in err, err
 
 
 def test_check_input_stats_before_it_opens(tmp_path, monkeypatch):
@@ -160,7 +163,7 @@ def test_check_input_stats_before_it_opens(tmp_path, monkeypatch):
     import builtins
 
     from delkit.errors import ParseError
-    from delkit.files import read_input
+    from delkit.paths import read_input
 
     x = tmp_path / "f"
     os.mkfifo(x)
@@ -180,8 +183,10 @@ def test_malformed_scheduler_addresses_are_refused_without_contact(value, monkey
     from delkit.executors import parse_scheduler
 
     monkeypatch.setattr(socket, "create_connection", lambda *a, **k: pytest.fail("contacted"))
-    with pytest.raises(DelkitError, match="--scheduler"):
+    with pytest.raises(DelkitError, match="--scheduler") as info:
         parse_scheduler(value)
+    if value.startswith("tls"):
+        assert "TLS" in str(info.value)
 
 
 def test_a_private_address_is_parsed_not_contacted(monkeypatch):
@@ -368,9 +373,8 @@ def test_quick_slice_of_the_file_and_address_families():
 
 
 def test_family_registry_takes_families_from_another_module():
-    from hypothesis import strategies as st
-
     from fuzzkit import Case
+    from hypothesis import strategies as st
 
     def extra():
         return st.just(Case("extra", ("fuzzsafety:no_such_function",), mode="call"))
