@@ -42,10 +42,24 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from delkit.events import EventModel, action
-from delkit.formula import BOT, TOP, Formula, K, Not, Prop, conj, show
+from delkit.formula import BOT, TOP, And, Formula, K, Not, Prop, conj, show
 from delkit.kripke import KripkeModel
 
 __all__ = ["BeliefState", "BeliefError", "pretty", "BeliefEvent"]
+
+
+def _literals(f: Formula) -> list[tuple[str, bool]] | None:
+    """A conjunction of fluent literals as (fluent, value) pairs; None for any other formula."""
+    parts = f.args if isinstance(f, And) else [] if f == TOP else [f]
+    out = []
+    for x in parts:
+        if isinstance(x, Prop):
+            out.append((x.name, True))
+        elif isinstance(x, Not) and isinstance(x.arg, Prop):
+            out.append((x.arg.name, False))
+        else:
+            return None
+    return out
 
 
 class BeliefError(Exception):
@@ -183,6 +197,15 @@ class BeliefState:
         """Keep as actual only the designated worlds where ``lit`` holds (the observed outcome). ``force``
         (``--no-shield`` only): an observation that contradicts every actual world is believed anyway — the
         actual worlds become those where it holds (what an unguarded executor does)."""
+        if self.compact and self._designated_bits(lit):
+            # the same restriction on the compact state: an event per outcome of lit, nobody tells them apart,
+            # only lit's designated — each world is kept once, the actual ones are those where lit holds
+            em = action(self.task.agents, [("yes", lit, {}), ("no", Not(lit), {})], full=[],
+                        partial=list(self.task.agents), designated=["yes"], name="restrict")
+            new = self.space.engine.apply(self.state, em)
+            if new is not None:
+                self.state = new
+                return
         m = self.kripke()
         truth = m.check(lit)
         des = tuple(int(w) for w in m.designated if truth[w])
@@ -289,13 +312,22 @@ class BeliefState:
         return ev
 
     # -- revision and looks ---------------------------------------------------------------------------
+    def _designated_bits(self, lit: Formula) -> bool:
+        """Some designated world satisfies ``lit`` (compact backend and a conjunction of literals: read from
+        the designated worlds' valuation bits, without building the Kripke model)."""
+        lits = _literals(lit) if self.compact else None
+        if lits is None:
+            m = self.kripke()
+            truth = m.check(lit)
+            return any(bool(truth[w]) for w in m.designated)
+        eng, st = self.space.engine, self.state
+        return any(all(bool((st.val[w] >> eng.pidx[p]) & 1) == v for p, v in lits) for w in st.points)
+
     def contradicted(self, observed: Mapping[str, bool]) -> list[str] | None:
         """None if some actual world agrees with every observed fluent; else the fluents to revise: those
         whose observed value differs from the actual worlds' (all of them if the worlds disagree)."""
-        m = self.kripke()
         lit = conj([Prop(p) if v else Not(Prop(p)) for p, v in observed.items()])
-        truth = m.check(lit)
-        if any(truth[w] for w in m.designated):
+        if self._designated_bits(lit):
             return None
         val = self.valuation()
         out = [p for p, v in observed.items() if val.get(p) is not None and val[p] != v]

@@ -164,6 +164,7 @@ def main(argv: list[str] | None = None) -> int:
                     help="faults per mission; several joined by + ; 'duplicates' = a layout with several blocks of "
                          "one colour per robot")
     ap.add_argument("--no-shield-too", action="store_true", help="run every faulty mission again with --no-shield")
+    ap.add_argument("--no-shield-only", action="store_true", help="run the faulty missions with --no-shield only")
     ap.add_argument("--reading", choices=["symmetric", "owner"], default="symmetric")
     ap.add_argument("--perf", action="store_true", help="the α/4 default mission, --repeat times")
     ap.add_argument("--cells", action="store_true", help="every defined Table-1 cell (N ≤ 4), seed's layout")
@@ -199,7 +200,8 @@ def main(argv: list[str] | None = None) -> int:
     sym = args.reading == "symmetric"
     jobs = [(args.goal, c, s, f, sh, sym) for s in range(args.first_seed, args.first_seed + args.layouts)
             for c in args.colors for f in args.faults
-            for sh in ((True, False) if args.no_shield_too and f != "none" else (True,))]
+            for sh in ((False,) if args.no_shield_only else (True, False) if args.no_shield_too else (True,))
+            if sh or f != "none"]
     jobs = [(*j, args.ik) for j in jobs]
     rows: list[dict] = []
     load0 = os.getloadavg()[0]
