@@ -160,9 +160,11 @@ def _picture(base: Path, name: Any) -> tuple[Path | None, str | None]:
     """A picture the run wrote, looked up by file name in the result's own directory only: (path, None), or
     (None, why it is not shown). The path is resolved (symlinks followed) and must stay inside the result's
     directory — a ``final.png`` linking to a file elsewhere is refused — and be a regular PNG/GIF file of at
-    most :data:`MAX_IMAGE` bytes."""
+    most :data:`MAX_IMAGE` bytes with no other hard link."""
     if not isinstance(name, str) or not name:
         return None, None
+    if "\x00" in name:
+        return None, f"{name!r}: not shown: a file name with a NUL character"
     p = base / Path(name).name
     root = Path(os.path.realpath(base))
     real = Path(os.path.realpath(p))
@@ -177,6 +179,8 @@ def _picture(base: Path, name: Any) -> tuple[Path | None, str | None]:
         return None, None
     if not stat.S_ISREG(st.st_mode):
         return None, f"{p.name}: not shown: not a regular file"
+    if st.st_nlink > 1:  # a hard link: the same file may be one from elsewhere (the run writes its own, once)
+        return None, f"{p.name}: not shown: it has {st.st_nlink} hard links (the run writes its pictures once)"
     if st.st_size > MAX_IMAGE:
         return None, f"{p.name}: not shown: {st.st_size} bytes, the viewer reads at most {MAX_IMAGE}"
     if p.suffix.lower() not in (".png", ".gif") or real.suffix.lower() not in (".png", ".gif"):
