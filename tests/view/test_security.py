@@ -227,6 +227,19 @@ def test_a_picture_linking_outside_the_result_folder_is_not_served(tmp_path):
     assert any("outside the result's folder" in n for n in doc.notes)
 
 
+def test_a_picture_hard_linked_to_a_file_outside_is_not_served(tmp_path):
+    import os
+
+    secret = tmp_path / "secret.png"
+    secret.write_bytes(b"\x89PNG\r\n\x1a\nSECRET-BYTES")
+    path = _result_dir(tmp_path)
+    (path.parent / "final.png").unlink()
+    os.link(secret, path.parent / "final.png")
+    doc = load_document([path])
+    assert all(f.image is None or b"SECRET-BYTES" not in f.image for f in doc.frames)
+    assert any("hard links" in n for n in doc.notes)
+
+
 def test_a_picture_linking_to_a_device_or_a_fifo_is_not_read(tmp_path):
     import os
 
