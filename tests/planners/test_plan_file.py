@@ -30,7 +30,7 @@ def task(tmp_path):
 def test_plan_out_is_read_by_check_and_view(task, tmp_path, capsys):
     dom, prob = task
     out = tmp_path / "plan.json"
-    assert main(["plan", str(dom), str(prob), "--json", "--plan-out", str(out)]) == 0
+    assert main(["plan", str(dom), str(prob), "--timeout", "0", "--json", "--plan-out", str(out)]) == 0
     printed = json.loads(capsys.readouterr().out)
     doc = json.loads(out.read_text())
     assert doc["plan"] == printed["plan"] and doc["format"] == "delkit-plan" and printed["plan_file"] == str(out)
@@ -46,7 +46,7 @@ def test_plan_out_is_read_by_check_and_view(task, tmp_path, capsys):
 
 def test_check_reads_the_output_of_plan_json(task, tmp_path, capsys):
     dom, prob = task
-    assert main(["plan", str(dom), str(prob), "--json"]) == 0
+    assert main(["plan", str(dom), str(prob), "--timeout", "0", "--json"]) == 0
     (tmp_path / "printed.json").write_text(capsys.readouterr().out)
     assert main(["check", str(dom), str(prob), str(tmp_path / "printed.json")]) == 0
 
@@ -65,16 +65,17 @@ def test_plan_out_never_replaces_an_input(task, tmp_path, capsys, link):
         os.link(prob, out)
     else:
         out = Path(os.path.relpath(prob))
-    assert main(["plan", str(dom), str(prob), "--plan-out", str(out)]) == 2
+    assert main(["plan", str(dom), str(prob), "--timeout", "0", "--plan-out", str(out)]) == 2
     assert "would overwrite the input file" in capsys.readouterr().err
     assert prob.read_bytes() == before
 
 
 def test_plan_out_is_refused_for_a_directory_and_a_batch(task, tmp_path, capsys):
     dom, prob = task
-    assert main(["plan", str(dom), str(prob), "--plan-out", str(tmp_path)]) == 2
+    assert main(["plan", str(dom), str(prob), "--timeout", "0", "--plan-out", str(tmp_path)]) == 2
     assert "is a directory" in capsys.readouterr().err
-    assert main(["plan", str(dom), str(prob), "--plan-out", str(tmp_path / "p.json"), "--jobs", "2"]) == 2
+    assert main(["plan", str(dom), str(prob), "--timeout", "0", "--plan-out", str(tmp_path / "p.json"),
+                 "--jobs", "2"]) == 2
     assert "one task" in capsys.readouterr().err
     assert not (tmp_path / "p.json").exists()
 
