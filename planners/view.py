@@ -7,10 +7,13 @@ e-PICO mission result. Registered with the core viewer through ``VIEWERS`` in :m
   contracted model — and which of them is the state the checker carries on, the goal's truth there, what
   changed; the last frame gives ``delkit check``'s verdict. The states are :func:`planners.trace.trace_plan`'s,
   the same as ``delkit check --trace-json``.
-* **e-PICO result.json** (``delkit epico run --out DIR``): one frame per executed arm step with each robot's
-  beliefs (block → colour) after it, from the run's belief log, beside the run's picture — the frame of the
-  run's GIF nearest the step's simulated time, read from the result's own directory only (the final PNG for
-  the last frame).
+* **e-PICO result.json** (``delkit epico run --out DIR``, the schema of ``MissionResult.to_json``; fields it
+  does not know are ignored): one frame per executed arm step with the belief-log entries applied after it
+  (:func:`assign_log`: an entry belongs to the last step of its own task) and, per robot, the knowledge
+  formulas learnt at the step and all learnt so far (:func:`beliefs_by_frame`; the last frame adds the
+  result's final ``beliefs``), beside the run's picture — the frame of the run's GIF nearest the step's
+  simulated time (the final PNG for the last frame), read from the result's own directory only, resolved and
+  confined there (:func:`_picture`).
 """
 
 from __future__ import annotations
