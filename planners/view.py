@@ -7,10 +7,13 @@ e-PICO mission result. Registered with the core viewer through ``VIEWERS`` in :m
   contracted model — and which of them is the state the checker carries on, the goal's truth there, what
   changed; the last frame gives ``delkit check``'s verdict. The states are :func:`planners.trace.trace_plan`'s,
   the same as ``delkit check --trace-json``.
-* **e-PICO result.json** (``delkit epico run --out DIR``): one frame per executed arm step with each robot's
-  beliefs (block → colour) after it, from the run's belief log, beside the run's picture — the frame of the
-  run's GIF nearest the step's simulated time, read from the result's own directory only (the final PNG for
-  the last frame).
+* **e-PICO result.json** (``delkit epico run --out DIR``, the schema of ``MissionResult.to_json``; fields it
+  does not know are ignored): one frame per executed arm step with the belief-log entries applied after it
+  (:func:`assign_log`: an entry belongs to the last step of its own task) and, per robot, the knowledge
+  formulas learnt at the step and all learnt so far (:func:`beliefs_by_frame`; the last frame adds the
+  result's final ``beliefs``), beside the run's picture — the frame of the run's GIF nearest the step's
+  simulated time (the final PNG for the last frame), read from the result's own directory only, resolved and
+  confined there (:func:`_picture`).
 """
 
 from __future__ import annotations
@@ -160,9 +163,11 @@ def _picture(base: Path, name: Any) -> tuple[Path | None, str | None]:
     """A picture the run wrote, looked up by file name in the result's own directory only: (path, None), or
     (None, why it is not shown). The path is resolved (symlinks followed) and must stay inside the result's
     directory — a ``final.png`` linking to a file elsewhere is refused — and be a regular PNG/GIF file of at
-    most :data:`MAX_IMAGE` bytes."""
+    most :data:`MAX_IMAGE` bytes with no other hard link."""
     if not isinstance(name, str) or not name:
         return None, None
+    if "\x00" in name:
+        return None, f"{name!r}: not shown: a file name with a NUL character"
     p = base / Path(name).name
     root = Path(os.path.realpath(base))
     real = Path(os.path.realpath(p))
@@ -177,6 +182,8 @@ def _picture(base: Path, name: Any) -> tuple[Path | None, str | None]:
         return None, None
     if not stat.S_ISREG(st.st_mode):
         return None, f"{p.name}: not shown: not a regular file"
+    if st.st_nlink > 1:  # a hard link: the same file may be one from elsewhere (the run writes its own, once)
+        return None, f"{p.name}: not shown: it has {st.st_nlink} hard links (the run writes its pictures once)"
     if st.st_size > MAX_IMAGE:
         return None, f"{p.name}: not shown: {st.st_size} bytes, the viewer reads at most {MAX_IMAGE}"
     if p.suffix.lower() not in (".png", ".gif") or real.suffix.lower() not in (".png", ".gif"):
