@@ -135,6 +135,63 @@ def handover_table(cells: list[dict]) -> str:
     return "\n".join(lines)
 
 
+STUDY_READINGS = (("paper", {}), ("hand-over", {"takes": "handover"}))
+
+
+def macro_study(colors: list[int], tree_colors: list[int], repeat: int, timeout: float, tree_timeout: float,
+                readings: list[str]) -> list[dict]:
+    """Macros off / on in the same run, per reading (paper's, hand-over), goal and colour count, for two
+    searches over the same states and successors: delkit's BFS (duplicate detection) and a tree BFS (none: the
+    e-PICO paper's planner, EFP, checks visited states only on request). Per side: CPU s of a whole solve,
+    states expanded, generated, branching, epistemic plan length. One row per cell on stderr as it finishes."""
+    from planners.epico import GOALS, reading_of
+    from planners.hierarchy import table_cell
+
+    rows = []
+    for name, kw in STUDY_READINGS:
+        if name not in readings:
+            continue
+        rd = reading_of(**kw)
+        for n in colors:
+            for g in GOALS:
+                row = {"reading": name, "goal": g, "colors": n}
+                row["bfs"] = table_cell(g, n, repeat=repeat if n <= 4 else 1, timeout=timeout, reading=rd)
+                if n in tree_colors:
+                    row["tree"] = table_cell(g, n, repeat=repeat, timeout=tree_timeout, reading=rd, search="tree")
+                rows.append(row)
+                print(json.dumps(row), file=sys.stderr, flush=True)
+    return rows
+
+
+def _side(d: dict) -> str:
+    if d.get("status") != "ok":
+        return f"{'TO':>8} {'':>6} {'':>7} {'':>5} {'':>3}"
+    return f"{d['cpu']:8.3f} {d['expanded']:>6} {d['generated']:>7} {d['branching']:5.1f} {len(d['plan']):>3}"
+
+
+def study_table(rows: list[dict]) -> str:
+    """The macro study as text: per search, off and on sides, the CPU ratio and the generated-states ratio."""
+    lines = []
+    for search in ("bfs", "tree"):
+        sel = [r for r in rows if search in r]
+        if not sel:
+            continue
+        lines += ["", f"search: {search} ({'duplicate detection, delkit default' if search == 'bfs' else 'no duplicate detection, as EFP by default'})",
+                  f"{'reading':9} {'goal':6} {'col':>3} | {'off CPU s':>8} {'exp':>6} {'gen':>7} {'br':>5} {'len':>3} | "
+                  f"{'on CPU s':>8} {'exp':>6} {'gen':>7} {'br':>5} {'len':>3} | {'CPU off/on':>10} {'gen off/on':>10}"]
+        for r in sel:
+            c = r[search]
+            if c["status"] == "ND":
+                lines.append(f"{r['reading']:9} {r['goal']:6} {r['colors']:>3} | ND")
+                continue
+            off, on = c.get("off", {}), c.get("on", {})
+            ratio = f"{off['cpu'] / on['cpu']:10.2f}" if off.get("status") == on.get("status") == "ok" else f"{'-':>10}"
+            gen = (f"{off['generated'] / max(on['generated'], 1):10.2f}"
+                   if off.get("status") == on.get("status") == "ok" else f"{'-':>10}")
+            lines.append(f"{r['reading']:9} {r['goal']:6} {r['colors']:>3} | {_side(off)} | {_side(on)} | {ratio} {gen}")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     from planners.cli.epico_cmd import LEGEND, format_tables
     from planners.epico import GOALS, generate, reading_of
@@ -149,7 +206,23 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--symmetric", action="store_true", help=argparse.SUPPRESS)  # the default now
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--classical-engines", action="store_true", help="only compare the classical engines")
+    ap.add_argument("--macro-study", action="store_true", help="only the macro study: paper's and hand-over "
+                    "readings, macros off/on, BFS and tree search (--colors, --tree-colors, --study-reading)")
+    ap.add_argument("--tree-colors", default="1,2,3,4", help="colour counts for the tree search (macro study)")
+    ap.add_argument("--tree-timeout", type=float, default=60.0, help="limit per tree-search run, seconds")
+    ap.add_argument("--study-reading", action="append", choices=[n for n, _ in STUDY_READINGS],
+                    help="macro study: only these readings (repeatable; default both)")
     args = ap.parse_args(argv)
+    if args.macro_study:
+        solve(generate("alpha", 1))  # warm-up
+        rows = macro_study([int(c) for c in args.colors.split(",")],
+                           [int(c) for c in args.tree_colors.split(",") if c], args.repeat, args.timeout,
+                           args.tree_timeout, args.study_reading or [n for n, _ in STUDY_READINGS])
+        if args.json:
+            print(json.dumps(rows))
+        else:
+            print(study_table(rows))
+        return 0
     if args.classical_engines:
         rows = classical_engines()
         if args.json:
