@@ -192,6 +192,70 @@ def study_table(rows: list[dict]) -> str:
     return "\n".join(lines)
 
 
+PERSPECTIVE_CASES = (("alpha", 1, {}), ("alpha", 2, {}), ("beta", 2, {}),
+                     ("alpha", 2, {"robot1": ("red", "black")}), ("beta", 2, {"robot1": ("red", "black")}),
+                     ("alpha", 2, {"robot2": ("red", "black")}), ("gamma", 2, {"robot1": ("red", "black")}))
+
+
+def perspectives() -> list[dict]:
+    """Per instance (paper's reading, default layout, ``known`` = what a robot already knows, e.g. after
+    sensing; macros off): the external planner's plan, whether it is valid from each robot's perspective
+    (the first failing step), and the shortest plan from each robot's perspective with its CPU seconds."""
+    import time
+
+    from planners.epico import ROBOTS, generate
+    from planners.hierarchy import epistemic_task, perspective_check, plan_from_perspective, solve
+
+    rows = []
+    for goal, n, known in PERSPECTIVE_CASES:
+        inst = generate(goal, n).with_known(known)
+        task, _, _ = epistemic_task(inst, macros=False)
+        ext = solve(inst, macros=False)
+        row = {"goal": goal, "colors": n, "known": {r: list(v) for r, v in known.items()},
+               "external_plan": list(ext.epistemic_plan), "from": {}}
+        for r in ROBOTS:
+            chk = perspective_check(task, ext.epistemic_plan, r)
+            c0 = time.process_time()
+            res = plan_from_perspective(task, r, max_depth=8)
+            row["from"][r] = {"external_plan_valid": chk.valid, "fails_at": None if chk.valid else chk.step + 1,
+                              "plan": list(res.plan) if res.solved else None, "status": res.status,
+                              "cpu": time.process_time() - c0, "expanded": res.expanded}
+        rows.append(row)
+    return rows
+
+
+def perspective_table(rows: list[dict]) -> str:
+    short = {"sense_table": "sense", "put_on_shared": "put", "announce_block_on_barrier": "ann",
+             "take_from_shared": "take"}
+
+    def sh(plan):
+        if plan is None:
+            return "none"
+        out = []
+        for a in plan:
+            for k, v in short.items():
+                if a.startswith(k + "_"):
+                    a = v + "(" + a[len(k) + 1:].replace("robot", "r").replace("_", " ") + ")"
+            out.append(a)
+        return "; ".join(out) or "(empty)"
+
+    lines = [f"{'goal':6} {'col':>3} {'known':22} | {'external plan':48} | "
+             f"{'valid from r1':>13} {'r2':>6} | {'plan from robot1 (CPU s)':44} | plan from robot2 (CPU s)"]
+    for r in rows:
+        kn = ", ".join(f"{k}: {'+'.join(v)}" for k, v in r["known"].items()) or "nothing"
+        f1, f2 = r["from"]["robot1"], r["from"]["robot2"]
+
+        def v(f):
+            return "yes" if f["external_plan_valid"] else f"no@{f['fails_at']}"
+
+        def p(f):
+            return f"{sh(f['plan']) if f['plan'] else f['status']} ({f['cpu']:.2f})"
+
+        lines.append(f"{r['goal']:6} {r['colors']:>3} {kn:22} | {sh(r['external_plan']):48} | {v(f1):>13} "
+                     f"{v(f2):>6} | {p(f1):44} | {p(f2)}")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     from planners.cli.epico_cmd import LEGEND, format_tables
     from planners.epico import GOALS, generate, reading_of
@@ -212,7 +276,13 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--tree-timeout", type=float, default=60.0, help="limit per tree-search run, seconds")
     ap.add_argument("--study-reading", action="append", choices=[n for n, _ in STUDY_READINGS],
                     help="macro study: only these readings (repeatable; default both)")
+    ap.add_argument("--perspectives", action="store_true", help="only the plans from each robot's perspective "
+                    "beside the external planner's")
     args = ap.parse_args(argv)
+    if args.perspectives:
+        rows = perspectives()
+        print(json.dumps(rows) if args.json else perspective_table(rows))
+        return 0
     if args.macro_study:
         solve(generate("alpha", 1))  # warm-up
         rows = macro_study([int(c) for c in args.colors.split(",")],
