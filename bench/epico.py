@@ -176,19 +176,22 @@ def study_table(rows: list[dict]) -> str:
         sel = [r for r in rows if search in r]
         if not sel:
             continue
-        lines += ["", f"search: {search} ({'duplicate detection, delkit default' if search == 'bfs' else 'no duplicate detection, as EFP by default'})",
-                  f"{'reading':9} {'goal':6} {'col':>3} | {'off CPU s':>8} {'exp':>6} {'gen':>7} {'br':>5} {'len':>3} | "
-                  f"{'on CPU s':>8} {'exp':>6} {'gen':>7} {'br':>5} {'len':>3} | {'CPU off/on':>10} {'gen off/on':>10}"]
+        what = ("duplicate detection, delkit default" if search == "bfs"
+                else "no duplicate detection, as EFP by default")
+        side_h = f"{'CPU s':>8} {'exp':>6} {'gen':>7} {'br':>5} {'len':>3}"
+        lines += ["", f"search: {search} ({what}); sides off | on: CPU s, expanded, generated, branching, length",
+                  f"{'reading':9} {'goal':6} {'col':>3} | {side_h} | {side_h} | {'CPU off/on':>10} {'gen off/on':>10}"]
         for r in sel:
             c = r[search]
             if c["status"] == "ND":
                 lines.append(f"{r['reading']:9} {r['goal']:6} {r['colors']:>3} | ND")
                 continue
             off, on = c.get("off", {}), c.get("on", {})
-            ratio = f"{off['cpu'] / on['cpu']:10.2f}" if off.get("status") == on.get("status") == "ok" else f"{'-':>10}"
-            gen = (f"{off['generated'] / max(on['generated'], 1):10.2f}"
-                   if off.get("status") == on.get("status") == "ok" else f"{'-':>10}")
-            lines.append(f"{r['reading']:9} {r['goal']:6} {r['colors']:>3} | {_side(off)} | {_side(on)} | {ratio} {gen}")
+            both = off.get("status") == on.get("status") == "ok"
+            ratio = f"{off['cpu'] / on['cpu']:10.2f}" if both else f"{'-':>10}"
+            gen = f"{off['generated'] / max(on['generated'], 1):10.2f}" if both else f"{'-':>10}"
+            lines.append(f"{r['reading']:9} {r['goal']:6} {r['colors']:>3} | {_side(off)} | {_side(on)} | "
+                         f"{ratio} {gen}")
     return "\n".join(lines)
 
 

@@ -706,4 +706,5 @@ def plan_from_perspective(task: Task, agent: str, limits: EpicoLimits = EpicoLim
                             f"states; longer plans were not searched)", distinct_states=len(seen))
     return SearchResult("unsolvable", None, expanded, generated, time.perf_counter() - t0, name,
                         f"no plan from {agent}'s perspective: all {len(seen)} states reachable from its "
-                        f"perspective were expanded without reaching the goal in every world", distinct_states=len(seen))
+                        f"perspective were expanded without reaching the goal in every world",
+                        distinct_states=len(seen))
