@@ -135,6 +135,130 @@ def handover_table(cells: list[dict]) -> str:
     return "\n".join(lines)
 
 
+STUDY_READINGS = (("paper", {}), ("hand-over", {"takes": "handover"}))
+
+
+def macro_study(colors: list[int], tree_colors: list[int], repeat: int, timeout: float, tree_timeout: float,
+                readings: list[str]) -> list[dict]:
+    """Macros off / on in the same run, per reading (paper's, hand-over), goal and colour count, for two
+    searches over the same states and successors: delkit's BFS (duplicate detection) and a tree BFS (none: the
+    e-PICO paper's planner, EFP, checks visited states only on request). Per side: CPU s of a whole solve,
+    states expanded, generated, branching, epistemic plan length. One row per cell on stderr as it finishes."""
+    from planners.epico import GOALS, reading_of
+    from planners.hierarchy import table_cell
+
+    rows = []
+    for name, kw in STUDY_READINGS:
+        if name not in readings:
+            continue
+        rd = reading_of(**kw)
+        for n in colors:
+            for g in GOALS:
+                row = {"reading": name, "goal": g, "colors": n}
+                row["bfs"] = table_cell(g, n, repeat=repeat if n <= 4 else 1, timeout=timeout, reading=rd)
+                if n in tree_colors:
+                    row["tree"] = table_cell(g, n, repeat=repeat, timeout=tree_timeout, reading=rd, search="tree")
+                rows.append(row)
+                print(json.dumps(row), file=sys.stderr, flush=True)
+    return rows
+
+
+def _side(d: dict) -> str:
+    if d.get("status") != "ok":
+        return f"{'TO':>8} {'':>6} {'':>7} {'':>5} {'':>3}"
+    return f"{d['cpu']:8.3f} {d['expanded']:>6} {d['generated']:>7} {d['branching']:5.1f} {len(d['plan']):>3}"
+
+
+def study_table(rows: list[dict]) -> str:
+    """The macro study as text: per search, off and on sides, the CPU ratio and the generated-states ratio."""
+    lines = []
+    for search in ("bfs", "tree"):
+        sel = [r for r in rows if search in r]
+        if not sel:
+            continue
+        what = ("duplicate detection, delkit default" if search == "bfs"
+                else "no duplicate detection, as EFP by default")
+        side_h = f"{'CPU s':>8} {'exp':>6} {'gen':>7} {'br':>5} {'len':>3}"
+        lines += ["", f"search: {search} ({what}); sides off | on: CPU s, expanded, generated, branching, length",
+                  f"{'reading':9} {'goal':6} {'col':>3} | {side_h} | {side_h} | {'CPU off/on':>10} {'gen off/on':>10}"]
+        for r in sel:
+            c = r[search]
+            if c["status"] == "ND":
+                lines.append(f"{r['reading']:9} {r['goal']:6} {r['colors']:>3} | ND")
+                continue
+            off, on = c.get("off", {}), c.get("on", {})
+            both = off.get("status") == on.get("status") == "ok"
+            ratio = f"{off['cpu'] / on['cpu']:10.2f}" if both else f"{'-':>10}"
+            gen = f"{off['generated'] / max(on['generated'], 1):10.2f}" if both else f"{'-':>10}"
+            lines.append(f"{r['reading']:9} {r['goal']:6} {r['colors']:>3} | {_side(off)} | {_side(on)} | "
+                         f"{ratio} {gen}")
+    return "\n".join(lines)
+
+
+PERSPECTIVE_CASES = (("alpha", 1, {}), ("alpha", 2, {}), ("beta", 2, {}),
+                     ("alpha", 2, {"robot1": ("red", "black")}), ("beta", 2, {"robot1": ("red", "black")}),
+                     ("alpha", 2, {"robot2": ("red", "black")}), ("gamma", 2, {"robot1": ("red", "black")}))
+
+
+def perspectives() -> list[dict]:
+    """Per instance (paper's reading, default layout, ``known`` = what a robot already knows, e.g. after
+    sensing; macros off): the external planner's plan, whether it is valid from each robot's perspective
+    (the first failing step), and the shortest plan from each robot's perspective with its CPU seconds."""
+    import time
+
+    from planners.epico import ROBOTS, generate
+    from planners.hierarchy import epistemic_task, perspective_check, plan_from_perspective, solve
+
+    rows = []
+    for goal, n, known in PERSPECTIVE_CASES:
+        inst = generate(goal, n).with_known(known)
+        task, _, _ = epistemic_task(inst, macros=False)
+        ext = solve(inst, macros=False)
+        row = {"goal": goal, "colors": n, "known": {r: list(v) for r, v in known.items()},
+               "external_plan": list(ext.epistemic_plan), "from": {}}
+        for r in ROBOTS:
+            chk = perspective_check(task, ext.epistemic_plan, r)
+            c0 = time.process_time()
+            res = plan_from_perspective(task, r, max_depth=8)
+            row["from"][r] = {"external_plan_valid": chk.valid, "fails_at": None if chk.valid else chk.step + 1,
+                              "plan": list(res.plan) if res.solved else None, "status": res.status,
+                              "cpu": time.process_time() - c0, "expanded": res.expanded}
+        rows.append(row)
+    return rows
+
+
+def perspective_table(rows: list[dict]) -> str:
+    short = {"sense_table": "sense", "put_on_shared": "put", "announce_block_on_barrier": "ann",
+             "take_from_shared": "take"}
+
+    def sh(plan):
+        if plan is None:
+            return "none"
+        out = []
+        for a in plan:
+            for k, v in short.items():
+                if a.startswith(k + "_"):
+                    a = v + "(" + a[len(k) + 1:].replace("robot", "r").replace("_", " ") + ")"
+            out.append(a)
+        return "; ".join(out) or "(empty)"
+
+    lines = [f"{'goal':6} {'col':>3} {'known':22} | {'external plan':48} | "
+             f"{'valid from r1':>13} {'r2':>6} | {'plan from robot1 (CPU s)':44} | plan from robot2 (CPU s)"]
+    for r in rows:
+        kn = ", ".join(f"{k}: {'+'.join(v)}" for k, v in r["known"].items()) or "nothing"
+        f1, f2 = r["from"]["robot1"], r["from"]["robot2"]
+
+        def v(f):
+            return "yes" if f["external_plan_valid"] else f"no@{f['fails_at']}"
+
+        def p(f):
+            return f"{sh(f['plan']) if f['plan'] else f['status']} ({f['cpu']:.2f})"
+
+        lines.append(f"{r['goal']:6} {r['colors']:>3} {kn:22} | {sh(r['external_plan']):48} | {v(f1):>13} "
+                     f"{v(f2):>6} | {p(f1):44} | {p(f2)}")
+    return "\n".join(lines)
+
+
 def main(argv: list[str] | None = None) -> int:
     from planners.cli.epico_cmd import LEGEND, format_tables
     from planners.epico import GOALS, generate, reading_of
@@ -149,7 +273,29 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--symmetric", action="store_true", help=argparse.SUPPRESS)  # the default now
     ap.add_argument("--json", action="store_true")
     ap.add_argument("--classical-engines", action="store_true", help="only compare the classical engines")
+    ap.add_argument("--macro-study", action="store_true", help="only the macro study: paper's and hand-over "
+                    "readings, macros off/on, BFS and tree search (--colors, --tree-colors, --study-reading)")
+    ap.add_argument("--tree-colors", default="1,2,3,4", help="colour counts for the tree search (macro study)")
+    ap.add_argument("--tree-timeout", type=float, default=60.0, help="limit per tree-search run, seconds")
+    ap.add_argument("--study-reading", action="append", choices=[n for n, _ in STUDY_READINGS],
+                    help="macro study: only these readings (repeatable; default both)")
+    ap.add_argument("--perspectives", action="store_true", help="only the plans from each robot's perspective "
+                    "beside the external planner's")
     args = ap.parse_args(argv)
+    if args.perspectives:
+        rows = perspectives()
+        print(json.dumps(rows) if args.json else perspective_table(rows))
+        return 0
+    if args.macro_study:
+        solve(generate("alpha", 1))  # warm-up
+        rows = macro_study([int(c) for c in args.colors.split(",")],
+                           [int(c) for c in args.tree_colors.split(",") if c], args.repeat, args.timeout,
+                           args.tree_timeout, args.study_reading or [n for n, _ in STUDY_READINGS])
+        if args.json:
+            print(json.dumps(rows))
+        else:
+            print(study_table(rows))
+        return 0
     if args.classical_engines:
         rows = classical_engines()
         if args.json:

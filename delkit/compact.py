@@ -1499,11 +1499,16 @@ def _from_rows(vals: Sequence[int], succ: Sequence[Sequence[tuple[int, ...]]], d
             seen[d] = len(order)
             order.append(d)
     i = 0
+    done: set[int] = set()  # rows are shared per class: each one is walked once (else n² for one big class)
     while i < len(order):
         w = order[i]
         i += 1
         for per in succ:
-            for v in per[w]:
+            row = per[w]
+            if id(row) in done:
+                continue
+            done.add(id(row))
+            for v in row:
                 if v not in seen:
                     seen[v] = len(order)
                     order.append(v)

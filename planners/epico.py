@@ -172,7 +172,8 @@ class Layout:
 def default_layout(colors: int) -> Layout:
     """The seed's scene generalised to ``colors`` colours: robot1 has one block of every colour, with *red*
     under *black* in stack 1 (Listing 5), *green* in stack 0, *blue* in stack 2, then *yellow* on *green* and
-    *white* on *blue*, *orange* and *purple* on top of those; robot2 has one block of every colour, named ``COLOUR_2``, spread over its stacks."""
+    *white* on *blue*, *orange* and *purple* on top of those; robot2 has one block of every colour, named
+    ``COLOUR_2``, spread over its stacks."""
     pal = PALETTE[:colors]
     r1_slots = {"red": 1, "black": 1, "green": 0, "blue": 2, "yellow": 0, "white": 2, "orange": 0, "purple": 2}
     r1: list[list[str]] = [[], [], []]

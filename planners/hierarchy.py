@@ -34,7 +34,8 @@ __all__ = ["EpicoLimits", "Solution", "solve", "process_e_plan", "TaskRecord", "
 @dataclass(frozen=True)
 class EpicoLimits:
     """Limits: epistemic search wall seconds (the seed's 110 s), per classical call seconds and actions;
-    the epistemic search (``bfs``: optimal length) and the classical engine (``bfs`` or ``clingo``)."""
+    the epistemic search (``bfs``: optimal length, duplicate detection; ``tree``: BFS without it, as the
+    e-PICO paper's planner; ``gbfs``/``astar``) and the classical engine (``bfs`` or ``clingo``)."""
 
     timeout: float = 110.0
     classical_timeout: float = 10.0
@@ -161,7 +162,39 @@ def _search(space, limits: EpicoLimits):
     lim = Limits(timeout=limits.timeout)
     if limits.search == "bfs":
         return bfs(space, lim)
+    if limits.search == "tree":
+        return tree_bfs(space, lim)
     return best_first(space, lim, kind=limits.search)  # type: ignore[arg-type]
+
+
+def tree_bfs(space, limits):
+    """Breadth-first search without duplicate detection, goal test at generation: the search of the e-PICO
+    paper's planner (EFP's BFS, whose visited-state check is an option) — a tree of b^d nodes for branching b
+    and plan length d, where a macro that shortens the plan by k steps divides the work by about b^k. Same
+    optimal plans as :func:`planners.epistemic.bfs`; ``search`` is ``tree``."""
+    from collections import deque
+
+    from planners.epistemic import SearchResult
+
+    t0 = time.perf_counter()
+    s0, _ = space.initial()
+    if space.is_goal(s0):
+        return SearchResult("solved", (), 0, 1, 0.0, "tree", "the goal holds initially")
+    frontier: deque = deque([(s0, ())])
+    expanded = generated = 0
+    while frontier:
+        if limits.timeout is not None and time.perf_counter() - t0 > limits.timeout:
+            return SearchResult("limit", None, expanded, generated, time.perf_counter() - t0, "tree",
+                                f"no plan within limits: time limit {limits.timeout:g} s")
+        state, path = frontier.popleft()
+        expanded += 1
+        for name, nxt, _ in space.successors(state):
+            generated += 1
+            if space.is_goal(nxt):
+                return SearchResult("solved", (*path, name), expanded, generated, time.perf_counter() - t0, "tree")
+            frontier.append((nxt, (*path, name)))
+    return SearchResult("unsolvable", None, expanded, generated, time.perf_counter() - t0, "tree",
+                        "the reachable tree is exhausted: no plan exists")
 
 
 def solve(instance: Instance, *, macros: bool | Iterable[str] = True, known: Mapping[str, Iterable[Any]] | None = None,
@@ -384,7 +417,7 @@ HANDOVER_SIDES: tuple[tuple[str, bool | tuple[str, ...]], ...] = (
 
 def table_cell(goal: str, colors: int, *, repeat: int = 1, timeout: float = 110.0,
                reading: Reading | None = None, sides: Iterable[tuple[str, Any]] = TABLE_SIDES,
-               symmetric: bool | None = None) -> dict[str, Any]:
+               symmetric: bool | None = None, search: str = "bfs") -> dict[str, Any]:
     """One cell of Tables 1–2 for a reading (default: the paper's), each macro side (default: off and on)
     run ``repeat`` times; wall and CPU seconds (mean) of initial state + epistemic search + hierarchy, the
     initial state alone, states expanded, classical seconds and calls. ``status`` per side is ``ok`` /
@@ -393,7 +426,8 @@ def table_cell(goal: str, colors: int, *, repeat: int = 1, timeout: float = 110.
 
     rd = reading if reading is not None else reading_of(symmetric=symmetric)
     sides = tuple(sides)
-    out: dict[str, Any] = {"goal": goal, "colors": colors, "reading": rd.name, "sides": [n for n, _ in sides]}
+    out: dict[str, Any] = {"goal": goal, "colors": colors, "reading": rd.name, "sides": [n for n, _ in sides],
+                           "search": search}
     if not defined(goal, colors):
         out["status"] = "ND"
         return out
@@ -403,7 +437,7 @@ def table_cell(goal: str, colors: int, *, repeat: int = 1, timeout: float = 110.
         for _ in range(repeat):
             c0, w0 = time.process_time(), time.perf_counter()
             try:
-                sol = solve(inst, macros=macros, limits=EpicoLimits(timeout=timeout))
+                sol = solve(inst, macros=macros, limits=EpicoLimits(timeout=timeout, search=search))
             except EpicoError as exc:
                 if "no plan" not in str(exc):
                     raise
@@ -676,4 +710,5 @@ def plan_from_perspective(task: Task, agent: str, limits: EpicoLimits = EpicoLim
                             f"states; longer plans were not searched)", distinct_states=len(seen))
     return SearchResult("unsolvable", None, expanded, generated, time.perf_counter() - t0, name,
                         f"no plan from {agent}'s perspective: all {len(seen)} states reachable from its "
-                        f"perspective were expanded without reaching the goal in every world", distinct_states=len(seen))
+                        f"perspective were expanded without reaching the goal in every world",
+                        distinct_states=len(seen))

@@ -216,12 +216,17 @@ def register(app: typer.Typer) -> None:
                   sensing: str = typer.Option("table", "--sensing", help=_SENSING_HELP),
                   takes: str = typer.Option("seen", "--takes", help=_TAKES_HELP),
                   symmetric: bool = typer.Option(False, "--symmetric", help=_SYMMETRIC_HELP),
+                  search: str = typer.Option("bfs", "--search", help="bfs: breadth-first with duplicate "
+                                             "detection (default); tree: without it, as the e-PICO paper's "
+                                             "planner (EFP) searches by default"),
                   as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Tables 1 and 2: every (goal, colours) cell, macros off and on, beside the paper's numbers. Default:
         the paper's reading (both robots ignorant of their own colours); the reading is printed."""
         from planners.epico import GOALS, EpicoError
         from planners.hierarchy import HANDOVER_SIDES, TABLE_SIDES, table_cell
 
+        if search not in ("bfs", "tree"):
+            raise EpicoError(f"--search {search!r}: use bfs or tree")
         rd = _reading(owner, sensing, takes, symmetric)
         sides = HANDOVER_SIDES if rd.takes == "handover" else TABLE_SIDES
 
@@ -250,12 +255,16 @@ def register(app: typer.Typer) -> None:
                 job = prog.add_task("e-PICO table", total=len(GOALS) * len(cols))
                 for g in GOALS:
                     for n in cols:
-                        cells.append(table_cell(g, n, repeat=repeat, timeout=per_run, reading=rd, sides=sides))
+                        cells.append(table_cell(g, n, repeat=repeat, timeout=per_run, reading=rd, sides=sides,
+                                                search=search))
                         prog.advance(job)
         if as_json:
             typer.echo(json.dumps({"reading": rd.to_json(), "description": rd.describe(), "cells": cells,
-                                   "repeat": repeat}))
+                                   "repeat": repeat, "search": search}))
             return
+        if search == "tree":
+            typer.echo("search: tree (breadth-first without duplicate detection, as the e-PICO paper's planner EFP "
+                       "by default); exp = tree nodes expanded")
         typer.echo(format_tables(cells, rd))
 
 

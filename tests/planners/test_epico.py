@@ -290,3 +290,154 @@ def test_big_public_updates_equal_the_product():
             kinds.add(entry[1].kind)
         s = sp.step(s, step)
     assert kinds == {"ontic", "sensing", "announcement"} and len(s.val) > 64
+
+
+# ----------------------------------------------------------------------------- plans from a robot's perspective
+
+_TELL_DOMAIN = """(define (domain tell)
+  (:requirements :strips :mep)
+  (:predicates (p) (q))
+  (:action press_b
+    :act_type ontic
+    :precondition (p)
+    :effect (q)
+    :observers (forall (?x - agent) (?x)))
+  (:action tell
+    :act_type announcement
+    :parameters (?ag - agent)
+    :precondition (and (p) ([?ag](p)))
+    :effect (p)
+    :observers (forall (?x - agent) (?x))))
+"""
+#: p is true, a knows whether p, b does not; b must press (its precondition p is not a knowledge condition)
+_TELL_PROBLEM = """(define (problem tell1)
+  (:domain tell)
+  (:agents a b)
+  (:init (p) ([a b](not (q))) ([a b](or ([a](p)) ([a](not (p))))))
+  (:goal (q)))
+"""
+
+
+def _tell_task():
+    from planners.lang.epddl import parse_epddl
+
+    return parse_epddl(_TELL_DOMAIN, _TELL_PROBLEM)
+
+
+def test_perspective_actor_must_know_its_step_is_applicable():
+    """Hand-checked: b's press is applicable in the actual world (the external planner's plan), but b does not
+    know p, so from a's perspective (a knows p) a must tell b first; from b's perspective there is no plan (b
+    considers ¬p possible, where nobody can make q true)."""
+    from planners.hierarchy import perspective_check, plan_from_perspective
+
+    task = _tell_task()
+    assert check_plan(task, ["press_b"]).valid
+    chk = perspective_check(task, ["press_b"], "a")
+    assert not chk.valid and chk.step == 0 and chk.actor == "b" and "b does not know" in chk.reason
+    res = plan_from_perspective(task, "a")
+    assert res.solved and res.plan == ("tell_a", "press_b")
+    assert perspective_check(task, res.plan, "a").valid and check_plan(task, list(res.plan)).valid
+    assert plan_from_perspective(task, "b").status == "unsolvable"
+
+
+_GUESS_DOMAIN = """(define (domain guess)
+  (:requirements :strips :mep)
+  (:predicates (p) (q))
+  (:action press_a
+    :act_type ontic
+    :effect (when (p) (q))
+    :observers (forall (?x - agent) (?x))))
+"""
+#: p is true and nobody knows it; a's press makes q true exactly where p is
+_GUESS_PROBLEM = """(define (problem guess1)
+  (:domain guess)
+  (:agents a b)
+  (:init (p) ([a b](not (q))))
+  (:goal (q)))
+"""
+
+
+def test_perspective_goal_in_every_world():
+    """Hand-checked: a's press reaches q in the actual world (p), not in the world a considers possible where p is
+    false: valid for the external planner, not from a's perspective, and no plan from a's perspective exists."""
+    from planners.hierarchy import perspective_check, plan_from_perspective
+    from planners.lang.epddl import parse_epddl
+
+    task = parse_epddl(_GUESS_DOMAIN, _GUESS_PROBLEM)
+    assert check_plan(task, ["press_a"]).valid
+    chk = perspective_check(task, ["press_a"], "a")
+    assert not chk.valid and chk.step == 1 and "goal fails" in chk.reason and "q is false" not in chk.reason
+    assert len(chk.worlds) == 2
+    assert plan_from_perspective(task, "a", max_depth=4).status == "unsolvable"
+
+
+def test_perspective_external_plan_fails_for_the_robot():
+    """α, 1 colour, the paper's reading: the external planner's plan (robot1 senses, puts its red block, announces
+    it) is valid in the actual world, but robot1 considers possible that it has no red block: from its
+    perspective the put is not known applicable, and no plan exists (in the world where nobody has a block
+    nothing reaches α)."""
+    from planners.hierarchy import perspective_check, plan_from_perspective
+
+    inst = generate("alpha", 1)
+    task, _, _ = epistemic_task(inst, macros=False)
+    sol = solve(inst, macros=False)
+    assert check_plan(task, list(sol.flat_plan)).valid
+    assert sol.search["perspective"] == "external" and "e-PICO paper" in sol.search["perspective_meaning"]
+    chk = perspective_check(task, sol.flat_plan, "robot1")
+    assert not chk.valid and chk.action.startswith("put_on_shared_robot1") and "hold_robot1_red is false" in chk.reason
+    assert plan_from_perspective(task, "robot1").status == "unsolvable"
+    with pytest.raises(EpicoError, match="robot1's perspective.*fails from robot1's perspective at step 2"):
+        solve(inst, macros=True, perspective="robot1")
+
+
+def test_perspective_of_the_robot_that_knows():
+    """Once robot1 knows its colours (``known``, e.g. after sensing), a plan from robot1's perspective exists
+    (put red, announce); robot2, who does not know robot1's colours, cannot count on it."""
+    from planners.hierarchy import perspective_check
+
+    inst = generate("alpha", 2)
+    sol = solve(inst, macros=True, known={"robot1": ["red", "black"]}, perspective="robot1")
+    _accepts(sol)
+    assert sol.search["perspective"] == "robot1" and "Engesser" in sol.search["perspective_meaning"]
+    task, ptask, _ = epistemic_task(inst.with_known({"robot1": ["red", "black"]}), macros=True)
+    assert perspective_check(ptask, sol.epistemic_plan, "robot1").valid
+    other = perspective_check(ptask, sol.epistemic_plan, "robot2")
+    assert not other.valid and other.actor == "robot1"
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_perspective_plans_are_external_plans(seed):
+    """Every plan found from a robot's perspective is valid for the external planner (the actual world is among
+    the worlds the robot considers possible), on random layouts with random knowledge."""
+    import random
+
+    from planners.hierarchy import perspective_check, plan_from_perspective
+
+    rng = random.Random(seed)
+    goal = rng.choice(["alpha", "beta"])
+    inst = generate(goal, 2, seed=seed)
+    agent = rng.choice(ROBOTS)
+    known = {r: [c for c in ("red", "black") if rng.random() < 0.6] for r in ROBOTS}
+    inst = inst.with_known(known)
+    task, _, _ = epistemic_task(inst, macros=False)
+    res = plan_from_perspective(task, agent)
+    if res.solved:
+        assert check_plan(task, list(res.plan)).valid
+        assert perspective_check(task, res.plan, agent).valid
+    else:
+        assert res.status == "unsolvable"
+
+
+def test_perspective_cli(capsys):
+    from delkit.cli import main
+
+    assert main(["epico", "solve", "--goal", "alpha", "--colors", "2", "--known", "robot1:red,black",
+                 "--perspective", "robot1", "--json"]) in (0, None)
+    assert json.loads(capsys.readouterr().out)["search"]["perspective"] == "robot1"
+    assert main(["epico", "solve", "--goal", "alpha", "--colors", "1"]) in (0, None)
+    assert "plan reading: external planner (the e-PICO paper's reading)" in capsys.readouterr().out
+    try:
+        rc = main(["epico", "solve", "--perspective", "robot3"])
+    except SystemExit as exc:
+        rc = exc.code
+    assert rc not in (0, None) and "--perspective 'robot3'" in capsys.readouterr().err
