@@ -8,7 +8,7 @@ wall clock; symbolic: CPU time, imports excluded — see bench/symbolic.py for t
     .venv/bin/python bench/muddy.py                 # explicit N = 2..16, symbolic N = 10..80
     .venv/bin/python bench/muddy.py --explicit 18 --symbolic 10,20,40,60,80,100
 
-Reference: DEMO-S5 needs 212 s for N = 12; target here: N = 14 in under 1 s.
+Reference: DEMO-S5 is reported to need 212 s for N = 12; target here: N = 14 in under 1 s.
 """
 
 from __future__ import annotations

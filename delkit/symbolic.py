@@ -83,13 +83,14 @@ def new_manager(*, reordering: bool = False, memory_estimate: int | None = None)
     """A fresh ``dd.cudd.BDD`` manager. Dynamic reordering is off by default: variables keep the order in
     which they are declared (the vocabulary order; a transformer's copy q' of a changed variable q is placed
     right below q, since the product's law relates the two), which keeps runs deterministic and, on the
-    puzzles, is several times faster than CUDD's sifting (muddy children N = 80: 1.4 s vs 12 s).
+    puzzles, was several times faster than CUDD's sifting (muddy children N = 80, with one quantification
+    per child and round: 1.4 s vs 12 s).
 
     ``memory_estimate`` (bytes; default 80 MiB) is CUDD's estimate of the memory the problem will use, for
     callers that know their problem's size (the puzzles, :func:`puzzle_memory`). It sets two things only,
     since the cache limit and the fast-growth bound are set here afterwards: the threshold past which CUDD
     collects garbage eagerly (90 % of it: a problem that outgrows it runs slower — muddy children N = 100
-    up to 1.6x with 16–40 MiB), and the size of a "death row" (for delayed dereferencing, which dd never
+    with one quantification per child and round: up to 1.6x with 16–40 MiB), and the size of a "death row" (for delayed dereferencing, which dd never
     uses) of 2^⌊log2(estimate / 640)⌋ pointers that CUDD zeroes at creation — page faults that were most
     of a small puzzle (80 MiB: 512 KiB, 128 pages, 0.2–0.3 ms; 2 MiB: 16 KiB). It is no limit.
 
@@ -101,8 +102,8 @@ def new_manager(*, reordering: bool = False, memory_estimate: int | None = None)
     The unique table grows fast (doubling, collecting garbage rarely) only up to 50,000 slots; beyond that
     CUDD collects dead nodes before it grows the table. Dead nodes pile up quickly in the puzzles (every
     round's intermediate conjunctions die), and a table of mostly dead nodes spoils the CPU caches: muddy
-    children N = 100 peaked at 496 k nodes in a 178 k-slot table, 229 k nodes in 71 k slots with the bound
-    (bench/RESULTS-symbolic.md)."""
+    children N = 100 with one quantification per child and round peaked at 496 k nodes in a 178 k-slot
+    table, 229 k nodes in 71 k slots with the bound."""
     import dd.cudd
 
     estimate = _MEMORY_ESTIMATE if memory_estimate is None else int(memory_estimate)

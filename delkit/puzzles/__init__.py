@@ -55,8 +55,9 @@ CATALOGUE: list[dict] = [
     {"command": "gossip", "answer": "least calls making all experts: 1, 3, 4 for n = 2, 3, 4 (2n-4, n >= 4)",
      "backends": ["symbolic"], "source": "Tijdeman 1971; Baker & Shostak 1972; SMCDEL's GossipS5",
      "docs": _DOC + "#gossip"},
-    {"command": "what-sum", "answer": "(50, 20, 30) survives 'Anne knows: 50' (not singled out at bounds "
-     "<= 255)", "backends": ["explicit", "symbolic"], "source": "van Ditmarsch & Kooi 2015, ch. 4; "
+    {"command": "what-sum", "answer": "(50, 20, 30) is the only triple where Anne then knows 50 (unbounded, "
+     "exact; a bounded model certifies it from bound 190)", "backends": ["unbounded", "explicit", "symbolic"],
+     "source": "van Ditmarsch & Kooi 2015, ch. 4; "
      "SMCDEL's WhatSum", "docs": _DOC + "#what-sum"},
     {"command": "door-mat", "answer": "tryTake gets Bob the key; he knows it will only after Anne announces "
      "where it is", "backends": ["symbolic", "explicit (via the event model)"], "source": "Gattinger 2018; "
@@ -131,8 +132,8 @@ def summary_table(on_row=None) -> list[dict]:
         lambda r: [r.anonymous, r.common_knows_whether_paid], [True, True])
     row("gossip", "gossip (n=3): least calls making all experts, fewer fail", lambda: solve_gossip(3),
         lambda r: [len(r.calls), r.shorter_fail], [3, True])
-    row("what-sum", "What Sum (bound 50): states after three 'I don't know's", lambda: solve_what_sum(50, 50),
-        lambda r: r.states, 330)
+    row("what-sum", "What Sum: the triples where Anne then knows 50 (unbounded, exact)",
+        lambda: solve_what_sum(None, 50), lambda r: [list(s) for s in r.solutions], [[50, 20, 30]])
     row("door-mat", "door mat: key after tryTake; Bob knows it before / after the announcement", solve_door_mat,
         lambda r: [r.goal_after_try, r.bob_knows_beforehand, r.bob_knows_after_announcement], [True, False, True])
     row("prisoners", "prisoners (n=4): the counter knows exactly when his count reaches n-1",

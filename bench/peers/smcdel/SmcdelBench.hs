@@ -1,4 +1,4 @@
-{- | SMCDEL's side of bench/symbolic.py --fresh-process --smcdel-bin (issue 23).
+{- | SMCDEL's side of bench/symbolic.py --fresh-process --smcdel-bin.
 
 One puzzle per process:
 
@@ -17,7 +17,8 @@ bench/symbolic.py sequences delkit's calls:
 * muddy N: SMCDEL.Examples.MuddyChildren's mudScnInit N N, father N and knows i.  The protocol of
   delkit.symbolic.muddy_symbolic: announce the father's formula, then per round evaluate every child's
   "knows whether I am muddy" at the actual state and announce the conjunction of the truthful answers,
-  until all know.  Announcements are SMCDEL's unsafeUpdate (θ ∧ ||ψ||, what delkit's announce does);
+  until all know (delkit's engine computes the conjunction "nobody knows" in one pass over the law instead
+  of one quantification per child, and asks the children one by one only when someone knows).  Announcements are SMCDEL's unsafeUpdate (θ ∧ ||ψ||, what delkit's announce does);
   SMCDEL's checked update would evaluate ψ once more at the actual state.
 * drinking N: SMCDEL.Examples.DrinkLogic.thirstyCheck N (thirstyF at thirstyScene).
 * dining N: SMCDEL's bench/diningcrypto.hs formula (written out here: the bench module is not part of the
