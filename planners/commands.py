@@ -103,7 +103,7 @@ def report_search(res, out: dict, how: str, as_json: bool) -> int:
             _echo(f"  {i}. {a}")
         if not res.plan:
             _echo("  (empty: the goal holds in the initial state)")
-        if res.optimal is not None:
+        if res.phases and res.optimal is not None:
             _echo("  length proven minimal" if res.optimal else "  length not proven minimal")
         for ph in res.phases:
             _echo(f"  phase {ph['search']}: {ph['status']}" + (f", length {ph['length']}" if ph['length'] is not None
