@@ -313,11 +313,13 @@ def best_first(space: StateSpace, limits: Limits = Limits(), *, kind: Literal["g
                         "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
 
 
-def novelty_atoms(space: StateSpace) -> Callable[[Any], tuple[Hashable, ...]]:
+def novelty_atoms(space: StateSpace, *, epistemic: bool = True) -> Callable[[Any], tuple[Hashable, ...]]:
     """The atoms of a state for novelty: each proposition's value at each designated world's valuation, as the
     set of valuations of the designated worlds (``("v", p, value)`` for a proposition true or false at every
     designated world, ``("v?", p)`` when they differ), and the truth value of every modal subformula of the goal
-    at the designated worlds (``("f", i, value)``). Classical BFWS's atoms are the state's facts; an epistemic
+    at the designated worlds (``("f", i, value)``) — with ``epistemic`` (the default) also of ``K_a p`` and ``K_a ¬p``
+for every agent a and proposition p of the goal (a measured addition: without it a task whose actions only
+inform, such as the spy family, has no new atom after the first step). Classical BFWS's atoms are the state's facts; an epistemic
     state's facts are its designated valuations, and its epistemic content that the goal can see is the truth
     of the goal's modal subformulas."""
     from delkit.formula import Prop, is_propositional, subformulas
@@ -332,6 +334,12 @@ def novelty_atoms(space: StateSpace) -> Callable[[Any], tuple[Hashable, ...]]:
                 forms.append(f)
     eng = getattr(space, "engine", None)
     props = list(eng.props if eng is not None else task.props if task is not None else ())
+    if epistemic and task is not None:  # each agent's belief about each proposition the goal mentions
+        from delkit.formula import K, Not, props_of
+
+        for p in sorted(props_of(task.goal)):
+            for a in task.agents:
+                forms += [K(a, Prop(p)), K(a, Not(Prop(p)))]
 
     def valuations(s: Any) -> list[frozenset[str]]:
         if eng is not None:  # compact state: valuations as bit masks in the engine's proposition order
@@ -357,11 +365,12 @@ PAIR_ATOMS = 64
 
 @_gc_paused
 def novelty_search(space: StateSpace, limits: Limits = Limits(), *, width: int = 2,
-                   atoms: Callable[[Any], tuple[Hashable, ...]] | None = None) -> SearchResult:
+                   atoms: Callable[[Any], tuple[Hashable, ...]] | None = None, deeper: bool = False) -> SearchResult:
     """Best-first width search, BFWS(f5)-style (Lipovetzky & Geffner 2017): the open list is ordered by
     ⟨w, #g⟩ — w the novelty of a state among the states generated before with the same goal count #g (1 if
     it makes some atom true for the first time in that group, 2 if some pair of atoms, else ``width`` + 1),
-    #g the unsatisfied goal conjuncts — ties broken by fewer steps, then first generated. No state is pruned
+    #g the unsatisfied goal conjuncts — ties broken by fewer steps (``deeper``: more steps), then first
+    generated. No state is pruned
     (novelty > ``width`` only ranks it last), so the search is complete; plans are not optimal.
 
     Atoms (:func:`novelty_atoms`): the designated worlds' valuations and the truth of the goal's modal
@@ -395,8 +404,8 @@ def novelty_search(space: StateSpace, limits: Limits = Limits(), *, width: int =
 
     g0 = space.goal_count(s0)
     parent: dict[Hashable, Any] = {k0: None}
-    depth: dict[Hashable, int] = {k0: 0}
     counter = 0
+    sign = -1 if deeper else 1
     heap: list = [(novelty(s0, g0), g0, 0, counter, s0, k0)]
     expanded = generated = 0
     while heap:
@@ -404,20 +413,20 @@ def novelty_search(space: StateSpace, limits: Limits = Limits(), *, width: int =
         if why:
             return SearchResult("limit", None, expanded, generated, budget.seconds, "novelty",
                                 "no plan within limits: " + why, space.dead_ends, len(parent))
-        _, _, g, _, state, key = heappop(heap)
+        _, _, sg, _, state, key = heappop(heap)
+        g = sg * sign
         expanded += 1
         for name, nxt, nkey in space.successors(state):
             generated += 1
             if nkey in parent:
                 continue
             parent[nkey] = (key, name)
-            depth[nkey] = g + 1
             if space.is_goal(nxt):
                 return SearchResult("solved", _path(parent, nkey), expanded, generated, budget.seconds, "novelty",
                                     "", space.dead_ends, len(parent))
             gc_ = space.goal_count(nxt)
             counter += 1
-            heappush(heap, (novelty(nxt, gc_), gc_, g + 1, counter, nxt, nkey))
+            heappush(heap, (novelty(nxt, gc_), gc_, sign * (g + 1), counter, nxt, nkey))
     return SearchResult("unsolvable", None, expanded, generated, budget.seconds, "novelty",
                         "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
 
@@ -525,6 +534,8 @@ def plan(task: Task, *, search: Literal["bfs", "gbfs", "astar", "novelty", "auto
     vacuously lists the conjuncts in ``vacuous``."""
     from planners.beliefs import belief_semantics
 
+    if search not in SEARCHES:
+        raise PlanningError(f"unknown search {search!r}; use " + ", ".join(SEARCHES))
     semantics = belief_semantics(task, consistent_beliefs=consistent_beliefs,
                                  allow_inconsistent=bool(allow_inconsistent))
     keep = semantics == "reference"
@@ -535,7 +546,5 @@ def plan(task: Task, *, search: Literal["bfs", "gbfs", "astar", "novelty", "auto
     if search == "auto":
         res = portfolio(make, limits)
         return annotate(res, make(), semantics)
-    if search not in SEARCHES:
-        raise PlanningError(f"unknown search {search!r}; use " + ", ".join(SEARCHES))
     space = make()
     return annotate(run_search(space, search, limits), space, semantics)

@@ -4,7 +4,7 @@ They imitate the shapes of competition domains the planner had trouble with (wri
 copied): multi-agent coordination under partial observability (``ugv``), knowledge distributed over guests
 that one agent must come to hold while keeping it from the others (``hotel``), and a spy's secret passed along
 a chain of contacts, known from the start (``spy-linear``) or sensed first (``spy-sensing``). Each instance
-uses the ``intermediate`` action-type library of the EPDDL suite (plank's), whose path the caller passes.
+uses the action-type library :data:`LIBRARY` (written beside it by :meth:`Instance.write`).
 
 Each :class:`Instance` carries a plan that solves it (``plan``) and its optimal length (``optimum``), both
 known by construction; the argument is in each generator's docstring and the tests check both (the plan
@@ -18,7 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["Instance", "FAMILIES", "SIZES", "generate", "spy", "hotel", "ugv", "write"]
+__all__ = ["Instance", "LIBRARY", "FAMILIES", "SIZES", "generate", "spy", "hotel", "ugv", "write"]
 
 
 @dataclass(frozen=True)
@@ -32,13 +32,52 @@ class Instance:
     plan: tuple[str, ...]
     optimum: int
 
-    def write(self, folder: Path) -> tuple[Path, Path]:
-        """Write ``<name>-domain.epddl`` and ``<name>.epddl`` into ``folder``; return their paths."""
+    def write(self, folder: Path) -> tuple[Path, Path, Path]:
+        """Write ``<name>-domain.epddl``, ``<name>.epddl`` and the library ``frontier-library.epddl`` into
+        ``folder``; return the three paths (``delkit plan DOMAIN PROBLEM -l LIBRARY``)."""
         folder.mkdir(parents=True, exist_ok=True)
-        d, p = folder / f"{self.name}-domain.epddl", folder / f"{self.name}.epddl"
+        d, p, lib = folder / f"{self.name}-domain.epddl", folder / f"{self.name}.epddl", folder / "frontier-library.epddl"
         d.write_text(self.domain)
         p.write_text(self.problem)
-        return d, p
+        lib.write_text(LIBRARY)
+        return d, p, lib
+
+
+#: the action types the families use, as an EPDDL action-type library (the standard definitions: public ontic
+#: change; semi-private sensing and announcement — the Partially observers cannot tell ?pos from ?neg;
+#: private announcement — the Oblivious observers see the trivial ?nil)
+LIBRARY = """(define (action-type-library frontier)
+    (:requirements :lists :list-comprehensions :equality :partial-observability :multi-pointed-models
+                   :events-conditions)
+    (:action-type public-ontic
+        :events (?pos)
+        :observability-types (Fully)
+        :relations (Fully (:forall (?e - event) (?e ?e)))
+        :designated (?pos)
+        :conditions (?pos (:non-trivial-postconditions)))
+    (:action-type semi-private-sensing
+        :events (?pos ?neg)
+        :observability-types (Fully Partially)
+        :relations (Fully (:forall (?e - event) (?e ?e))
+                    Partially (:forall (?e ?f - event) (?e ?f)))
+        :designated (?pos ?neg)
+        :conditions (?pos (:trivial-postconditions) ?neg (:trivial-postconditions)))
+    (:action-type semi-private-announcement
+        :events (?pos ?neg)
+        :observability-types (Fully Partially)
+        :relations (Fully (:forall (?e - event) (?e ?e))
+                    Partially (:forall (?e ?f - event) (?e ?f)))
+        :designated (?pos)
+        :conditions (?pos (:trivial-postconditions) ?neg (:trivial-postconditions)))
+    (:action-type private-announcement
+        :events (?pos ?nil)
+        :observability-types (Fully Oblivious)
+        :relations (Fully (:forall (?e - event) (?e ?e))
+                    Oblivious (:forall (?e - event) (?e ?nil)))
+        :designated (?pos)
+        :conditions (?pos (:trivial-postconditions) ?nil (:trivial-event)))
+)
+"""
 
 
 def _check_size(name: str, value: int, least: int) -> None:
@@ -50,7 +89,7 @@ def _check_size(name: str, value: int, least: int) -> None:
 _SPY_DOMAIN = """(define (domain spy-{kind})
     (:requirements :typing :partial-observability :facts :lists :list-comprehensions
                    :negative-preconditions :modal-preconditions)
-    (:action-type-libraries intermediate)
+    (:action-type-libraries frontier)
     (:predicates (secret) (:fact link ?i ?j - agent) (:fact spy ?i - agent))
     (:event e-sense-pos :parameters (?i - agent) :precondition (and (spy ?i) (secret)))
     (:event e-sense-neg :parameters (?i - agent) :precondition (and (spy ?i) (not (secret))))
@@ -110,7 +149,7 @@ def spy(chain: int, decoys: int = 0, *, sensing: bool = False) -> Instance:
 _HOTEL_DOMAIN = """(define (domain hotel-distributed)
     (:requirements :typing :partial-observability :ontic-actions :facts :lists :list-comprehensions
                    :negative-preconditions :modal-preconditions :negative-obs-conditions)
-    (:action-type-libraries intermediate)
+    (:action-type-libraries frontier)
     (:types digit)
     (:predicates (code ?b - digit) (in-lobby ?i - agent) (:fact owns ?i - agent ?b - digit))
     (:event nil)
@@ -168,7 +207,7 @@ def hotel(guests: int) -> Instance:
 _UGV_DOMAIN = """(define (domain ugv-coordination)
     (:requirements :typing :partial-observability :ontic-actions :facts :lists :list-comprehensions
                    :negative-preconditions :modal-preconditions :conditional-effects)
-    (:action-type-libraries intermediate)
+    (:action-type-libraries frontier)
     (:types cell)
     (:predicates (at ?i - agent ?c - cell) (item-at ?c - cell) (:fact next ?c ?d - cell) (:fact ugv ?i - agent))
     (:event nil)
@@ -252,8 +291,7 @@ def generate(family: str, *size: int) -> Instance:
     return FAMILIES[family](*size)
 
 
-def write(folder: Path, family: str, *size: int) -> tuple[Path, Path, Instance]:
+def write(folder: Path, family: str, *size: int) -> tuple[Path, Path, Path, Instance]:
     """Generate and write one instance (see :meth:`Instance.write`)."""
     inst = generate(family, *size)
-    d, p = inst.write(folder)
-    return d, p, inst
+    return (*inst.write(folder), inst)
