@@ -236,11 +236,11 @@ def ugv(cells: int, robots: int = 1) -> Instance:
     can ``sense`` whether the item is there (the others see it sense, not what it finds); a robot that believes where the item is can ``report``
     it to the base (privately: the others are oblivious). Goal: the base believes the item is in the last cell.
 
-    Optimum ``min(cells + 1, 2·cells − 2)`` (``1`` for one cell), by construction: the base learns it only from a
+    Optimum ``min(cells + 1, 2·cells − 2)``, by construction: the base learns it only from a
     report, which needs a robot that believes it; a robot comes to believe it by sensing the last cell
     (``cells − 1`` moves and one sensing) or by sensing every other cell empty (``cells − 1`` sensings and
     ``cells − 2`` moves); one robot's sensing never informs another, so more robots do not shorten a plan."""
-    _check_size("cells", cells, 1)
+    _check_size("cells", cells, 2)  # one cell: the base knows from the start
     _check_size("robots", robots, 1)
     xs = [f"x{i}" for i in range(1, cells + 1)]
     us = [f"u{i}" for i in range(1, robots + 1)]
@@ -259,11 +259,8 @@ def ugv(cells: int, robots: int = 1) -> Instance:
     (:goal ([base] (item-at {last})))
 )
 """
-    if cells == 1:
-        steps, opt = ["sense_u1_x1", "report_u1_x1"], 2
-    else:
-        steps = [f"move_u1_{a}_{b}" for a, b in zip(xs, xs[1:])] + [f"sense_u1_{last}", f"report_u1_{last}"]
-        opt = min(cells + 1, 2 * cells - 2)
+    steps = [f"move_u1_{a}_{b}" for a, b in zip(xs, xs[1:])] + [f"sense_u1_{last}", f"report_u1_{last}"]
+    opt = min(cells + 1, 2 * cells - 2)
     return Instance("ugv-coordination", f"ugv-{cells}-{robots}", _UGV_DOMAIN, problem, tuple(steps), opt)
 
 

@@ -43,7 +43,7 @@ def _vac_task(tmp_path: Path):
 
 
 FAMILY_SMALL = [("spy-linear", 3, 1), ("spy-sensing", 2, 1), ("hotel-distributed", 2), ("ugv-coordination", 3, 1),
-                ("ugv-coordination", 1, 1), ("ugv-coordination", 2, 2)]
+                ("ugv-coordination", 2, 2)]
 
 
 @pytest.mark.parametrize("family_size", FAMILY_SMALL, ids=lambda fs: "-".join(map(str, fs)))
@@ -229,5 +229,7 @@ def test_unknown_search_is_refused_with_the_choices() -> None:
 def test_generator_refuses_impossible_sizes() -> None:
     with pytest.raises(ValueError, match="chain=0"):
         generate("spy-linear", 0)
+    with pytest.raises(ValueError, match="cells=1"):
+        generate("ugv-coordination", 1)
     with pytest.raises(ValueError, match="unknown family"):
         generate("blocks", 3)
