@@ -274,10 +274,10 @@ FAMILIES = {
 
 #: per family, the sizes of the benchmark, easy to hard
 SIZES = {
-    "spy-linear": [(2, 0), (4, 1), (6, 2), (8, 3), (10, 4)],
-    "spy-sensing": [(2, 0), (4, 1), (6, 2), (8, 3), (10, 4)],
-    "hotel-distributed": [(2,), (3,), (4,), (5,), (6,)],
-    "ugv-coordination": [(3, 1), (4, 2), (6, 2), (8, 3), (10, 3)],
+    "spy-linear": [(2, 0), (4, 2), (6, 4), (8, 6), (10, 8), (12, 10)],
+    "spy-sensing": [(2, 0), (4, 2), (6, 4), (8, 6), (10, 8), (12, 10)],
+    "hotel-distributed": [(2,), (3,), (4,), (5,), (6,), (7,)],
+    "ugv-coordination": [(3, 1), (4, 2), (6, 2), (8, 3), (10, 3), (12, 4)],
 }
 
 
