@@ -435,6 +435,20 @@ def novelty_search(space: StateSpace, limits: Limits = Limits(), *, width: int =
 PORTFOLIO = (("novelty", 0.3), ("gbfs", 0.4), ("astar", 1.0))
 
 
+#: the share of the time left that the portfolio's last phase leaves unused once a plan exists
+RESERVE = 0.15
+
+
+def _quiet_alarm() -> None:
+    """Stop the interval timer of :func:`delkit.resources.deadline` (main thread only): its deadline has
+    passed and the caller reports the plan it has; the console's watchdog still ends the process if that hangs."""
+    import signal
+    import threading
+
+    if threading.current_thread() is threading.main_thread():
+        signal.setitimer(signal.ITIMER_REAL, 0)
+
+
 def portfolio(make: Callable[[], StateSpace], limits: Limits = Limits(),
               phases: tuple[tuple[str, float], ...] = PORTFOLIO) -> SearchResult:
     """``--search auto``: satisficing phases, then an optimal one, in one time budget (anytime).
@@ -446,6 +460,8 @@ def portfolio(make: Callable[[], StateSpace], limits: Limits = Limits(),
     runs out of time — the best plan so far is returned with ``optimal`` False. ``phases`` lists every phase
     run: its search, status, seconds, and the plan length it found; ``search`` names the phase whose plan is
     returned."""
+    from delkit.resources import TimeLimit
+
     budget = _Budget(limits)
     best: SearchResult | None = None
     runs: list[dict] = []
@@ -458,10 +474,21 @@ def portfolio(make: Callable[[], StateSpace], limits: Limits = Limits(),
         left = None if limits.timeout is None else max(0.0, limits.timeout - budget.seconds)
         if left is not None and left <= 0:
             break
-        mine = left if left is None or i == len(phases) - 1 else left * share
+        # the last phase, once a plan exists, leaves RESERVE of the time for reporting it (its set-up, such
+        # as A*'s pattern databases, runs before its node loop checks the budget)
+        mine = (left if left is None else left * share if i < len(phases) - 1
+                else left * (1 - RESERVE) if best is not None else left)
         sub = Limits(timeout=mine, max_expanded=limits.max_expanded, max_memory_mb=limits.max_memory_mb)
-        space = make()
-        res = run_search(space, kind, sub)
+        try:
+            space = make()
+            res = run_search(space, kind, sub)
+        except TimeLimit:  # the process's deadline (``delkit plan``'s alarm) inside a phase: keep the best plan
+            if best is None:
+                raise
+            _quiet_alarm()  # the alarm re-fires every 0.25 s after expiry: let the best plan be reported
+            runs.append({"search": kind, "status": "limit", "seconds": round(budget.seconds, 4), "length": None,
+                         "expanded": 0, "improved": False})
+            break
         expanded += res.expanded
         generated += res.generated
         last = res

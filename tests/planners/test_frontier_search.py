@@ -133,9 +133,10 @@ def test_portfolio_respects_the_time_limit_and_reports_each_phase(tmp_path) -> N
     stops within it, the result is a limit (or a satisficing plan), and every phase run is listed."""
     inst, task = _task(tmp_path, "hotel-distributed", 5)
     res = plan(task, search="auto", limits=Limits(timeout=1.0))
-    assert res.seconds < 2.5
-    assert res.phases and all(ph["seconds"] <= 1.5 for ph in res.phases)
-    assert sum(ph["seconds"] for ph in res.phases) <= 1.5
+    assert res.seconds < 1.6
+    assert res.phases and sum(ph["seconds"] for ph in res.phases) <= 1.25   # one budget, not one per phase
+    first = res.phases[0]
+    assert first["search"] == "novelty" and (first["status"] == "solved" or first["seconds"] <= 0.3 + 0.1)
     if res.solved:
         assert res.optimal is False and check_plan(task, list(res.plan)).valid
     else:
