@@ -29,16 +29,19 @@ def _echo(text: str) -> None:
 def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeout: float = 60.0,
              max_nodes: int | None = None, max_memory: float = 8192.0, engine: str = "auto",
              allow_inconsistent: bool = False, as_json: bool = False, library: list[Path] | None = None,
-             strict: bool = False, plan_out: Path | None = None) -> int:
+             strict: bool = False, plan_out: Path | None = None, consistent_beliefs: bool = False) -> int:
     """The body of ``delkit plan``; returns the exit status (``plan_out``: also write the plan there as a JSON
     plan file, :mod:`planners.plan_file`)."""
     from delkit.errors import PlanningError
-    from planners.epistemic import Limits, SearchResult, best_first, bfs
+    from planners.epistemic import SEARCHES, Limits, SearchResult, annotate, portfolio, run_search
     from planners.lang import load_task
     from planners.lang.initial import LoadTimeout
 
-    if search not in ("bfs", "gbfs", "astar"):
-        raise PlanningError(f"--search {search!r}: use bfs, gbfs or astar")
+    if search not in SEARCHES:
+        raise PlanningError(f"--search {search!r}: use " + ", ".join(SEARCHES))
+    if consistent_beliefs and allow_inconsistent:
+        raise PlanningError("--consistent-beliefs (prune states where an agent believes ⊥) and "
+                            "--allow-inconsistent (keep them) contradict each other: give at most one")
     from delkit.resources import TimeLimit, command_start, counters, deadline, keep_alive, parse_timeout
 
     inputs = [Path(p) for p in (spec, problem, *(library or ())) if p is not None]
@@ -67,8 +70,17 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
 
             left = None if limit is None else max(0.0, start + limit - time.monotonic())
             limits = Limits(timeout=left, max_expanded=max_nodes, max_memory_mb=max_memory)
-            space = space_for(task, engine, allow_inconsistent)
-            res = bfs(space, limits) if search == "bfs" else best_first(space, limits, kind=search)  # type: ignore[arg-type]
+            from planners.beliefs import belief_semantics
+
+            semantics = belief_semantics(task, consistent_beliefs=consistent_beliefs,
+                                         allow_inconsistent=allow_inconsistent)
+            space = space_for(task, engine, allow_inconsistent, consistent_beliefs=consistent_beliefs)
+            if search == "auto":
+                res = portfolio(lambda: space_for(task, engine, allow_inconsistent,
+                                                  consistent_beliefs=consistent_beliefs), limits)
+            else:
+                res = run_search(space, search, limits)
+            res = annotate(res, space, semantics)
     except (LoadTimeout, TimeLimit) as exc:
         keep_alive(space, task, exc)  # console script: freeing the search space must not delay the exit
         live = counters()  # how far the search got when the alarm stopped it (0 before it started)
@@ -116,6 +128,15 @@ def report_search(res, out: dict, how: str, as_json: bool) -> int:
             _echo(f"  {i}. {a}")
         if not res.plan:
             _echo("  (empty: the goal holds in the initial state)")
+        if res.phases and res.optimal is not None:
+            _echo("  length proven minimal" if res.optimal else "  length not proven minimal")
+        for ph in res.phases:
+            _echo(f"  phase {ph['search']}: {ph['status']}" + (f", length {ph['length']}" if ph['length'] is not None
+                                                               else "") + f", {ph['seconds']:.3f} s")
+        for v in res.vacuous:
+            _echo(f"  vacuous: the goal conjunct {v['conjunct']} holds only because {', '.join(v['agents'])} "
+                  f"believe(s) ⊥ (no accessible world at a designated world); --consistent-beliefs prunes such "
+                  f"states")
     else:
         _echo(f"NO PLAN ({res.status}): {res.reason} — {res.expanded} expanded, {res.generated} "
               f"generated, {res.seconds:.3f} s")

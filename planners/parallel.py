@@ -466,14 +466,14 @@ def run_plan_parallel(spec: Path, problem: Path | None = None, *, jobs: int = 2,
                       as_json: bool = False, timeout: float = 60.0, max_nodes: int | None = None,
                       engine: str = "auto", allow_inconsistent: bool = False, library: list[Path] | None = None,
                       strict: bool = False, scheduler: str | None = None, **rest: Any) -> int:
-    """``delkit plan FILE --jobs N`` for one task: :func:`parallel_bfs` (BFS only; other searches and the
-    numpy backend run serially, as without ``--jobs``); returns the exit status."""
+    """``delkit plan FILE --jobs N`` for one task: :func:`parallel_bfs` (BFS only; other searches, the
+    numpy backend and ``--consistent-beliefs`` run serially, as without ``--jobs``); returns the exit status."""
 
     from planners.commands import report_search, run_plan
 
     serial = dict(search=search, as_json=as_json, timeout=timeout, max_nodes=max_nodes, engine=engine,
                   allow_inconsistent=allow_inconsistent, library=library, strict=strict, **rest)
-    if search != "bfs":
+    if search != "bfs" or rest.get("consistent_beliefs"):  # --consistent-beliefs: the serial search
         return run_plan(spec, problem, **serial)
     from delkit.resources import command_start, parse_timeout
 

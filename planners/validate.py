@@ -360,8 +360,10 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
     a property mentions refined like agents — collective bisimulation — and kept uncontracted only where
     that quotient would change a group's intersection relation), so checking costs about what planning does;
     a contracted world keeps the name of the first world it stands for."""
-    if epddl is None:
-        epddl = has_event_actions(task)
+    if epddl is None:  # the planner's default semantics of inconsistent beliefs (planners.beliefs)
+        from planners.beliefs import keeps_inconsistent
+
+        epddl = keeps_inconsistent(task)
     kept: list[dict] = []
     res = None
     if plain_usable(task, [p.formula for p in properties], _CONTRACT_ABOVE):

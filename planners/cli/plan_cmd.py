@@ -59,7 +59,8 @@ def register(app: typer.Typer) -> None:
                                                      "(mA* files, each domain followed by its problems)"),
         library: list[Path] = typer.Option([], "--library", "-l", help="EPDDL action-type library (repeatable)"),
         strict: bool = typer.Option(False, "--strict", help="refuse mA* duplicate declarations"),
-        search: str = typer.Option("bfs", "--search", help="bfs (optimal), gbfs or astar"),
+        search: str = typer.Option("bfs", "--search", help="bfs (optimal), gbfs, astar (optimal), novelty (BFWS) "
+                                                           "or auto (novelty, GBFS, then A* in one time budget)"),
         timeout: float = typer.Option(60.0, "--timeout", help=_TIMEOUT_HELP),
         max_nodes: int | None = typer.Option(None, "--max-nodes", help="limit on expanded nodes"),
         max_memory: float = typer.Option(8192.0, "--max-memory", help="resident memory limit in MiB"),
@@ -67,6 +68,9 @@ def register(app: typer.Typer) -> None:
                                    help="fast (compact bit sets), del (numpy, delkit's reference) or auto"),
         allow_inconsistent: bool = typer.Option(False, "--allow-inconsistent",
                                                 help="expand states where an agent believes ⊥"),
+        consistent_beliefs: bool = typer.Option(False, "--consistent-beliefs",
+                                                help="prune states where an agent believes ⊥ (also on EPDDL, "
+                                                     "whose default keeps them, as plank does)"),
         as_json: bool = typer.Option(False, "--json", help="print one JSON object (a batch: one per task)"),
         jobs: str | None = typer.Option(None, "--jobs", "-j", help="worker processes for a batch, 1..256 (default: "
                                                                   "one per core)"),
@@ -82,7 +86,8 @@ def register(app: typer.Typer) -> None:
         raise typer.Exit(plan_files(files, search=search, timeout=timeout, max_nodes=max_nodes,
                                     max_memory=max_memory, engine=engine, allow_inconsistent=allow_inconsistent,
                                     as_json=as_json, library=library, strict=strict, jobs=jobs, scheduler=scheduler,
-                                    **({"plan_out": plan_out} if plan_out is not None else {})))
+                                    **({"plan_out": plan_out} if plan_out is not None else {}),
+                                    **({"consistent_beliefs": True} if consistent_beliefs else {})))
 
     @app.command("check", help=_CHECK_HELP)
     def check_command(
@@ -175,7 +180,8 @@ _PLAN_OPTS = {"--search": ("search", "str"), "--timeout": ("timeout", "float"), 
               "--max-memory": ("max_memory", "float"), "--engine": ("engine", "str"),
               "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),
               "--library": ("library", "plist"), "-l": ("library", "plist"), "--strict": ("strict", "flag"),
-              "--plan-out": ("plan_out", "path"), **_BATCH_OPTS}
+              "--plan-out": ("plan_out", "path"), "--consistent-beliefs": ("consistent_beliefs", "flag"),
+              **_BATCH_OPTS}
 _CHECK_OPTS = {"--property": ("prop", "list"), "-p": ("prop", "list"), "--properties": ("props_file", "path"),
                "--timeout": ("timeout", "float"),
                "--allow-inconsistent": ("allow_inconsistent", "flag"), "--json": ("as_json", "flag"),

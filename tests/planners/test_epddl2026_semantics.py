@@ -173,4 +173,5 @@ def test_library_plan_uses_epddl_semantics_like_the_cli(tmp_path) -> None:
     assert [a for a, _ in task.initial.inconsistent_agents()] == ["b"]
     assert plan(task).plan == ("act",)
     assert main(["plan", str(d), str(p)]) == 0
-    assert plan(task, allow_inconsistent=False).status == "unsolvable"   # mA*'s pruning, asked for explicitly
+    assert plan(task, allow_inconsistent=False).plan == ("act",)   # False: the task's default, not a pruning
+    assert plan(task, consistent_beliefs=True).status == "unsolvable"   # the pruning, asked for explicitly

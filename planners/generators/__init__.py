@@ -1,0 +1,1 @@
+"""Generators of planning instances with known solvability (see :mod:`planners.generators.frontier`)."""
