@@ -28,7 +28,10 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT), str(ROOT / "tests" / "fuzz")]
+# not bench/ itself (Python puts a script's folder first): bench/packaging.py would shadow the 'packaging'
+# distribution that matplotlib imports, and the commands that draw would crash inside the harness
+sys.path[:] = [str(ROOT), str(ROOT / "tests" / "fuzz")] + [
+    p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
 
 
 def main() -> int:

@@ -401,3 +401,28 @@ def test_file_and_address_families_sweep():
     with Runner() as runner:
         tally = fuzzgen.run_fuzz(400, seed=2032, families=list(IN_PROCESS), runner=runner)
     assert not tally.bad, f"{tally.report_bad()}\n{tally.table()}"
+
+
+def test_worker_watchdog_answers_for_a_stuck_task(monkeypatch):
+    """A task stuck (here: sleeping) 0.3 s past its limit in a pool worker is answered by the worker's watchdog:
+    the limit record with the counters the task stored, then the worker ends (os._exit, patched here)."""
+    import delkit.executors as executors
+    from delkit.resources import counters
+    from planners.batch import _begin_task
+
+    sent = []
+
+    class Conn:
+        def send(self, obj):
+            sent.append(obj)
+
+    monkeypatch.setattr(executors, "_CURRENT", [Conn()])
+    exits = []
+    monkeypatch.setattr(os, "_exit", lambda code: exits.append(code))
+    disarm = _begin_task(0.2)
+    counters()["expanded"] = 5
+    time.sleep(1.5)
+    disarm()
+    assert exits == [0] and sent and sent[0][0] is True, (exits, sent)
+    rec = sent[0][1]
+    assert rec["status"] == "limit" and rec["exit"] == 3 and rec["expanded"] == 5 and rec["wall"] >= 0.5, rec
