@@ -63,7 +63,7 @@ def one(goal: str, colors: int, seed: int | None, fault: str, shield: bool = Tru
                 "caught": 0, "caught_by": [], "unsafe": 0, "unheeded": 0, "audit_agrees": False, "fault_log": [],
                 "unfired": [], "discarded": 0, "revisions": 0}
     log = res.faults
-    fired = sum(1 for x in log if " fired at" in x or x.startswith("occlusion fired"))
+    fired = _fired(log)
     caught = len(res.caught_by)
     return {**base, "success": res.success, "reason": res.reason, "replans": res.replans, "sim_s": res.sim_seconds,
             "cpu_s": time.process_time() - c0, "exec_s": res.exec_cpu_seconds, "guard_s": res.guard_cpu_seconds,
@@ -73,6 +73,12 @@ def one(goal: str, colors: int, seed: int | None, fault: str, shield: bool = Tru
             "revisions": sum(e["kind"] == "revision" for e in res.belief_log),
             "goal_in_beliefs": res.goal_in_beliefs, "goal_in_world": res.goal_in_world,
             "fault_log": log, "unfired": res.unfired, "planning_s": res.planning_seconds}
+
+
+def _fired(log: list[str]) -> int:
+    """Fault events in a mission's fault log (a swap that swapped something counts as one)."""
+    return sum(1 for x in log if " fired at" in x or x.startswith("occlusion fired")
+               or (x.startswith("swap-colours: ") and " is " in x and "caught" not in x))
 
 
 def _star(args):
@@ -95,8 +101,8 @@ def table(rows: list[dict]) -> str:
         by = sorted({b for r in rs for b in r.get("caught_by", [])})
         wrong = sum(bool(r["unsafe"] or r["unheeded"] or not r["audit_agrees"]) for r in rs)
         out.append(
-            f"| {c} | {f} | {'on' if sh else 'OFF'} | {n} | {sum(r['fired'] for r in rs)} | "
-            f"{sum(min(r['caught'], r['fired']) for r in rs)} | {', '.join(by) or '-'} | {ok}/{n} | "
+            f"| {c} | {f} | {'on' if sh else 'OFF'} | {n} | {sum(_fired(r['fault_log']) for r in rs)} | "
+            f"{sum(min(r['caught'], _fired(r['fault_log'])) for r in rs)} | {', '.join(by) or '-'} | {ok}/{n} | "
             f"{sum(r['audit_agrees'] for r in rs if r['success'])}/{ok} | {sum(r['unsafe'] > 0 for r in rs)} | "
             f"{sum(r['unheeded'] > 0 for r in rs)} | {wrong if not sh else '-'} | {sum(r['revisions'] for r in rs)} | "
             f"{sum(r['replans'] for r in rs) / n:.2f} | {sum(r['sim_s'] for r in rs) / n:.1f} | "
