@@ -245,3 +245,16 @@ def test_committed_frontier_specs_are_the_generators_output(tmp_path, family_siz
     for path in inst.write(tmp_path):
         assert (specs / path.name).read_text() == path.read_text(), path.name
     assert (specs / f"{inst.name}.plan").read_text().split() == list(inst.plan)
+
+
+def test_novelty_beliefs_as_atoms_guide_the_search_on_a_task_that_only_informs(tmp_path) -> None:
+    """On spy-linear (actions change beliefs only, never a valuation) the agents' beliefs about the goal's
+    propositions are the atoms that become new: novelty expands about one state per step, BFS every state
+    of the levels before the goal."""
+    from planners.epistemic import bfs, novelty_search
+
+    inst, task = _task(tmp_path, "spy-linear", 7, 5)
+    nov = novelty_search(make_space(task, allow_inconsistent=True))
+    full = bfs(make_space(task, allow_inconsistent=True))
+    assert nov.length == full.length == inst.optimum
+    assert nov.expanded <= 2 * inst.optimum < full.expanded
