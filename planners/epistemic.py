@@ -8,11 +8,15 @@ bisimilar), so that bisimilar states are expanded once.
 The state spaces live in :mod:`planners.spaces`: the planner picks a delkit backend — the compact bit-set
 one (:mod:`delkit.compact`, default) or the numpy one (``--engine del``) — and never implements DEL itself.
 
-No vacuous success: a state where some agent has no accessible world at the pointed world (it believes
-⊥) is a dead end and is not expanded (``allow_inconsistent=True`` keeps it).
+States where some agent has no accessible world at a designated world (it believes ⊥): one function,
+:func:`planners.beliefs.belief_semantics`, decides whether they are kept (``reference``: plank's semantics, the
+default on EPDDL 2026 tasks) or pruned (``consistent``: the default on mA* and E-PDDL, ``--consistent-beliefs``);
+a plan whose goal holds only vacuously lists the conjuncts in ``SearchResult.vacuous``.
 
 BFS tests the goal when a state is generated; since every action costs 1 the first plan found is of
-minimal length. A* uses the admissible and consistent ``h_pdb`` (the belief-content cover bound ``h_epi`` with
+minimal length. Satisficing: GBFS, and novelty search (:func:`novelty_search`, BFWS-style: novelty of the
+designated valuations and of beliefs, then the goal count); ``--search auto`` (:func:`portfolio`) runs novelty,
+GBFS and A* in one time budget, anytime. A* uses the admissible and consistent ``h_pdb`` (the belief-content cover bound ``h_epi`` with
 executability chains, and a pattern database per first-order belief goal) and GBFS the goal count ``h_gc``
 (:mod:`planners.heuristics`).
 """

@@ -234,3 +234,27 @@ def test_generator_refuses_impossible_sizes() -> None:
         generate("ugv-coordination", 1)
     with pytest.raises(ValueError, match="unknown family"):
         generate("blocks", 3)
+
+
+@pytest.mark.parametrize("family_size", [("spy-linear", 4, 2), ("spy-sensing", 4, 2), ("hotel-distributed", 3),
+                                         ("ugv-coordination", 4, 2)], ids=lambda fs: "-".join(map(str, fs)))
+def test_committed_frontier_specs_are_the_generators_output(tmp_path, family_size) -> None:
+    """specs/frontier holds small generated instances with their known plans: regenerated, they are the same."""
+    specs = Path(__file__).resolve().parents[2] / "specs" / "frontier"
+    inst = generate(*family_size)
+    for path in inst.write(tmp_path):
+        assert (specs / path.name).read_text() == path.read_text(), path.name
+    assert (specs / f"{inst.name}.plan").read_text().split() == list(inst.plan)
+
+
+def test_novelty_beliefs_as_atoms_guide_the_search_on_a_task_that_only_informs(tmp_path) -> None:
+    """On spy-linear (actions change beliefs only, never a valuation) the agents' beliefs about the goal's
+    propositions are the atoms that become new: novelty expands about one state per step, BFS every state
+    of the levels before the goal."""
+    from planners.epistemic import bfs, novelty_search
+
+    inst, task = _task(tmp_path, "spy-linear", 7, 5)
+    nov = novelty_search(make_space(task, allow_inconsistent=True))
+    full = bfs(make_space(task, allow_inconsistent=True))
+    assert nov.length == full.length == inst.optimum
+    assert nov.expanded <= 2 * inst.optimum < full.expanded

@@ -300,7 +300,8 @@ def test_h_chain_admissible_consistent_dominates_h_epi_and_astar_optimal(text: s
     a = best_first(fresh, Limits(timeout=30), kind="astar", h=h_chain(fresh))
     # BFS in the same semantics as the A* space (plan()'s default keeps states where an agent believes ⊥ for
     # event-model tasks, where B_a φ can then hold vacuously: a different task, found by hypothesis)
-    b = plan(task, search="bfs", limits=Limits(timeout=30), engine=engine, allow_inconsistent=fresh.allow_inconsistent)
+    b = plan(task, search="bfs", limits=Limits(timeout=30), engine=engine, allow_inconsistent=fresh.allow_inconsistent,
+             consistent_beliefs=not fresh.allow_inconsistent)
     assert a.status == b.status and a.length == b.length, text
 
 
@@ -385,7 +386,8 @@ def test_h_elim_and_h_pdb_admissible_consistent_dominate_h_chain_and_astar_optim
             assert hv <= 1 + h(by_key[nk]) or hv == math.inf, text               # consistent
     fresh = make_space(task)
     a = best_first(fresh, Limits(timeout=30), kind="astar", h=make_heuristic(name, fresh))
-    b = plan(task, search="bfs", limits=Limits(timeout=30), allow_inconsistent=fresh.allow_inconsistent)
+    b = plan(task, search="bfs", limits=Limits(timeout=30), allow_inconsistent=fresh.allow_inconsistent,
+             consistent_beliefs=not fresh.allow_inconsistent)
     assert a.status == b.status and a.length == b.length, text
 
 
