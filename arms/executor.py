@@ -13,13 +13,13 @@ collision-detection distance, so that its avoidance constraint would be inactive
 posture, configuration and velocity limits, arm–arm collision avoidance), and the rest of that move
 (and the waits after it) stays on the QP: the QP's set-points lag the path, and switching back to the
 exact closed form would catch the lag up at the joints' velocity limits — a jolt that let a friction-held
-block slip 10.6 mm on γ/3. ``ik="mink"`` uses the QP on every tick (the behaviour before issue 25);
+block slip 10.6 mm on γ/3. ``ik="mink"`` uses the QP on every tick (the reference the analytic ticks are compared with);
 ``Executor.ik_ticks`` counts the ticks of each.
 
 A Cartesian move follows a minimum-jerk profile s(τ) = 10τ³ − 15τ⁴ + 6τ⁵ from the commanded pose to the
-target: the position on the straight line, the rotation on the SO(3) geodesic (``_pose_path``; until
-issue 25 the SE(3) geodesic, the same path whenever the rotation does not change, as in every move of
-the skills after the first). The idle arm holds its TCP pose (its frame task stays on, weighted 10× the
+target: the position on the straight line, the rotation on the SO(3) geodesic (``_pose_path``; the SE(3)
+geodesic gives the same path whenever the rotation does not change, as in every move of the skills after
+the first). The idle arm holds its TCP pose (its frame task stays on, weighted 10× the
 moving arm's, so that when the arms meet the moving one gives way).
 
 Verification: after action *i* the symbolic state s_i (``arms.plan.symbolic_trace``) says where every

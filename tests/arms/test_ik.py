@@ -153,7 +153,7 @@ def test_clik_is_the_fallback_when_mink_runs_out_of_budget(ik):
     assert dp < POS_TOL and dr < ROT_TOL
 
 
-# -- the analytic IK (issue 25) -----------------------------------------------------------------------------
+# -- the analytic IK --------------------------------------------------------------------------------------
 
 def _ticks(step: float = 1e-3):
     """A deterministic clock (``step`` s per reading): budgets that do not depend on the machine's load."""
@@ -306,7 +306,7 @@ def test_track_follows_a_straight_line_continuously():
         _assert_solution(_ARM, q, t)
 
 
-# -- the executor's per-tick IK (issue 25) ------------------------------------------------------------------
+# -- the executor's per-tick IK ---------------------------------------------------------------------------
 
 @pytest.fixture(scope="module")
 def executor():
