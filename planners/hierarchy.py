@@ -400,7 +400,7 @@ SEED_TABLE2: dict[str, dict[int, tuple[float, int] | None]] = {
 }
 #: Seed 004 §5: initial-state construction, seconds, per number of colours
 SEED_INITIAL = {1: 0.003, 2: 0.031, 3: 0.126, 4: 2.117}
-#: the peer implementation (PyPI echosys) as measured on a machine like ours (issue 9): macro off / on
+#: the peer implementation (PyPI echosys) as measured on a machine like ours: macro off / on
 PEER_TABLE1: dict[str, dict[int, tuple[float | None, float | None]]] = {
     "alpha": {3: (4.4, 0.51), 4: (None, 19.8)},
     "beta": {3: (55.9, 4.9)},
