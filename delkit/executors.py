@@ -358,12 +358,15 @@ def _dask_client(address: str, timeout: float, option: str = "--scheduler",
                  error: type[DelkitError] = DelkitError) -> Any:
     """A ``distributed.Client`` of the scheduler at ``address``; else ``error`` saying how to fix it
     (``option`` names the command's option in the message)."""
-    host, port = parse_scheduler(address, option, error)  # type: ignore[misc]
+    inproc = address.strip().lower().startswith("inproc://")  # a cluster inside this very process (the API's
+    # LocalCluster(processes=False)): nothing on the network to parse or probe
+    host, port = (None, None) if inproc else parse_scheduler(address, option, error)  # type: ignore[misc]
     try:
         from distributed import Client
     except ImportError as exc:  # pragma: no cover - dask is a declared extra
         raise error(f"{option} needs the 'distributed' package (pip install 'delkit[dask]')") from exc
-    _reachable(host, port, min(timeout, 5.0), address, option, error)
+    if not inproc:
+        _reachable(host, port, min(timeout, 5.0), address, option, error)  # type: ignore[arg-type]
     try:
         return Client(address if "://" in address else f"tcp://{address.strip()}", timeout=timeout)
     except Exception as exc:  # noqa: BLE001 - unreachable, timed out, refused, not a scheduler: one line

@@ -48,8 +48,6 @@ ALLOWED: set[tuple[str, str]] = set()
 #: must go (a strict xfail: a clean file listed here fails)
 PENDING_REWRITE: set[str] = {
     "README.md",
-    "bench/RESULTS-arms-mission.md", "bench/RESULTS-arms.md", "bench/RESULTS-epico.md", "bench/RESULTS-fuzz.md",
-    "bench/RESULTS-view.md", "bench/RESULTS-packaging.md", "bench/RESULTS-symbolic.md",
 }
 
 

@@ -20,7 +20,7 @@ def _error(capsys, argv: list[str]) -> str:
 
 
 def test_plan_that_is_a_directory(tmp_path, capsys) -> None:
-    assert f"{tmp_path}: cannot read the plan file" in _error(capsys, ["arms", "run", str(tmp_path)])
+    assert f"{tmp_path}: the plan file is a directory" in _error(capsys, ["arms", "run", str(tmp_path)])
 
 
 def test_plan_that_is_not_text(tmp_path, capsys) -> None:

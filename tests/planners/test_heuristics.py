@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
+from pathlib import Path
 
 import pytest
 from hypothesis import HealthCheck, example, given, settings
@@ -18,6 +19,7 @@ from planners.validate import check_plan
 
 BENCH = shared_benchmarks()
 SPECS = __import__("planners.demo", fromlist=["specs_dir"]).specs_dir()
+ROOT = Path(__file__).resolve().parents[2]  # the checkout (bench/ lies beside planners/)
 G5 = SPECS / "grapevine5" / "Grapevine_5__pl_6.txt"
 
 PROPS = ("p", "q", "r")
@@ -341,7 +343,7 @@ def test_cc_2_4_4_length_7_by_astar(name: str) -> None:
 def test_cc_generator_reproduces_its_instances() -> None:
     import importlib.util
 
-    path = SPECS.parent / "bench" / "cc_tasks.py"
+    path = ROOT / "bench" / "cc_tasks.py"
     spec = importlib.util.spec_from_file_location("cc_tasks", path)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)  # type: ignore[union-attr]
@@ -394,7 +396,7 @@ def test_h_elim_and_h_pdb_admissible_consistent_dominate_h_chain_and_astar_optim
 def _cc_module():
     import importlib.util
 
-    spec = importlib.util.spec_from_file_location("cc_tasks", SPECS.parent / "bench" / "cc_tasks.py")
+    spec = importlib.util.spec_from_file_location("cc_tasks", ROOT / "bench" / "cc_tasks.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)  # type: ignore[union-attr]
     return mod
