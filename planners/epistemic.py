@@ -34,7 +34,7 @@ from delkit._records import DataclassFields, Record
 from delkit.errors import PlanningError
 from delkit.resources import counters
 from planners.spaces import CompactSpace, DelSpace, make_space
-from planners.task import Task, goal_conjuncts, has_event_actions
+from planners.task import Task, goal_conjuncts
 
 TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:

@@ -32,7 +32,7 @@ from planners.replay import NeedNumpy, PlainState
 from planners.replay import event_model as plain_events
 from planners.replay import initial_state as plain_initial
 from planners.replay import usable as plain_usable
-from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, has_event_actions, uncovered_worlds
+from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, uncovered_worlds
 
 TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:

@@ -126,7 +126,7 @@ def spy(chain: int, decoys: int = 0, *, sensing: bool = False) -> Instance:
     chain_agents = [f"c{i}" for i in range(1, chain + 1)]
     dec = [f"d{i}" for i in range(1, decoys + 1)]
     agents = ["s", *chain_agents, *dec]
-    links = [("s", "c1")] + [(a, b) for a, b in zip(chain_agents, chain_agents[1:])]
+    links = [("s", "c1")] + [(a, b) for a, b in zip(chain_agents, chain_agents[1:], strict=False)]
     for d in dec:
         links += [(c, d) for c in chain_agents] + [(x, d) for x in dec if x != d]
     links = sorted(set(links))
@@ -140,7 +140,7 @@ def spy(chain: int, decoys: int = 0, *, sensing: bool = False) -> Instance:
     (:goal ([{chain_agents[-1]}] (secret)))
 )
 """
-    steps = (["sense_s"] if sensing else []) + [f"tell_{a}_{b}" for a, b in zip(["s", *chain_agents], chain_agents)]
+    steps = (["sense_s"] if sensing else []) + [f"tell_{a}_{b}" for a, b in zip(["s", *chain_agents], chain_agents, strict=False)]
     return Instance(f"spy-{kind}", f"spy-{kind}-{chain}-{decoys}", _SPY_DOMAIN.format(kind=kind), problem,
                     tuple(steps), chain + (1 if sensing else 0))
 
@@ -190,15 +190,15 @@ def hotel(guests: int) -> Instance:
     (:requirements :finitary-S5-theories :modal-goals :facts :negative-goals)
     (:agents r {' '.join(gs)})
     (:objects {' '.join(digits)} - digit)
-    (:facts-init {' '.join(f'(owns {g} {b})' for g, b in zip(gs, digits))})
+    (:facts-init {' '.join(f'(owns {g} {b})' for g, b in zip(gs, digits, strict=False))})
     (:init (:and (in-lobby r) {' '.join(f'(not (in-lobby {g}))' for g in gs)} {' '.join(f'(code {b})' for b in digits)}
         ([C. All] (and (in-lobby r) {' '.join(f'(not (in-lobby {g}))' for g in gs)}))
-        {' '.join(f'([C. All] ([Kw. {g}] (code {b})))' for g, b in zip(gs, digits))}))
+        {' '.join(f'([C. All] ([Kw. {g}] (code {b})))' for g, b in zip(gs, digits, strict=False))}))
     (:goal (and {' '.join(f'([Kw. r] (code {b}))' for b in digits)} {' '.join(secrecy)}))
 )
 """
     steps: list[str] = []
-    for i, (g, b) in enumerate(zip(gs, digits)):
+    for i, (g, b) in enumerate(zip(gs, digits, strict=False)):
         steps += [f"enter_{g}", f"tell_{g}_{b}"] + ([f"leave_{g}"] if i < guests - 1 else [])
     return Instance("hotel-distributed", f"hotel-{guests}", _HOTEL_DOMAIN, problem, tuple(steps), 3 * guests - 1)
 
@@ -252,14 +252,14 @@ def ugv(cells: int, robots: int = 1) -> Instance:
     (:requirements :finitary-S5-theories :modal-goals :facts)
     (:agents base {' '.join(us)})
     (:objects {' '.join(xs)} - cell)
-    (:facts-init {' '.join(f'(ugv {u})' for u in us)} {' '.join(f'(next {a} {b}) (next {b} {a})' for a, b in zip(xs, xs[1:]))})
+    (:facts-init {' '.join(f'(ugv {u})' for u in us)} {' '.join(f'(next {a} {b}) (next {b} {a})' for a, b in zip(xs, xs[1:], strict=False))})
     (:init (:and {pos} (item-at {last}) {' '.join(f'(not (item-at {c}))' for c in xs[:-1])}
         ([C. All] (and {pos}))
         ([C. All] (or {one}))))
     (:goal ([base] (item-at {last})))
 )
 """
-    steps = [f"move_u1_{a}_{b}" for a, b in zip(xs, xs[1:])] + [f"sense_u1_{last}", f"report_u1_{last}"]
+    steps = [f"move_u1_{a}_{b}" for a, b in zip(xs, xs[1:], strict=False)] + [f"sense_u1_{last}", f"report_u1_{last}"]
     opt = min(cells + 1, 2 * cells - 2)
     return Instance("ugv-coordination", f"ugv-{cells}-{robots}", _UGV_DOMAIN, problem, tuple(steps), opt)
 

@@ -18,6 +18,7 @@ from planners.lang import load_task
 from planners.spaces import make_space
 from planners.validate import check_plan
 
+
 def _task(tmp_path: Path, family: str, *size: int):
     inst = generate(family, *size)
     d, p, lib = inst.write(tmp_path / inst.name)
