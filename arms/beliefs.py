@@ -41,9 +41,9 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
-from delkit.events import EventModel, action
-from delkit.formula import BOT, TOP, And, Formula, K, Not, Prop, conj, show
-from delkit.kripke import KripkeModel
+from delkit.logic.formula import BOT, TOP, And, Formula, K, Not, Prop, conj, show
+from delkit.models.events import EventModel, action
+from delkit.models.kripke import KripkeModel
 
 __all__ = ["BeliefState", "BeliefError", "pretty", "BeliefEvent"]
 
@@ -177,7 +177,7 @@ class BeliefState:
             if new is not None and self.space.engine.believes_bottom(new):
                 raise BeliefError(f"{what}: after it {', '.join(self.space.inconsistent(new))} would believe ⊥")
         else:
-            from delkit.update import preconditions, product_update
+            from delkit.models.update import preconditions, product_update
 
             m = self.state
             pre = preconditions(m, em)
@@ -283,7 +283,7 @@ class BeliefState:
 
     def observe_public(self, phi: Formula, *, time: float = 0.0, what: str = "") -> BeliefEvent:
         """Everybody observes that ``phi`` holds (public announcement; e.g. "the shared table is empty")."""
-        from delkit.events import sensing
+        from delkit.models.events import sensing
 
         before = set(self.knowledge())
         # everybody senses phi (both outcomes designated), then the actual worlds are those where it holds
@@ -354,7 +354,7 @@ class BeliefState:
         the full observer and the other agents partial (they see it look), the observed outcome actual;
         ``public``: every robot looks at it (e.g. both side cameras at the shared table) and all see all. An
         observation that contradicts every actual world revises the contradicted fluents first."""
-        from delkit.events import sensing
+        from delkit.models.events import sensing
 
         observed = {p: bool(v) for p, v in observed.items()}
         contra = self.contradicted(observed)

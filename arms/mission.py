@@ -285,13 +285,13 @@ def _fluent(p: str) -> tuple[str, str, str]:
 
 
 def _conjuncts(f: Any) -> list:
-    from delkit.formula import And
+    from delkit.logic.formula import And
 
     return [x for part in f.args for x in _conjuncts(part)] if isinstance(f, And) else [f]
 
 
 def _k(agent: str, p: str, value: bool) -> Any:
-    from delkit.formula import K, Not, Prop
+    from delkit.logic.formula import K, Not, Prop
 
     return K(agent, Prop(p) if value else Not(Prop(p)))
 

@@ -12,10 +12,10 @@ from __future__ import annotations
 import argparse
 import time
 
-from delkit.bisimulation import diff
-from delkit.bisimulation_symbolic import symbolic_diff
-from delkit.formula import Prop, disj, show
-from delkit.symbolic import KnowledgeStructure
+from delkit.backends.bisimulation_symbolic import symbolic_diff
+from delkit.backends.symbolic import KnowledgeStructure
+from delkit.logic.formula import Prop, disj, show
+from delkit.models.bisimulation import diff
 
 
 def _pair(n: int):

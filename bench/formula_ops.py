@@ -20,7 +20,7 @@ ROOT = Path(__file__).resolve().parent.parent
 
 _CHILD = r'''
 import json, pickle, sys, time
-from delkit.formula import And, K, Not, Prop
+from delkit.logic.formula import And, K, Not, Prop
 repeat = int(sys.argv[1])
 ps = [Prop(f"p{i}") for i in range(64)]
 fs = [K("a", Not(And((ps[i & 63], ps[(i + 1) & 63])))) for i in range(1024)]

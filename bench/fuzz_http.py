@@ -127,7 +127,7 @@ def _check(failures: list, what: str, status: int, body: bytes, expect: Callable
 
 def _model_doc(tmp: Path):
     from delkit import KripkeModel
-    from delkit.io import dumps
+    from delkit.io.formats import dumps
     from delkit.view.document import load_document
 
     m = KripkeModel.build([{"p"}, set()], {"a": [[0, 1]], "b": [[0], [1]]}, designated=[0])

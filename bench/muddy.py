@@ -2,7 +2,7 @@
 
 Explicit engine (``delkit.puzzles.solve_muddy``: build the 2^N-world S5 model, the father's
 announcement, N−1 "nobody knows" announcements, the final round) and the symbolic BDD engine
-(``delkit.symbolic.muddy_symbolic``). Each time is the median of ``--repeat`` runs, in seconds (explicit:
+(``delkit.backends.symbolic.muddy_symbolic``). Each time is the median of ``--repeat`` runs, in seconds (explicit:
 wall clock; symbolic: CPU time, imports excluded — see bench/symbolic.py for the comparison with SMCDEL).
 
     .venv/bin/python bench/muddy.py                 # explicit N = 2..16, symbolic N = 10..80
@@ -23,8 +23,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from rich.console import Console  # noqa: E402
 from rich.table import Table  # noqa: E402
 
+from delkit.backends.symbolic import muddy_symbolic  # noqa: E402
 from delkit.puzzles.muddy import solve_muddy  # noqa: E402
-from delkit.symbolic import muddy_symbolic  # noqa: E402
 
 
 def _median_seconds(run, repeat: int) -> tuple[float, object]:

@@ -6,7 +6,7 @@ Three ways to build the contracted, canonical s ⊗ E (all give the very same st
   by one (``_pair_product``), refined by the pure-Python ``_refine``;
 * **copy + Python** — the skip event's pairs (w, ε) are the old state's worlds with its own successor lists
   (``_copy_product``), refined by ``_refine`` (the default below ``NP_REFINE_MIN`` worlds);
-* **copy + numpy** — the same product refined by ``delkit.compact_np.refine`` (vectorised; the default from
+* **copy + numpy** — the same product refined by ``delkit.backends.compact_np.refine`` (vectorised; the default from
   ``NP_REFINE_MIN`` worlds on).
 
 Timed region: one product update (the designated events' rows, building the product, refining it), CPU
@@ -35,9 +35,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-import delkit.compact as compact  # noqa: E402
-from delkit.compact import CompactEngine, CompactState, PlainEvents, PlainModel  # noqa: E402
-from delkit.formula import Not, Prop, Top  # noqa: E402
+import delkit.backends.compact as compact  # noqa: E402
+from delkit.backends.compact import CompactEngine, CompactState, PlainEvents, PlainModel  # noqa: E402
+from delkit.logic.formula import Not, Prop, Top  # noqa: E402
 
 AGENTS = ("a", "b", "c", "d", "e")
 PROPS = tuple(f"p{i}" for i in range(16))

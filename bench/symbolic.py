@@ -1,11 +1,11 @@
 """Benchmark: delkit's symbolic (BDD) backend beside SMCDEL, in the same run when SMCDEL is built here.
 
 Every delkit figure is in-process CPU time (``time.process_time``), imports and
-:func:`delkit.symbolic.prepare` excluded, BDD manager creation included — the same timed region as
+:func:`delkit.backends.symbolic.prepare` excluded, BDD manager creation included — the same timed region as
 SMCDEL's (structure + formula + evaluation):
 
 * muddy children, all N muddy, whole puzzle (build the structure, father's announcement, N−1 rounds of
-  "nobody knows", the last round), :func:`delkit.symbolic.muddy_symbolic`;
+  "nobody knows", the last round), :func:`delkit.backends.symbolic.muddy_symbolic`;
 * drinking logicians: SMCDEL's single nested formula ``thirstyF n`` at the state where all want
   (structure and formula built inside the timed region), :func:`delkit.puzzles.drinking.check_thirsty`;
 * dining cryptographers: SMCDEL's benchmark formula on SMCDEL's encoding (complete graph of shared
@@ -55,11 +55,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from rich.console import Console  # noqa: E402
 from rich.table import Table  # noqa: E402
 
-import delkit.symbolic  # noqa: E402,F401 - imports before any clock starts
+import delkit.backends.symbolic  # noqa: E402,F401 - imports before any clock starts
+from delkit.backends.symbolic import muddy_manager, muddy_symbolic  # noqa: E402
 from delkit.puzzles.dining import smcdel_dining_check, smcdel_dining_manager  # noqa: E402
 from delkit.puzzles.drinking import check_thirsty, drinking_manager  # noqa: E402
 from delkit.puzzles.sum_product import smcdel_sum_product, solve_sum_product  # noqa: E402
-from delkit.symbolic import muddy_manager, muddy_symbolic  # noqa: E402
 
 SMCDEL = {  # SMCDEL v1.3.0 (CacBDD) built on this machine, recorded earlier (not this run): alternating fresh
     # processes, CPU time in-process (getCPUTime around structure + formula + evaluation), manager inside
@@ -102,7 +102,7 @@ def rows(muddy: list[int], drinking: list[int], dining: list[int], repeat: int):
 
 _MANAGERS = {  # the manager each row's call creates inside its clock unless given one made before it
     "muddy": muddy_manager, "drinking": drinking_manager, "dining": smcdel_dining_manager,
-    "sum-product (SMCDEL formula)": lambda n: delkit.symbolic.new_manager(),
+    "sum-product (SMCDEL formula)": lambda n: delkit.backends.symbolic.new_manager(),
 }
 
 
@@ -111,7 +111,7 @@ def _job(name: str, n: int, *, outside: bool = False):
     created (and the BDD library loaded) before the call, so outside its clock."""
     bdd = None
     if outside:
-        delkit.symbolic.prepare()
+        delkit.backends.symbolic.prepare()
         bdd = _MANAGERS[name](n)
     if name == "muddy":
         r = muddy_symbolic(n, n, bdd=bdd)

@@ -33,7 +33,7 @@ sys.path.insert(0, str(ROOT))
 
 def models(tmp: Path) -> list[tuple[str, list[Path], str]]:
     from delkit import KripkeModel, product_update, sensing
-    from delkit.io import dumps
+    from delkit.io.formats import dumps
     from delkit.view.samples import random_s5
 
     coin = KripkeModel.build([{"p"}, set()], {"a": [[0, 1]], "b": [[0, 1]], "c": [[0, 1]]}, designated=[0])

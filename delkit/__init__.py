@@ -19,16 +19,16 @@ if TYPE_CHECKING:
 __version__ = "0.1.0"
 
 _EXPORTS: dict[str, tuple[str, ...]] = {
-    "delkit.bisimulation": ("bisimilar", "canonical_hash", "contract"),
-    "delkit.compose": ("compose", "compose_all"),
+    "delkit.models.bisimulation": ("bisimilar", "canonical_hash", "contract"),
+    "delkit.models.compose": ("compose", "compose_all"),
     "delkit.errors": ("DelkitError", "ModelError", "ParseError", "UnknownSymbolError"),
-    "delkit.events": ("EventModel", "action", "announcement", "ontic", "private_announcement",
+    "delkit.models.events": ("EventModel", "action", "announcement", "ontic", "private_announcement",
                       "public_announcement", "semi_private_announcement", "sensing", "skip"),
-    "delkit.formula": ("BOT", "TOP", "And", "Announce", "Bot", "C", "D", "E", "Formula", "Iff", "Implies", "K",
+    "delkit.logic.formula": ("BOT", "TOP", "And", "Announce", "Bot", "C", "D", "E", "Formula", "Iff", "Implies", "K",
                        "Kw", "Not", "Or", "Prop", "Top", "Update", "parse", "show"),
-    "delkit.kripke": ("KripkeModel",),
-    "delkit.relation": ("Relation",),
-    "delkit.update": ("applicable", "product_update", "update_sequence"),
+    "delkit.models.kripke": ("KripkeModel",),
+    "delkit.models.relation": ("Relation",),
+    "delkit.models.update": ("applicable", "product_update", "update_sequence"),
 }
 _WHERE = {name: mod for mod, names in _EXPORTS.items() for name in names}
 
@@ -49,21 +49,8 @@ def __dir__() -> list[str]:
 
 
 if TYPE_CHECKING:  # static analysers see the eager imports
-    from delkit.bisimulation import bisimilar, canonical_hash, contract  # noqa: F401
-    from delkit.compose import compose, compose_all  # noqa: F401
     from delkit.errors import DelkitError, ModelError, ParseError, UnknownSymbolError  # noqa: F401
-    from delkit.events import (  # noqa: F401
-        EventModel,
-        action,
-        announcement,
-        ontic,
-        private_announcement,
-        public_announcement,
-        semi_private_announcement,
-        sensing,
-        skip,
-    )
-    from delkit.formula import (  # noqa: F401
+    from delkit.logic.formula import (  # noqa: F401
         BOT,
         TOP,
         And,
@@ -85,6 +72,19 @@ if TYPE_CHECKING:  # static analysers see the eager imports
         parse,
         show,
     )
-    from delkit.kripke import KripkeModel  # noqa: F401
-    from delkit.relation import Relation  # noqa: F401
-    from delkit.update import applicable, product_update, update_sequence  # noqa: F401
+    from delkit.models.bisimulation import bisimilar, canonical_hash, contract  # noqa: F401
+    from delkit.models.compose import compose, compose_all  # noqa: F401
+    from delkit.models.events import (  # noqa: F401
+        EventModel,
+        action,
+        announcement,
+        ontic,
+        private_announcement,
+        public_announcement,
+        semi_private_announcement,
+        sensing,
+        skip,
+    )
+    from delkit.models.kripke import KripkeModel  # noqa: F401
+    from delkit.models.relation import Relation  # noqa: F401
+    from delkit.models.update import applicable, product_update, update_sequence  # noqa: F401

@@ -29,11 +29,11 @@ def proofs(out: Path | str) -> dict[str, Any]:
     truth of belief on KD45 and "mutual ⇒ common knowledge" on S5 with minimal counter-models (written to
     ``out`` as JSON and DOT, re-checked explicitly), check a sensing;ontic macro against its steps, and
     check the reduction of an mA* update against the explicit checker. Returns ``{"ok", "summary", …}``."""
-    from delkit.compose import compose
-    from delkit.events import ontic, sensing
-    from delkit.formula import Update, parse
-    from delkit.io import save, save_dot
-    from delkit.kripke import KripkeModel
+    from delkit.io.formats import save, save_dot
+    from delkit.logic.formula import Update, parse
+    from delkit.models.compose import compose
+    from delkit.models.events import ontic, sensing
+    from delkit.models.kripke import KripkeModel
     from delkit.verify import check_macro, prove, reduce
 
     out = Path(out)

@@ -1,6 +1,6 @@
 """The input and output guards every command uses: inputs are regular files under a size cap (stat'ed before
 they are opened), outputs never replace an input (compared by ``os.path.samefile``). Imports nothing from
-delkit but its errors, so that every reader (:mod:`delkit.io`, :mod:`delkit.smcdel`, the spec readers of the
+delkit but its errors, so that every reader (:mod:`delkit.io.formats`, :mod:`delkit.io.smcdel`, the spec readers of the
 layers above) can use it."""
 
 from __future__ import annotations

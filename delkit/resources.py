@@ -79,7 +79,7 @@ def require(nbytes: float, what: str, change: str) -> None:
 # ----------------------------------------------------------------------------- estimates
 
 def product_update_bytes(model, events) -> float:
-    """Peak bytes of ``delkit.update.product_update(model, events)``, computed from the preconditions.
+    """Peak bytes of ``delkit.models.update.product_update(model, events)``, computed from the preconditions.
 
     With c_e the number of worlds where event e's precondition holds and d_w the number of events
     applicable at world w, the product has k = Σ c_e worlds; a partition × partition relation costs O(k),

@@ -25,7 +25,7 @@ Strategies:
 * :func:`s5_models`, :func:`kd45_models`, :func:`pointed_models` – shorthands;
 * :func:`event_models` – event models with propositional pre/postconditions, S5 (partitions), KD45 or K
   frames, or the mA* observability frames (full / partial / oblivious observers, via
-  :func:`delkit.events.action`);
+  :func:`delkit.models.events.action`);
 * :func:`world_permutations` – a permutation of worlds to build isomorphic copies.
 
 Every strategy is shrinkable (it is built from hypothesis primitives, not from a seeded RNG).
@@ -43,8 +43,7 @@ except ImportError as exc:  # hypothesis comes with the test extra, not with the
     raise ImportError("delkit.testing needs hypothesis: pip install 'delkit[test]' (or pip install hypothesis)") \
         from exc
 
-from delkit.events import EventModel
-from delkit.formula import (
+from delkit.logic.formula import (
     BOT,
     TOP,
     And,
@@ -62,8 +61,9 @@ from delkit.formula import (
     Prop,
     Update,
 )
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
+from delkit.models.events import EventModel
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 
 __all__ = [
     "formulas", "propositional_formulas", "kripke_models", "s5_models", "kd45_models", "pointed_models",
@@ -236,7 +236,8 @@ def pointed_models(props: Sequence[str], agents: Sequence[str], max_worlds: int 
 @st.composite
 def refinement_inputs(draw, max_worlds: int = 40, max_relations: int = 4, max_lists: int = 8):
     """``(val, dist, cls, points)`` as the compact engine hands them to its partition refinement
-    (``delkit.compact._refine``, ``delkit.compact_np.refine``): valuations, per relation the distinct successor
+    (``delkit.backends.compact._refine``, ``delkit.backends.compact_np.refine``): valuations, per relation the distinct
+    successor
     lists (numbered in order of first use) and each world's list, designated worlds. Valuations from a narrow
     range (rounds that split) or a wide one (mostly distinct: discrete from round 0; beyond 63 bits)."""
     n = draw(st.integers(1, max_worlds))
@@ -268,7 +269,7 @@ def event_models(props: Sequence[str], agents: Sequence[str], max_events: int = 
     random propositional postconditions on some propositions; a non-empty set of designated events.
 
     ``frame``: "S5" (partitions), "KD45" or "K" (any relation of that class), or "mA*": the observability
-    frames of :func:`delkit.events.action` — every agent is drawn fully observant, partially observant or
+    frames of :func:`delkit.models.events.action` — every agent is drawn fully observant, partially observant or
     oblivious; with oblivious agents the skip event ``eps`` is added (then ``max_events`` + 1 events).
     """
     if frame.upper() == "MA*":
@@ -297,7 +298,7 @@ def _posts(props: tuple[str, ...], enabled: bool) -> st.SearchStrategy[dict[str,
 
 
 def _ma_star_models(props, agents, max_events, pre_depth, postconditions, min_events, name):
-    from delkit.events import action
+    from delkit.models.events import action
 
     pre_s = propositional_formulas(props, pre_depth)
 

@@ -4,11 +4,11 @@ Four tools, all returning plain data (frozen dataclasses) and never trusting z3 
 
 1. **Propositional validity / satisfiability** (:func:`valid`, :func:`satisfiable`, :func:`equivalent`,
    :func:`counterexample`) of pre- and postconditions. Exact (z3 is a decision procedure for SAT).
-   Defined in :mod:`delkit.propositional` (which :mod:`delkit.compose` uses to prune macros) and
+   Defined in :mod:`delkit.logic.propositional` (which :mod:`delkit.models.compose` uses to prune macros) and
    re-exported here.
 
 2. **Macro check** (:func:`check_macro`): a macro (a composed event model E₁;…;Eₙ, see
-   :func:`delkit.compose.compose`) is compared with the sequence it replaces. Events are matched by name
+   :func:`delkit.models.compose.compose`) is compared with the sequence it replaces. Events are matched by name
    (``e1;e2;…``); for every matched event the preconditions must be equivalent, ``⊨ pre_m ↔ pre_s``, and
    every postcondition must agree wherever the event can happen, ``⊨ pre_s → (post_m(p) ↔ post_s(p))``;
    relations and designated events must coincide, and an event of the sequence that the macro leaves out
@@ -34,7 +34,7 @@ Four tools, all returning plain data (frozen dataclasses) and never trusting z3 
    the k worlds; ``C_G φ`` uses the transitive closure of ⋃_{a∈G} R_a computed by ⌈log₂ k⌉ squarings,
    which is exact for k worlds; public announcements are encoded directly by relativisation to the worlds
    where the announced formula holds (so C under [!ψ] is supported). A model z3 returns is rebuilt as a
-   :class:`~delkit.kripke.KripkeModel` and **re-checked by the explicit model checker**; if the two
+   :class:`~delkit.models.kripke.KripkeModel` and **re-checked by the explicit model checker**; if the two
    disagree a :class:`VerificationError` is raised. A ``Verdict(valid=True)`` from :func:`prove` means "no
    counter-model with at most k worlds"; ``exact`` says whether that is a proof: it is for propositional
    formulas and for single-agent S5 formulas within the small-model bound (:func:`s5_single_agent_bound`);
@@ -51,8 +51,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from delkit.errors import VerificationError
-from delkit.events import EventModel
-from delkit.formula import (
+from delkit.logic.formula import (
     And,
     Announce,
     Bot,
@@ -75,9 +74,10 @@ from delkit.formula import (
     show,
     subformulas,
 )
-from delkit.kripke import KripkeModel
-from delkit.propositional import _f, counterexample, equivalent, satisfiable, to_z3, valid
-from delkit.relation import Relation
+from delkit.logic.propositional import _f, counterexample, equivalent, satisfiable, to_z3, valid
+from delkit.models.events import EventModel
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 from delkit.resources import check_time
 
 __all__ = [
@@ -258,7 +258,7 @@ def check_macro(macro: EventModel, sequence: Sequence[EventModel], *, logic: str
     Propositional conditions are decided by z3; others are reduced (:func:`reduce`) and, if still
     modal, checked by :func:`prove` with ``logic``/``worlds`` (then ``bounded`` is set).
     """
-    from delkit.compose import compose_all
+    from delkit.models.compose import compose_all
 
     ref = compose_all(list(sequence))
     problems: list[str] = []
@@ -344,11 +344,11 @@ class Verdict:
     stats: dict = field(default_factory=dict, compare=False)
 
     def to_dict(self) -> dict:
-        """A JSON-ready summary (the counter-model in the :mod:`delkit.io` schema)."""
+        """A JSON-ready summary (the counter-model in the :mod:`delkit.io.formats` schema)."""
         out = {"formula": show(self.formula), "valid": self.valid, "logic": self.logic, "worlds": self.worlds,
                "exact": self.exact}
         if self.counter_model is not None:
-            from delkit.io import model_to_dict
+            from delkit.io.formats import model_to_dict
 
             out["counter_model"] = model_to_dict(self.counter_model)
         return out

@@ -61,7 +61,7 @@ def keeps_inconsistent(task: Task, *, consistent_beliefs: bool = False, allow_in
 
 def _believers(f: Any) -> set[str]:
     """The agents whose beliefs ``f`` mentions (K, Kw; for E, C, D, every member of the group)."""
-    from delkit.formula import agents_of
+    from delkit.logic.formula import agents_of
 
     return set(agents_of(f))
 
@@ -76,7 +76,7 @@ def vacuous_goals(space: Any, state: Any) -> list[dict[str, Any]]:
     """For a goal state: each goal conjunct that holds while an agent it mentions believes ⊥ at a designated
     world (``{"conjunct": text, "agents": [...]}``) — the goal is reached only vacuously for those agents.
     Empty when no agent believes ⊥ (always so under the ``consistent`` semantics)."""
-    from delkit.formula import show
+    from delkit.logic.formula import show
     from planners.task import goal_conjuncts
 
     bad = _inconsistent_agents(space, state)

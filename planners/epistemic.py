@@ -6,7 +6,7 @@ their bisimulation quotient and deduplicated by a canonical key (equal iff the p
 bisimilar), so that bisimilar states are expanded once.
 
 The state spaces live in :mod:`planners.spaces`: the planner picks a delkit backend — the compact bit-set
-one (:mod:`delkit.compact`, default) or the numpy one (``--engine del``) — and never implements DEL itself.
+one (:mod:`delkit.backends.compact`, default) or the numpy one (``--engine del``) — and never implements DEL itself.
 
 States where some agent has no accessible world at a designated world (it believes ⊥): one function,
 :func:`planners.beliefs.belief_semantics`, decides whether they are kept (``reference``: plank's semantics, the
@@ -331,7 +331,7 @@ for every agent a and proposition p of the goal (a measured addition: without it
 inform, such as the spy family, has no new atom after the first step). Classical BFWS's atoms are the state's facts; an epistemic
     state's facts are its designated valuations, and its epistemic content that the goal can see is the truth
     of the goal's modal subformulas."""
-    from delkit.formula import Prop, is_propositional, subformulas
+    from delkit.logic.formula import Prop, is_propositional, subformulas
 
     task = getattr(space, "task", None)
     forms: list[Any] = []
@@ -344,7 +344,7 @@ inform, such as the spy family, has no new atom after the first step). Classical
     eng = getattr(space, "engine", None)
     props = list(eng.props if eng is not None else task.props if task is not None else ())
     if epistemic and task is not None:  # each agent's belief about each proposition the goal mentions
-        from delkit.formula import K, Not, props_of
+        from delkit.logic.formula import K, Not, props_of
 
         for p in sorted(props_of(task.goal)):
             for a in task.agents:

@@ -62,7 +62,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 
-from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Prop, is_propositional, props_of
+from delkit.logic.formula import And, C, D, E, Formula, K, Kw, Not, Prop, is_propositional, props_of
 from planners.task import Task, goal_conjuncts
 
 TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
@@ -542,7 +542,7 @@ def make_heuristic(name: str, space: Any) -> Callable[[Any], float]:
 
 def _peval(f: Formula, v: int, pidx: dict[str, int]) -> bool:
     """Truth of a propositional formula at a valuation given as a bit mask over ``pidx``."""
-    from delkit.formula import Bot, Iff, Implies, Or, Top
+    from delkit.logic.formula import Bot, Iff, Implies, Or, Top
 
     if isinstance(f, Prop):
         return bool(v >> pidx[f.name] & 1)
@@ -582,7 +582,7 @@ def transparent_props(space: Any) -> dict[str, frozenset[str]]:
     s0, _ = space.initial()
     if not hasattr(s0, "masks") or len(s0.points) != 1:
         return {x: frozenset() for x in task.agents}
-    from delkit.formula import Top
+    from delkit.logic.formula import Top
 
     pidx = {p: i for i, p in enumerate(task.props)}
     flat = [step for st in steps for step in st]  # type: ignore[union-attr]

@@ -22,7 +22,7 @@ from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from delkit.formula import TOP
+from delkit.logic.formula import TOP
 from planners.classical import CAction, CState, goal_for, solve_bfs, solve_classical
 from planners.epico import ROBOTS, EpicoError, Instance, Reading
 from planners.task import ActionSpec, EventAction, MacroSpec, Task
@@ -132,7 +132,7 @@ def partially_observed_ontic(act: ActionSpec, agents: tuple[str, ...]) -> EventA
     as for every mA* action), ``e`` designated; full observers tell them apart, partial observers do not,
     the others are oblivious. (mA* defines partial observability for sensing and announcements only; this
     is the reading delkit gives it for an ontic action.) Observers must be unconditional."""
-    from delkit.events import action, ontic
+    from delkit.models.events import action, ontic
 
     if any(c != TOP for _, c in (*act.full, *act.partial)):
         raise EpicoError(f"{act.name}: a partially observed ontic action needs unconditional observers")
@@ -217,7 +217,7 @@ def solve(instance: Instance, *, macros: bool | Iterable[str] = True, known: Map
         instance = instance.with_known(known)
     if not isinstance(macros, bool):
         macros = tuple(macros)
-    import delkit.semantics  # noqa: F401 - imports (≈0.5 s cold) are not part of the initial-state time
+    import delkit.logic.semantics  # noqa: F401 - imports (≈0.5 s cold) are not part of the initial-state time
     import planners.spaces  # noqa: F401
 
     t0, c0 = time.perf_counter(), time.process_time()
@@ -588,7 +588,7 @@ def _world_text(model, w: int, props: Iterable[str], about=None) -> str:
     truth value."""
     true = model.true_props(w)
     if about is not None:
-        from delkit.formula import props_of
+        from delkit.logic.formula import props_of
 
         mine = sorted(props_of(about) & set(props))
         if mine:
@@ -601,8 +601,8 @@ def perspective_step(task: Task, model, act):
     """One step of a plan from a perspective: ``act`` (an action, or a macro's steps in turn) by its actor i in
     the local state of i of ``model`` (multi-pointed). Returns (the successor, whose designated worlds are the
     updates of every world i considered possible, contracted) or (None, why not)."""
-    from delkit.bisimulation import contract
-    from delkit.update import product_update
+    from delkit.models.bisimulation import contract
+    from delkit.models.update import product_update
     from planners.task import uncovered_worlds
 
     steps = act.steps if isinstance(act, MacroSpec) else (act,)
@@ -631,7 +631,7 @@ def perspective_step(task: Task, model, act):
 def perspective_initial(task: Task, agent: str):
     """The planning agent's perspective on the initial state: its local state (every world it considers
     possible from the actual world designated), contracted."""
-    from delkit.bisimulation import contract
+    from delkit.models.bisimulation import contract
 
     if agent not in task.agents:
         raise EpicoError(f"perspective {agent!r}: not an agent of the task; use one of {', '.join(task.agents)} "
@@ -670,7 +670,7 @@ def plan_from_perspective(task: Task, agent: str, limits: EpicoLimits = EpicoLim
     perspective state within ``max_depth`` steps was expanded without reaching the goal."""
     from collections import deque
 
-    from delkit.bisimulation import canonical_form
+    from delkit.models.bisimulation import canonical_form
     from planners.epistemic import SearchResult
 
     t0 = time.perf_counter()

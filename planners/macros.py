@@ -13,7 +13,7 @@ parameters whose steps all exist (``NAME_x_y`` like the actions); :func:`with_ma
 :func:`flatten` maps a plan back to its steps.
 
 Semantics: a macro applied in state s is Φ(A_n, … Φ(A_1, s)) (⊥ if a step is not applicable). Its event
-model in s is the composition E_1;…;E_n (``delkit.compose``) of the steps' event models, each step's
+model in s is the composition E_1;…;E_n (``delkit.models.compose``) of the steps' event models, each step's
 observers decided in the state the previous steps lead to (:func:`macro_event_model`). :func:`prove_macro`
 shows with z3 (``delkit.verify``) that this composed model equals the sequence: the composition pruned of
 impossible events passes ``check_macro`` against the sequence, and for every event (e_1,…,e_n) and every
@@ -32,9 +32,9 @@ from dataclasses import dataclass, field, replace
 from typing import Any
 
 from delkit.errors import ParseError, PlanningError
-from delkit.events import EventModel
-from delkit.formula import TOP, Formula, Iff, Not, Prop, Update, is_propositional, show
-from delkit.kripke import KripkeModel
+from delkit.logic.formula import TOP, Formula, Iff, Not, Prop, Update, is_propositional, show
+from delkit.models.events import EventModel
+from delkit.models.kripke import KripkeModel
 from planners.lang.epddl import Atom, SList, _head, _typed_list, read_sexps
 from planners.task import ActionSpec, MacroSpec, Task, apply_steps
 
@@ -179,7 +179,7 @@ def sequence_states(task: Task, steps: Sequence[ActionSpec], model: KripkeModel
 def macro_event_model(task: Task, macro: MacroSpec, model: KripkeModel, *, prune: bool = False
                       ) -> EventModel | None:
     """E_1;…;E_n for ``macro`` in state ``model`` (None if a step is not applicable there)."""
-    from delkit.compose import compose_all
+    from delkit.models.compose import compose_all
 
     seq = sequence_states(task, macro.steps, model)
     if seq is None:
@@ -205,7 +205,7 @@ class MacroProof:
 
 def _abstract(f: Formula, table: dict[Formula, Prop]) -> Formula:
     """Replace every maximal modal subformula by a fresh atom (sound for validity)."""
-    from delkit.formula import And, Implies, Or
+    from delkit.logic.formula import And, Implies, Or
 
     if is_propositional(f):
         return f
@@ -241,9 +241,9 @@ def prove_macro(task: Task, macro: MacroSpec, model: KripkeModel | None = None, 
     """Prove with z3 that the composed event model of ``macro`` in ``model`` (default: the initial state; the
     macro must be applicable there) equals the sequence of its steps. ``composed`` checks a given event
     model (events named ``e1;e2;…`` like the composition's) instead of building it."""
-    from delkit.bisimulation import bisimilar
-    from delkit.compose import compose_all
-    from delkit.update import product_update
+    from delkit.models.bisimulation import bisimilar
+    from delkit.models.compose import compose_all
+    from delkit.models.update import product_update
     from delkit.verify import check_macro
 
     model = task.initial if model is None else model
@@ -326,9 +326,9 @@ def check_handwritten(task: Task, hand: Sequence[ActionSpec], macros: Sequence[M
     steps: for each state s, each macro m and each grounding h of the hand-written action whose name
     extends m's arguments, h must be applicable iff m is, and then M ⊗ E_h ≅ M ⊗ (E_1;…;E_n). Returns the
     first difference (with a plan that reaches the state) and the symbolic differences (``check_macro``)."""
-    from delkit.bisimulation import bisimilar, contract
-    from delkit.compose import compose_all
-    from delkit.update import product_update
+    from delkit.models.bisimulation import bisimilar, contract
+    from delkit.models.compose import compose_all
+    from delkit.models.update import product_update
     from delkit.verify import check_macro
 
     prims = [a for a in task.actions if isinstance(a, ActionSpec) and a not in hand]
@@ -392,7 +392,7 @@ def _rename_single(em: EventModel, ref: EventModel) -> EventModel:
 
 def _diff(task: Task, a: KripkeModel, b: KripkeModel) -> str:
     """A formula of the task's language (goal atoms under beliefs) true in one result, false in the other."""
-    from delkit.formula import K
+    from delkit.logic.formula import K
 
     cands: list[Formula] = [Prop(p) for p in task.props]
     cands += [K(ag, Prop(p)) for ag in task.agents for p in task.props]

@@ -302,7 +302,7 @@ class _Part:
 
     def _merge(self, blobs: list[tuple[int, bytes]]) -> None:
         """Merge the successors other parts sent (``(sender, bytes)``; none is a goal: its sender tested it)."""
-        from delkit.compact import CompactState, frame_id
+        from delkit.backends.compact import CompactState, frame_id
 
         seen, cur, fast, dead = self.seen, self.cur, self.fast_key, self.dead
         for src, blob in blobs:

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from delkit.errors import ModelError
-from delkit.formula import TOP, Formula, K, Kw, Not, Prop, conj
+from delkit.logic.formula import TOP, Formula, K, Kw, Not, Prop, conj
 from planners.epistemic import Limits, SearchResult, plan
 from planners.task import ActionSpec, Task
 

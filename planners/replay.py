@@ -2,15 +2,15 @@
 
 :class:`PlainState` is a pointed Kripke model as plain Python data (valuations as int bit masks over the
 task's fluents, per agent the successor tuple of every world, the designated worlds) with the part of
-:class:`delkit.kripke.KripkeModel`'s interface the checker reads (``check``, ``holds``, ``relation(a)
+:class:`delkit.models.kripke.KripkeModel`'s interface the checker reads (``check``, ``holds``, ``relation(a)
 .successors``, ``world_name``, ``true_props``, ``reachable``, ``inconsistent_agents``). Formulas are
-evaluated by the compact backend's evaluator (:meth:`delkit.compact.CompactEngine.ev`, the clauses of
-``delkit.semantics``, with distributed knowledge of a group read on the intersection of its members'
+evaluated by the compact backend's evaluator (:meth:`delkit.backends.compact.CompactEngine.ev`, the clauses of
+``delkit.logic.semantics``, with distributed knowledge of a group read on the intersection of its members'
 relations) on the state as it is; :meth:`PlainState.product` is ``KripkeModel.product`` written with lists:
 the same worlds in the same order (the pairs (w, e) with w ⊨ pre(e), sorted by world then event), the same
 valuations (postconditions read in the old model), relations ((w,e) R_a (v,f) iff w R_a v and e Q_a f),
 designated pairs and world names. Event models are the numpy-free ones the planner uses
-(:func:`planners.task.plain_event_model`, an EPDDL reader's :class:`~delkit.compact.PlainEvents`).
+(:func:`planners.task.plain_event_model`, an EPDDL reader's :class:`~delkit.backends.compact.PlainEvents`).
 
 The checker (:func:`planners.validate.check_plan`) replays on these while the states stay small enough to
 be left uncontracted (its ``_CONTRACT_ABOVE``); anything else — a bigger state, a numpy event model, an
@@ -21,9 +21,9 @@ benchmark instances).
 
 from __future__ import annotations
 
-from delkit.compact import CompactEngine, CompactState, PlainEvents
+from delkit.backends.compact import CompactEngine, CompactState, PlainEvents
 from delkit.errors import DelkitError
-from delkit.formula import Announce, Formula, Update, subformulas
+from delkit.logic.formula import Announce, Formula, Update, subformulas
 
 TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:

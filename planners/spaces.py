@@ -2,19 +2,20 @@
 
 The planner does not implement DEL: it picks a delkit backend and asks it to apply event models.
 
-* :class:`CompactSpace` — the compact bit-set backend (:mod:`delkit.compact`), the default;
-* :class:`DelSpace` — the numpy backend: ``delkit.update.product_update`` + ``delkit.bisimulation.contract`` +
-  ``delkit.bisimulation.canonical_form`` on :class:`~delkit.kripke.KripkeModel` (reference semantics,
+* :class:`CompactSpace` — the compact bit-set backend (:mod:`delkit.backends.compact`), the default;
+* :class:`DelSpace` — the numpy backend: ``delkit.models.update.product_update`` +
+  ``delkit.models.bisimulation.contract`` +
+  ``delkit.models.bisimulation.canonical_form`` on :class:`~delkit.models.kripke.KripkeModel` (reference semantics,
   ``--engine del``).
 
 Both accept the three kinds of grounded actions of :mod:`planners.task`:
 
 * :class:`ActionSpec` (mA*): executability and observers decided at the pointed world(s), the mA* event
-  model built by ``delkit.events`` constructors;
+  model built by ``delkit.models.events`` constructors;
 * :class:`EventAction`: any event model, chosen by the truth of finitely many conditions in the state;
 * :class:`MacroSpec` (seed 004, Definition 4.1): :class:`DelSpace` applies the steps in sequence,
   Φ(j, Φ(i, s)) — the definition; :class:`CompactSpace` applies the *composed* event model E₁;…;Eₙ
-  (``delkit.compose``) once, the steps' event models chosen by their conditions in the intermediate
+  (``delkit.models.compose``) once, the steps' event models chosen by their conditions in the intermediate
   states. The composition theorem (M ⊗ E₁) ⊗ E₂ ≅ M ⊗ (E₁;E₂) makes both equal; the differential tests
   check it along plans.
 
@@ -28,9 +29,9 @@ from __future__ import annotations
 from collections.abc import Hashable, Iterator
 
 from delkit._records import DataclassFields
-from delkit.compact import CompactEngine, CompactState, PlainEvents, bit_positions, state_of_key
+from delkit.backends.compact import CompactEngine, CompactState, PlainEvents, bit_positions, state_of_key
 from delkit.errors import PlanningError
-from delkit.formula import And, Formula, Top, is_propositional, props_of
+from delkit.logic.formula import And, Formula, Top, is_propositional, props_of
 from delkit.resources import ALARM_SLACK, check_time
 from planners.task import ActionSpec, EventAction, MacroSpec, Task, apply_action, goal_conjuncts, plain_event_model
 
@@ -38,8 +39,8 @@ TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up
 if TYPE_CHECKING:  # numpy: the compact space of a small task never imports it (start-up)
     from typing import Any, Literal
 
-    from delkit.events import EventModel
-    from delkit.kripke import KripkeModel
+    from delkit.models.events import EventModel
+    from delkit.models.kripke import KripkeModel
 
 __all__ = ["CompactSpace", "DelSpace", "make_space"]
 
@@ -74,7 +75,7 @@ class DelSpace:
         """(state, key): contracted, keyed by its canonical form. With groups whose D matters the state is
         kept as it is (no contraction: D_G is not bisimulation-invariant) and keyed by the canonical form of
         the model extended with one relation ⋂_{a∈G} R_a per group (collective bisimulation)."""
-        from delkit.bisimulation import canonical_form, contract
+        from delkit.models.bisimulation import canonical_form, contract
 
         if not self._groups:
             c = contract(m)
@@ -445,7 +446,7 @@ class CompactSpace:
         the (single) pointed world, they are decided by substituting that event's postconditions (no
         intermediate state is built); otherwise on the intermediate state itself.
         """
-        from delkit.compose import compose
+        from delkit.models.compose import compose
 
         steps = entry[2]
         models: list[EventModel] = []
@@ -460,7 +461,7 @@ class CompactSpace:
             if em is None:
                 return None
             if isinstance(em, PlainEvents):
-                em = em.event_model()  # composed by delkit.compose (numpy)
+                em = em.event_model()  # composed by delkit.models.compose (numpy)
             models.append(em)
             key = ("macro", entry[1].name, tuple(id(m) for m in models))
             nxt = self._ems.get(key)
@@ -637,7 +638,7 @@ def _group_d_formulas(task: Task) -> list[Formula]:
     """D_G subformulas with |G| ≥ 2 anywhere in the task (goal, executability, effects, observability, the
     declared designated preconditions of event actions). Each distinct formula node is visited once: grounded
     actions share most of their subformulas."""
-    from delkit.formula import D, children
+    from delkit.logic.formula import D, children
 
     found: list[Formula] = []
     seen: set[int] = set()
@@ -703,7 +704,7 @@ def with_group_relations(m: KripkeModel, groups: tuple[tuple[str, ...], ...]) ->
         name = "D{" + ",".join(g) + "}"
         rels[name] = r
         names.append(name)
-    from delkit.kripke import KripkeModel
+    from delkit.models.kripke import KripkeModel
 
     return KripkeModel(m.props, tuple(m.agents) + tuple(names), m.valuation, rels, m.designated)
 
@@ -714,7 +715,7 @@ def make_space(task: Task, *, engine: Literal["fast", "compact", "del"] = "fast"
 
     Both deduplicate states by bisimulation. Distributed knowledge of a group of two or more agents is not
     invariant under bisimulation, so for the groups the task mentions both use collective bisimulation
-    (the group's intersection relation is refined and kept like an agent's; see ``delkit.compact``).
+    (the group's intersection relation is refined and kept like an agent's; see ``delkit.backends.compact``).
     """
     if engine == "del":
         return DelSpace(task, allow_inconsistent=allow_inconsistent)

@@ -25,16 +25,16 @@ import itertools
 from collections.abc import Callable, Sequence
 
 from delkit._records import DataclassFields, Factory, Record
-from delkit.compact import PlainEvents, PlainModel
+from delkit.backends.compact import PlainEvents, PlainModel
 from delkit.errors import PlanningError
-from delkit.formula import BOT, TOP, Formula, Not, Or, Prop, conj, show
+from delkit.logic.formula import BOT, TOP, Formula, Not, Or, Prop, conj, show
 
 TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up: delkit._records)
 if TYPE_CHECKING:  # numpy: imported by the reference semantics only (start-up of small tasks, see _Initial)
     from typing import Any, Literal
 
-    from delkit.events import EventModel
-    from delkit.kripke import KripkeModel
+    from delkit.models.events import EventModel
+    from delkit.models.kripke import KripkeModel
 
 __all__ = ["ActionSpec", "MacroSpec", "EventAction", "Task", "ActionKind", "goal_conjuncts"]
 
@@ -125,7 +125,7 @@ class MacroSpec(Record):
     """A macro-action (seed 004, Definition 4.1): the grounded steps ``A_1; …; A_n`` offered to the planner as
     one action whose transition is Φ(A_n, … Φ(A_1, s)).
 
-    In a state s its event model is the composition E_1;…;E_n (``delkit.compose``) of the steps' event
+    In a state s its event model is the composition E_1;…;E_n (``delkit.models.compose``) of the steps' event
     models, each step's observers decided in the state the previous steps lead to; it is applicable iff
     every step is. ``planners.macros`` builds these from a spec's macro declarations (and proves each
     composition equal to its sequence with z3); plans are flattened back to ``steps``' names.
@@ -146,7 +146,8 @@ class MacroSpec(Record):
 
 
 class _Initial:
-    """The ``initial`` field of :class:`Task`: given as a KripkeModel, or as a :class:`~delkit.compact.PlainModel`
+    """The ``initial`` field of :class:`Task`: given as a KripkeModel, or as a
+    :class:`~delkit.backends.compact.PlainModel`
     (what the readers build for small tasks, without numpy), which is converted to a KripkeModel when
     ``task.initial`` is first read — the compact backend reads ``task.plain_initial`` and never converts."""
 
@@ -246,7 +247,7 @@ class Task(Record):
                                     f"{[str(c) for c in act.conditions]}; {len(bits)} truth value(s) were given")
             em = act.build(bits)
             if not isinstance(em, PlainEvents):
-                from delkit.events import EventModel
+                from delkit.models.events import EventModel
 
                 if not isinstance(em, EventModel):
                     raise PlanningError(f"{_where(act)}action {act.name!r} built {type(em).__name__}, not an "
@@ -286,7 +287,7 @@ def apply_steps(task: Task, steps: Sequence[ActionSpec | EventAction], model: Kr
     decided in its own intermediate state) and the states M_0..M_n, or None as soon as a step is not
     applicable (its executability fails, some designated world has no designated event, or nothing designated
     survives). Macros' proofs and :func:`apply_action` share this one definition."""
-    from delkit.update import product_update
+    from delkit.models.update import product_update
 
     ems: list[EventModel] = []
     states = [model]
@@ -315,8 +316,8 @@ def apply_action(task: Task, act: ActionSpec | MacroSpec | EventAction, model: K
 def build_event_model(act: ActionSpec, agents: tuple[str, ...], full: frozenset[str], partial: frozenset[str],
                       sensed: tuple[Formula, ...]) -> EventModel:
     """The mA* event model of one action for given observer sets (see the module docstring), built by the
-    ``delkit.events`` constructors (the reference; :func:`plain_event_model` is the same model without numpy)."""
-    from delkit.events import action, ontic
+    ``delkit.models.events`` constructors (the reference; :func:`plain_event_model` is the same model without numpy)."""
+    from delkit.models.events import action, ontic
 
     kind, outcomes, full_l, part_l, designated = _mastar_frame(act, agents, full, partial, sensed)
     if kind == "ontic":
@@ -326,7 +327,7 @@ def build_event_model(act: ActionSpec, agents: tuple[str, ...], full: frozenset[
 
 def plain_event_model(act: ActionSpec, agents: tuple[str, ...], full: frozenset[str], partial: frozenset[str],
                       sensed: tuple[Formula, ...]) -> PlainEvents:
-    """:func:`build_event_model` as plain data for the compact backend: the frame of ``delkit.events.action``
+    """:func:`build_event_model` as plain data for the compact backend: the frame of ``delkit.models.events.action``
     (full observers: identity; partial: the real events in one class, ε alone; oblivious: every event to ε,
     which exists iff someone is oblivious) and ``ontic``'s postconditions p ↦ (c ∧ v) ∨ (¬c ∧ old)."""
     kind, outcomes, full_l, part_l, designated = _mastar_frame(act, agents, full, partial, sensed)
@@ -397,7 +398,7 @@ def describe(act: ActionSpec) -> str:
 
 def goal_conjuncts(goal: Formula) -> tuple[Formula, ...]:
     """Top-level conjuncts of a goal (nested conjunctions flattened)."""
-    from delkit.formula import And
+    from delkit.logic.formula import And
 
     if isinstance(goal, And):
         out: list[Formula] = []

@@ -17,8 +17,8 @@ import json
 from dataclasses import dataclass, field
 from typing import Any
 
-from delkit.formula import Formula, Kw, Prop, show
-from delkit.kripke import KripkeModel
+from delkit.logic.formula import Formula, Kw, Prop, show
+from delkit.models.kripke import KripkeModel
 
 __all__ = ["Step", "Trace", "trace_plan", "state_json", "trace_text", "emit_trace"]
 
@@ -42,7 +42,7 @@ class Step:
     failed: str = ""
 
     def to_json(self, prev: KripkeModel | None) -> dict:
-        from delkit.io import to_dict
+        from delkit.io.formats import to_dict
 
         out: dict[str, Any] = {"step": self.index, "action": self.action, "state": state_json(self.state),
                                "carried": self.carried, "goal": self.goal}
@@ -116,8 +116,8 @@ def trace_plan(task: Any, plan: list[str], *, allow_inconsistent: bool = False, 
     """The states along ``plan`` (see the module docstring); the verdict is :func:`check_plan`'s."""
     import numpy as np
 
-    from delkit.bisimulation import contract
-    from delkit.update import product_update
+    from delkit.models.bisimulation import contract
+    from delkit.models.update import product_update
     from planners import validate
     from planners.spaces import task_groups
     from planners.task import MacroSpec, has_event_actions

@@ -1,6 +1,7 @@
 """Plan and property checker: replay a plan in DEL semantics and say why it fails.
 
-The replay uses the numpy backend (``delkit.update.product_update`` and ``delkit.bisimulation.contract``, which
+The replay uses the numpy backend (``delkit.models.update.product_update`` and ``delkit.models.bisimulation.contract``,
+which
 keeps every formula's truth and keeps the replay small; no contraction at all when the task mentions
 distributed knowledge of a group), not the planner's compact backend, so a plan found by the planner is
 checked independently of the planner's own state code. A small task (an initial state the reader built
@@ -26,7 +27,7 @@ from pathlib import Path
 
 from delkit._records import DataclassFields, Factory, Record
 from delkit.errors import DelkitError, ParseError, io_reason
-from delkit.formula import And, C, D, E, Formula, K, Kw, Not, Or, Prop, agents_of, props_of, show, subformulas
+from delkit.logic.formula import And, C, D, E, Formula, K, Kw, Not, Or, Prop, agents_of, props_of, show, subformulas
 from delkit.resources import TimeLimit, check_time, counters
 from planners.replay import NeedNumpy, PlainState
 from planners.replay import event_model as plain_events
@@ -38,7 +39,7 @@ TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up
 if TYPE_CHECKING:
     from typing import Any, Literal
 
-    from delkit.kripke import KripkeModel
+    from delkit.models.kripke import KripkeModel
 
     PropertyKind = Literal["always", "eventually", "at end"]
 else:
@@ -176,7 +177,7 @@ def parse_property(text: str, task: Task, *, source: str = "--property", line: i
 
 def parse_formula(body: str, task: Task, *, source: str = "<formula>") -> Formula:
     """A formula over the task's fluents/agents, in delkit or mA* syntax; unknown symbols are errors."""
-    from delkit.formula import parse
+    from delkit.logic.formula import parse
     from planners.lang.mastar import parse_mastar_formula
 
     clash = sorted({"T", "F", "true", "false"} & set(task.props))
@@ -323,7 +324,7 @@ def _replay_one(task: Task, i: int, n: int, name: str, label: str, act: Any, mod
     if plain:
         new = model.product(em)
     else:
-        from delkit.update import product_update
+        from delkit.models.update import product_update
 
         new = product_update(model, em)
     if not new.designated:
@@ -383,7 +384,7 @@ def check_plan(task: Task, plan: list[str] | tuple[str, ...], properties: list[P
 
 def _contract(m: KripkeModel, groups: tuple[tuple[str, ...], ...]) -> KripkeModel:
     """The bisimulation contraction of ``m`` keeping its world names; for ``groups``, the collective one."""
-    from delkit.bisimulation import quotient, refine
+    from delkit.models.bisimulation import quotient, refine
     from planners.spaces import with_group_relations
 
     g = m.generated()

@@ -80,7 +80,7 @@ def task_viewer(paths: Sequence[Path], options: dict) -> Document | None:
 def task_document(task: Any, plan: list[str], *, sources: list[str] | None = None,
                   plan_source: str = "plan") -> Document:
     """The frames of ``plan`` on ``task`` (see the module docstring)."""
-    from delkit.formula import show
+    from delkit.logic.formula import show
     from planners.trace import changes, trace_plan
     from planners.validate import parse_formula
 

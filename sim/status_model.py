@@ -3,7 +3,7 @@
 A world is the combination of every robot's status σ_i ∈ {exploring, gossiping, task, home}
 (proposition ``s<i>_<status>``, one-hot per robot). Robots are the agents ``r0 … r{N-1}``. The model is
 updated only by the actions of the paper's library A = {perceive, announce}, both built as one delkit event
-model, :func:`tell_event` (the mA* frame of ``delkit.events.action``): σ_k := s with one outcome per
+model, :func:`tell_event` (the mA* frame of ``delkit.models.events.action``): σ_k := s with one outcome per
 status, the observers (robot k's connected group) fully observant, every other robot *oblivious* — it
 believes nothing happened. Disconnected robots therefore keep their old belief and it becomes *false*
 when σ_k changes (B_j σ_k with σ_k untrue: the paper's Fig. 1, "robot 2 holds a false belief about robot
@@ -21,7 +21,8 @@ process of accepting new information that may contradict initial beliefs").
 * :meth:`announce_local` gives eq. 18: B_i B_j σ_i ∧ B_i B_j B_i σ_i for (i, j) in the group, outsiders'
   beliefs unchanged; :meth:`announce_global` gives eq. 14: K_i σ_i ∧ K_i K_j σ_j ∧ K_i K_j K_k σ_k.
 
-Every update is ``delkit.update.product_update`` followed by bisimulation contraction (``delkit.bisimulation``).
+Every update is ``delkit.models.update.product_update`` followed by bisimulation contraction
+(``delkit.models.bisimulation``).
 """
 
 from __future__ import annotations
@@ -31,12 +32,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from delkit.bisimulation import contract
-from delkit.events import EventModel, action, sensing
-from delkit.formula import BOT, TOP, Formula, K, Prop, conj
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
-from delkit.update import product_update
+from delkit.logic.formula import BOT, TOP, Formula, K, Prop, conj
+from delkit.models.bisimulation import contract
+from delkit.models.events import EventModel, action, sensing
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
+from delkit.models.update import product_update
 
 __all__ = ["StatusModel", "FactoredStatusModel", "tell_event", "suspect_event", "status_prop", "agent", "eq14", "eq18",
            "STATUSES", "BUSY"]

@@ -46,12 +46,37 @@ def test_the_check_sees_a_new_module_and_a_removed_one(tmp_path):
     for package in PACKAGES:
         (tmp_path / package).mkdir()
         (tmp_path / package / "__init__.py").write_text("")
-    (tmp_path / "delkit" / "kripke.py").write_text("")
+    (tmp_path / "delkit" / "thing.py").write_text("")
     (tmp_path / "planners" / "lang").mkdir()
     (tmp_path / "planners" / "lang" / "__init__.py").write_text("")
-    text = "| `delkit/kripke.py` | models |\n| `planners/lang/` | readers |\n"
+    text = "| `delkit/thing.py` | models |\n| `planners/lang/` | readers |\n"
     assert missing_and_stale(tmp_path, text) == ([], [])
     (tmp_path / "sim" / "new.py").write_text("")
     assert missing_and_stale(tmp_path, text) == (["sim/new.py"], [])
-    (tmp_path / "delkit" / "kripke.py").unlink()
-    assert missing_and_stale(tmp_path, text) == (["sim/new.py"], ["delkit/kripke.py"])
+    (tmp_path / "delkit" / "thing.py").unlink()
+    assert missing_and_stale(tmp_path, text) == (["sim/new.py"], ["delkit/thing.py"])
+
+
+# ------------------------------------------------------------------- modules of delkit's sub-packages
+#: delkit's sub-packages whose every module the module map lists one by one
+DETAILED = ("delkit/logic", "delkit/drawing", "delkit/models", "delkit/backends", "delkit/io")
+
+
+def detailed_modules(root: Path) -> set[str]:
+    return {p.relative_to(root).as_posix() for d in DETAILED if (root / d).is_dir()
+            for p in (root / d).glob("*.py") if p.name != "__init__.py"}
+
+
+def test_design_lists_every_module_of_the_sub_packages():
+    missing = sorted(detailed_modules(ROOT) - named_paths(DESIGN.read_text(encoding="utf-8")))
+    assert missing == [], f"modules missing from the module map of docs/design.md: {missing}"
+
+
+def test_the_sub_package_check_sees_a_new_module(tmp_path):
+    (tmp_path / "delkit" / "models").mkdir(parents=True)
+    (tmp_path / "delkit" / "models" / "relation.py").write_text("")
+    text = "| `delkit/models/relation.py` | relations |"
+    assert detailed_modules(tmp_path) == {"delkit/models/relation.py"}
+    assert not detailed_modules(tmp_path) - named_paths(text)
+    (tmp_path / "delkit" / "models" / "new.py").write_text("")
+    assert detailed_modules(tmp_path) - named_paths(text) == {"delkit/models/new.py"}

@@ -22,7 +22,7 @@ def _api():
 def test_the_core_reference_builds_without_warnings(tmp_path):
     problems = _api().build(tmp_path, ("delkit",))
     assert problems == []
-    page = (tmp_path / "delkit" / "kripke.html").read_text(encoding="utf-8")
+    page = (tmp_path / "delkit" / "models" / "kripke.html").read_text(encoding="utf-8")
     assert "KripkeModel" in page and "product" in page  # a module of the core, documented from its docstrings
     assert (tmp_path / "delkit" / "cli" / "plugins.html").exists()
 

@@ -172,3 +172,63 @@ def test_the_circle_finder_sees_lazy_relative_and_type_checking_imports(tmp_path
     assert circles(graph) == [["delkit.a", "delkit.b", "delkit.sub.c"]]
     (pkg / "a.py").write_text("")
     assert circles(import_graph(tmp_path)) == []
+
+
+# ------------------------------------------------------------------------------ parts inside delkit
+#: delkit's parts, lowest first: a module may import its own part and lower ones. A part is the sub-package
+#: (``delkit/models/``) or, for a module directly inside delkit/, the module itself.
+DELKIT_RANKS: dict[str, int] = {
+    "errors": 0, "_lazy": 0, "_records": 0, "resources": 1, "paths": 1, "progress": 1, "executors": 1,
+    "logic": 2, "drawing": 3, "models": 4, "backends": 5, "io": 6, "verify": 7, "testing": 7,
+    "puzzles": 8, "demo": 9, "view": 10, "cli": 11, "__main__": 12,
+}
+#: the upward imports allowed, each (importer, imported module) with its reason
+KNOWN_UPWARD: dict[tuple[str, str], str] = {
+    # the symbolic muddy children run the explicit puzzle's protocol (delkit.puzzles.muddy) on BDDs
+    ("delkit.backends.symbolic", "delkit.puzzles.muddy"): "one protocol for both engines",
+    # the viewer lists the viewers the installed plugins register (delkit.cli.plugins loads them)
+    ("delkit.view.document", "delkit.cli.plugins"): "the plugin registry lives with the command",
+}
+
+
+def delkit_part(module: str) -> str | None:
+    parts = module.split(".")
+    return None if parts[0] != "delkit" or len(parts) == 1 else parts[1]
+
+
+def upward_inside_delkit(root: Path) -> list[str]:
+    graph = import_graph(root)
+    bad = []
+    for mod, edges in sorted(graph.items()):
+        part = delkit_part(mod)
+        if part is None:
+            continue
+        if part not in DELKIT_RANKS:
+            bad.append(f"{mod}: not in a part of delkit (add it to DELKIT_RANKS and to docs/design.md)")
+            continue
+        for target, line in sorted(edges.items()):
+            other = delkit_part(target)
+            if other is None or other == part or (mod, target) in KNOWN_UPWARD:
+                continue
+            if DELKIT_RANKS.get(other, 99) >= DELKIT_RANKS[part]:
+                bad.append(f"{mod} (line {line}) imports {target}: {part} may not import {other}")
+    return bad
+
+
+def test_parts_inside_delkit_import_only_lower_parts():
+    assert upward_inside_delkit(ROOT) == []
+
+
+def test_the_part_check_sees_an_upward_import_and_an_unplaced_module(tmp_path, monkeypatch):
+    for sub in ("logic", "models"):
+        (tmp_path / "delkit" / sub).mkdir(parents=True)
+        (tmp_path / "delkit" / sub / "__init__.py").write_text("")
+    (tmp_path / "delkit" / "__init__.py").write_text("")
+    (tmp_path / "delkit" / "models" / "m.py").write_text("from delkit.logic import f\n")
+    (tmp_path / "delkit" / "logic" / "f.py").write_text("def g():\n    from delkit.models.m import x\n")
+    monkeypatch.setattr(f"{__name__}.PACKAGES", ("delkit",))
+    assert upward_inside_delkit(tmp_path) == [
+        "delkit.logic.f (line 2) imports delkit.models.m: logic may not import models"]
+    (tmp_path / "delkit" / "stray.py").write_text("")
+    assert "delkit.stray: not in a part of delkit (add it to DELKIT_RANKS and to docs/design.md)" in \
+        upward_inside_delkit(tmp_path)

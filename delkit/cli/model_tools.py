@@ -1,8 +1,8 @@
 """Bodies of ``delkit model diff`` and ``delkit model draw`` (registered in :mod:`delkit.cli.model_cmd`).
 
-Both read Kripke/event model files (JSON or DOT, schema of :mod:`delkit.io`) and SMCDEL files
+Both read Kripke/event model files (JSON or DOT, schema of :mod:`delkit.io.formats`) and SMCDEL files
 (``*.smcdel.txt``: knowledge structures, and belief structures with delkit's ``REL`` extension, see
-:mod:`delkit.smcdel`). Heavy imports stay inside the functions.
+:mod:`delkit.io.smcdel`). Heavy imports stay inside the functions.
 """
 
 from __future__ import annotations
@@ -14,7 +14,8 @@ from pathlib import Path
 __all__ = ["load_any", "run_diff", "run_draw"]
 
 
-from delkit.files import ANY_FORMATS, is_smcdel, load_any, structure_model  # noqa: E402,F401  (delkit.view reads them)
+# (delkit.view reads them)
+from delkit.io.files import ANY_FORMATS, is_smcdel, load_any, structure_model  # noqa: E402,F401
 
 
 def _core_format(path: str) -> bool:
@@ -48,7 +49,7 @@ def _task_state(paths: list[str], plan: Path | None, step: int):
 
 def _pointed(path: str, world: str | None, max_worlds: int):
     from delkit.errors import ModelError
-    from delkit.kripke import KripkeModel
+    from delkit.models.kripke import KripkeModel
 
     obj = load_any(path)
     if is_smcdel(path):
@@ -97,9 +98,9 @@ def _pointed_structure(path: str, world: str | None):
 def run_diff(a_path: str, b_path: str, world_a: str | None, world_b: str | None, props: str | None,
              max_worlds: int, as_json: bool, engine: str = "auto") -> int:
     """``delkit model diff``: exit 0 bisimilar, 1 told apart (2, bad input, comes from the exception)."""
-    from delkit.bisimulation import diff
     from delkit.errors import DelkitError
-    from delkit.formula import show
+    from delkit.logic.formula import show
+    from delkit.models.bisimulation import diff
 
     if engine not in ("auto", "symbolic", "explicit"):
         raise DelkitError(f"--engine {engine!r}: use auto, symbolic or explicit")
@@ -112,12 +113,12 @@ def run_diff(a_path: str, b_path: str, world_a: str | None, world_b: str | None,
         raise DelkitError(f"--props {props!r} names no proposition; give a comma-separated list such as "
                           f"--props p,q, or leave --props out to compare on all of them")
     if both and engine != "explicit":
-        from delkit.bisimulation_symbolic import symbolic_diff
+        from delkit.backends.bisimulation_symbolic import symbolic_diff
 
         res = symbolic_diff(_pointed_structure(a_path, world_a), _pointed_structure(b_path, world_b),
                             props=prop_list)
         des_a, des_b = (world_a or "all states"), (world_b or "all states")
-        note = "structures compared by symbolic partition refinement on BDDs (delkit.bisimulation_symbolic)"
+        note = "structures compared by symbolic partition refinement on BDDs (delkit.backends.bisimulation_symbolic)"
     else:
         a = _pointed(a_path, world_a, max_worlds)
         b = _pointed(b_path, world_b, max_worlds)
@@ -175,7 +176,7 @@ def run_draw(path: str | list[str], output: Path, max_worlds: int, layout: str, 
     """``delkit model draw``: the picture in the format of the output's suffix (.svg, .png, .tex). A planning
     task (read by the layer that registers it, :func:`delkit.view.load_document`) draws its state after
     ``step`` steps of ``plan`` (the state ``delkit check --trace`` prints)."""
-    from delkit import draw
+    from delkit.drawing import draw
     from delkit.errors import DelkitError
 
     suffix = output.suffix.lower()

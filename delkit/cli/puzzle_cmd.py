@@ -1,7 +1,7 @@
 """``delkit puzzle …``: the epistemic puzzles of :mod:`delkit.puzzles` with their literature answers.
 
 Every command prints one JSON object with ``--json``, a rich table otherwise. Heavy imports stay inside
-the commands. ``--symbolic`` runs a puzzle on the BDD backend (:mod:`delkit.symbolic`); its ``seconds``
+the commands. ``--symbolic`` runs a puzzle on the BDD backend (:mod:`delkit.backends.symbolic`); its ``seconds``
 field is then the CPU time of building the structure and running the protocol, imports excluded, and
 the ``timed`` field says so.
 """
@@ -84,8 +84,8 @@ def register(app: typer.Typer) -> None:
                              f"--muddy {muddy}")
         with deadline(timeout, f"puzzle muddy -n {children}"):
             if symbolic:
+                from delkit.backends.symbolic import muddy_symbolic
                 from delkit.resources import require
-                from delkit.symbolic import muddy_symbolic
 
                 # measured (n = 500..2000): the "nobody knows" BDDs grow with n², 45-60 bytes per child²
                 require(1024.0 * children + 64.0 * float(children) ** 2, f"puzzle muddy --symbolic -n {children}",

@@ -20,8 +20,8 @@ def register(app: typer.Typer) -> None:
                                              "status 3"),
                as_json: bool = typer.Option(False, "--json", help="print one JSON object")) -> None:
         """Read SMCDEL's input language and answer its TRUE?/VALID?/WHERE? queries (as SMCDEL would)."""
+        from delkit.io.smcdel import check_file
         from delkit.resources import deadline
-        from delkit.smcdel import check_file
 
         with deadline(timeout, f"smcdel {path}"):  # reading, building the structure and every query
             rows = check_file(path, max_states=max_states)

@@ -6,7 +6,7 @@ from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from delkit.formula import Formula, Kw, Prop, conj
+from delkit.logic.formula import Formula, Kw, Prop, conj
 
 __all__ = ["bit_props", "encode_bits", "knows_which", "value_of"]
 

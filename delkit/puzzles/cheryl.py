@@ -17,10 +17,10 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
-from delkit.formula import K, Not
-from delkit.kripke import KripkeModel
+from delkit.logic.formula import K, Not
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 from delkit.puzzles._common import knows_which
-from delkit.relation import Relation
 
 __all__ = ["CHERYL_DATES", "CherylResult", "cheryl_model", "solve_cheryl"]
 

@@ -18,7 +18,7 @@ Literature answer (what the update must give):
 Encodings: explicit (a one-world S5 model and the mA* event model of the flip, product update), symbolic S5
 (a knowledge structure V = {heads}, θ = heads, both observe heads; the flip is a transformer with one event
 variable ``q``, heads := q, observed by Bob only — partial case only, since a knowledge structure is S5)
-and belief structures (:mod:`delkit.symbolic_belief`, both cases, the event model as a transformer).
+and belief structures (:mod:`delkit.backends.symbolic_belief`, both cases, the event model as a transformer).
 """
 
 from __future__ import annotations
@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from delkit.errors import ModelError
-from delkit.formula import BOT, TOP, C, Formula, K, Kw, Not, Prop
+from delkit.logic.formula import BOT, TOP, C, Formula, K, Kw, Not, Prop
 
 __all__ = ["CLAIMS", "CoinFlipResult", "coin_start", "flip_event", "flip_transformer", "after_flips",
            "solve_coin_flip"]
@@ -82,15 +82,15 @@ class CoinFlipResult:
 def coin_start(engine: str = "explicit", *, bdd: Any = None) -> Any:
     """Heads up, common knowledge (both agents observe the coin)."""
     if engine == "explicit":
-        from delkit.kripke import KripkeModel
+        from delkit.models.kripke import KripkeModel
 
         return KripkeModel.build([{"heads"}], {a: [[0]] for a in AGENTS}, props=["heads"], agents=AGENTS)
     if engine == "symbolic":
-        from delkit.symbolic import KnowledgeStructure
+        from delkit.backends.symbolic import KnowledgeStructure
 
         return KnowledgeStructure.create(["heads"], HEADS, {a: ["heads"] for a in AGENTS}, bdd=bdd)
     if engine == "belief":
-        from delkit.symbolic_belief import BeliefStructure
+        from delkit.backends.symbolic_belief import BeliefStructure
 
         return BeliefStructure.create(["heads"], HEADS, {a: "heads' <-> heads" for a in AGENTS}, bdd=bdd)
     raise ModelError(f"coin flip: unknown engine {engine!r}; use {', '.join(ENGINES)}")
@@ -100,7 +100,7 @@ def flip_event(seer: str = "b", mode: str = "partial", outcome: bool = False) ->
     """The mA* event model of "flip the coin, show the outcome to ``seer``": events heads / tails (heads :=
     ⊤ / ⊥), the seer tells them apart, the other agent confuses them (partial) or maps both to the skip event
     (oblivious); designated: the actual outcome."""
-    from delkit.events import action
+    from delkit.models.events import action
 
     _check(seer, mode)
     others = [a for a in AGENTS if a != seer]
@@ -112,7 +112,7 @@ def flip_event(seer: str = "b", mode: str = "partial", outcome: bool = False) ->
 def flip_transformer(seer: str, outcome: bool, tag: str) -> Any:
     """The flip as a knowledge transformer (S5, partial observers only): event variable ``q<tag>`` is the
     new side (heads := q), observed by the seer; designated: q = outcome."""
-    from delkit.symbolic import Transformer
+    from delkit.backends.symbolic import Transformer
 
     _check(seer, "partial")
     q = Prop(f"q{tag}")
@@ -141,7 +141,7 @@ def after_flips(flips: list[tuple[str, str, bool]], engine: str = "explicit") ->
         elif engine == "belief":
             state = state.transform(flip_event(seer, mode, outcome))
         else:
-            from delkit.update import product_update
+            from delkit.models.update import product_update
 
             state = product_update(state, flip_event(seer, mode, outcome))
     return state
@@ -150,7 +150,7 @@ def after_flips(flips: list[tuple[str, str, bool]], engine: str = "explicit") ->
 def solve_coin_flip(outcome: bool = False, mode: str = "partial", *, engine: str = "explicit") -> CoinFlipResult:
     """One flip shown to Bob; evaluate the literature's claims at the actual state."""
     if engine != "explicit":
-        from delkit.symbolic import prepare
+        from delkit.backends.symbolic import prepare
 
         prepare()
     t0 = time.process_time()

@@ -23,9 +23,9 @@ from typing import Any
 
 import numpy as np
 
-from delkit.formula import BOT, TOP, Announce, C, Formula, Iff, Implies, K, Kw, Not, Prop, conj, disj
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
+from delkit.logic.formula import BOT, TOP, Announce, C, Formula, Iff, Implies, K, Kw, Not, Prop, conj, disj
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 
 __all__ = ["DiningResult", "anonymity_formula", "dining_model", "dining_structure", "xor", "xor_all", "said",
            "solve_dining", "announce_whether", "smcdel_dining_structure", "smcdel_dining_formula",
@@ -63,7 +63,7 @@ def xor(a: Formula, b: Formula) -> Formula:
 def xor_all(parts: list[Formula]) -> Formula:
     """n-ary exclusive or (odd parity), as a left-nested chain of binary ⊕ (⊥ for no parts)."""
     if not parts:
-        from delkit.formula import BOT
+        from delkit.logic.formula import BOT
 
         return BOT
     out = parts[0]
@@ -96,7 +96,7 @@ def dining_model(n: int = 3, payer: int | None = 0, coins: int = 0) -> KripkeMod
 def dining_structure(n: int = 3, payer: int | None = 0, coins: int = 0) -> Any:
     """The knowledge structure of :func:`dining_model`: V = {p_i} ∪ {c_i}, θ = "no two paid",
     cryptographer ``d<i>`` observes p_i, c_{i−1}, c_i; actual state: ``payer`` and ``coins``."""
-    from delkit.symbolic import KnowledgeStructure
+    from delkit.backends.symbolic import KnowledgeStructure
 
     props = [f"p{i}" for i in range(n)] + [f"c{i}" for i in range(n)]
     law = conj(Not(Prop(f"p{i}") & Prop(f"p{j}")) for i in range(n) for j in range(i + 1, n))
@@ -110,7 +110,7 @@ def solve_dining(n: int = 3, payer: int | None = 0, coins: int = 0, *, symbolic:
     """Announce every cryptographer's truthful s_i and check what became known (``symbolic``: on
     :func:`dining_structure`; ``seconds`` is the CPU time of building it and running the protocol)."""
     if symbolic:
-        from delkit.symbolic import prepare
+        from delkit.backends.symbolic import prepare
 
         prepare()  # imports and the interpreter's first full garbage collection before the clock starts
     t0 = time.process_time()
@@ -142,7 +142,7 @@ def _smcdel_bits(n: int) -> dict[tuple[int, int], str]:
 def smcdel_dining_manager(n: int) -> Any:
     """The BDD manager :func:`smcdel_dining_structure` creates unless given one: few nodes per variable
     (n = 80: 3,241 variables, 23.5 k nodes at the peak), a manager sized to that."""
-    from delkit.symbolic import new_manager, puzzle_memory
+    from delkit.backends.symbolic import new_manager, puzzle_memory
 
     return new_manager(memory_estimate=puzzle_memory(64 * (n + 1 + n * (n - 1) // 2)))
 
@@ -151,7 +151,7 @@ def smcdel_dining_structure(n: int, *, bdd: Any = None) -> Any:
     """SMCDEL's ``genDcKnsInit n``: P0 (the NSA paid), P1…Pn (cryptographer i paid) and a shared bit for
     every pair of cryptographers (complete graph, n(n−1)/2 bits); θ = exactly one of P0…Pn; agent ``i``
     observes P_i and its n−1 shared bits. Variable order as SMCDEL's: payers, then bits pair by pair."""
-    from delkit.symbolic import KnowledgeStructure
+    from delkit.backends.symbolic import KnowledgeStructure
 
     bits = _smcdel_bits(n)
     props = [f"P{i}" for i in range(n + 1)] + list(bits.values())
@@ -196,7 +196,7 @@ def smcdel_dining_check(n: int, *, bdd: Any = None) -> tuple[bool, float]:
     """Validity of :func:`smcdel_dining_formula` on :func:`smcdel_dining_structure` (SMCDEL's
     ``genDcValid``, literature answer: valid) and the CPU seconds of building both and checking (manager
     creation included unless a fresh manager ``bdd`` is given, :func:`smcdel_dining_manager`)."""
-    from delkit.symbolic import prepare
+    from delkit.backends.symbolic import prepare
 
     prepare()  # imports and the interpreter's first full garbage collection before the clock starts
 

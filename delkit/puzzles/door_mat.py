@@ -20,7 +20,7 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from delkit.formula import Iff, K, Not, Prop
+from delkit.logic.formula import Iff, K, Not, Prop
 
 __all__ = ["DoorMatResult", "door_mat_start", "try_take", "solve_door_mat"]
 
@@ -43,14 +43,14 @@ class DoorMatResult:
 
 
 def door_mat_start() -> Any:
-    from delkit.symbolic import KnowledgeStructure
+    from delkit.backends.symbolic import KnowledgeStructure
 
     return KnowledgeStructure.create(["key", "bob_has"], Not(Prop("bob_has")), {"anne": ["key"], "bob": []},
                                      actual=Prop("key"))
 
 
 def try_take(tag: str = "") -> Any:
-    from delkit.symbolic import Transformer
+    from delkit.backends.symbolic import Transformer
 
     t = Prop(f"t{tag}")
     return Transformer((t.name,), Iff(t, Prop("key")),
@@ -61,7 +61,7 @@ def try_take(tag: str = "") -> Any:
 def solve_door_mat() -> DoorMatResult:
     """Check the literature claims. "tryTake works" is, before the action, ``key`` (the action's effect on
     ``bob_has`` is exactly the value of ``key``), so "Bob knows it works" is ``K_bob key``."""
-    from delkit.symbolic import prepare
+    from delkit.backends.symbolic import prepare
 
     prepare()
     t0 = time.process_time()

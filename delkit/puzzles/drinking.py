@@ -25,9 +25,9 @@ from typing import Any
 
 import numpy as np
 
-from delkit.formula import Announce, Formula, K, Kw, Not, Prop, conj
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
+from delkit.logic.formula import Announce, Formula, K, Kw, Not, Prop, conj
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 
 __all__ = ["DrinkingResult", "drinking_model", "drinking_structure", "solve_drinking", "thirsty_formula",
            "check_thirsty"]
@@ -61,7 +61,7 @@ def drinking_model(wants: tuple[bool, ...]) -> KripkeModel:
 def drinking_manager(n: int) -> Any:
     """The BDD manager :func:`drinking_structure` creates unless given one: sized to the puzzle (peak nodes
     ~1.2 n^2: n = 400, 187 k)."""
-    from delkit.symbolic import new_manager, puzzle_memory
+    from delkit.backends.symbolic import new_manager, puzzle_memory
 
     return new_manager(memory_estimate=puzzle_memory(2 * n ** 2))
 
@@ -69,7 +69,7 @@ def drinking_manager(n: int) -> Any:
 def drinking_structure(wants: tuple[bool, ...], *, bdd: Any = None) -> Any:
     """The knowledge structure: V = {w_i}, θ = ⊤, logician ``l<i>`` observes w_i; actual state ``wants``
     (on ``bdd``, by default a fresh :func:`drinking_manager`)."""
-    from delkit.symbolic import KnowledgeStructure
+    from delkit.backends.symbolic import KnowledgeStructure
 
     props = [f"w{i}" for i in range(len(wants))]
     mgr = drinking_manager(len(props)) if bdd is None else bdd
@@ -85,7 +85,7 @@ def solve_drinking(wants: tuple[bool, ...], *, symbolic: bool = False) -> Drinki
     ``symbolic`` runs the same protocol on :func:`drinking_structure` (BDDs; hundreds of logicians).
     """
     if symbolic:
-        from delkit.symbolic import prepare
+        from delkit.backends.symbolic import prepare
 
         prepare()  # imports and the interpreter's first full garbage collection before the clock starts
     t0 = time.process_time()
@@ -122,7 +122,7 @@ def check_thirsty(n: int, *, symbolic: bool = True, bdd: Any = None) -> tuple[bo
     CPU seconds of building the structure and evaluating the formula (formula construction included;
     manager creation too unless a fresh manager ``bdd`` is given, :func:`drinking_manager`)."""
     if symbolic:
-        from delkit.symbolic import prepare
+        from delkit.backends.symbolic import prepare
 
         prepare()  # imports and the interpreter's first full garbage collection before the clock starts
     t0 = time.process_time()

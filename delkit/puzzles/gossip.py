@@ -23,7 +23,7 @@ agent sees only that it is not in the call; the designated events are those of t
 backend uses the same product as a belief transformer with 2n event variables, SMCDEL's encoding:
 :func:`kw_call_transformer`). So here
 the callers learn the *facts* and, with them, what the other knew — knowing whether, on a belief structure
-(:class:`delkit.symbolic_belief.BeliefStructure`, SMCDEL's ``SMCDEL.Symbolic.K``) or on the explicit model
+(:class:`delkit.backends.symbolic_belief.BeliefStructure`, SMCDEL's ``SMCDEL.Symbolic.K``) or on the explicit model
 (2^n worlds, the product update). Literature answer: the same least numbers of calls (1, 3, 2n − 4).
 """
 
@@ -34,7 +34,7 @@ import time
 from dataclasses import dataclass
 from typing import Any
 
-from delkit.formula import Formula, Not, Prop, conj, disj
+from delkit.logic.formula import Formula, Not, Prop, conj, disj
 
 __all__ = ["GossipResult", "gossip_structure", "call_transformer", "after_calls", "all_experts",
            "solve_gossip", "minimum_calls", "kw_initial", "kw_call", "kw_call_transformer", "kw_after", "kw_experts",
@@ -68,7 +68,7 @@ def _calls(n: int) -> list[tuple[int, int]]:
 
 def gossip_structure(n: int) -> Any:
     """The initial structure: nobody has another's secret (common knowledge), nobody observes anything."""
-    from delkit.symbolic import KnowledgeStructure
+    from delkit.backends.symbolic import KnowledgeStructure
 
     voc = [_has(i, j) for i in range(n) for j in range(n) if i != j]
     return KnowledgeStructure.create(voc, conj(Not(Prop(v)) for v in voc), {str(i): [] for i in range(n)})
@@ -76,7 +76,7 @@ def gossip_structure(n: int) -> Any:
 
 def call_transformer(n: int, call: tuple[int, int], tag: str) -> Any:
     """The transformer of one call (``tag`` makes its event variables fresh: every call adds its own)."""
-    from delkit.symbolic import Transformer
+    from delkit.backends.symbolic import Transformer
 
     ev = {c: f"c{tag}_{c[0]}_{c[1]}" for c in _calls(n)}
 
@@ -136,7 +136,7 @@ def minimum_calls(n: int, limit: int = 8) -> tuple[tuple[tuple[int, int], ...], 
 
 
 def solve_gossip(n: int = 4) -> GossipResult:
-    from delkit.symbolic import prepare
+    from delkit.backends.symbolic import prepare
 
     prepare()
     t0 = time.process_time()
@@ -152,18 +152,18 @@ def _secret(i: int) -> str:
 def kw_initial(n: int, *, symbolic: bool = True) -> Any:
     """Every secret true, each agent knows only whether its own is: a belief structure (``symbolic``) or the
     explicit S5 model of 2^n worlds."""
-    from delkit.formula import TOP
+    from delkit.logic.formula import TOP
 
     secrets = [_secret(i) for i in range(n)]
     if symbolic:
-        from delkit.symbolic_belief import BeliefStructure
+        from delkit.backends.symbolic_belief import BeliefStructure
 
         return BeliefStructure.create(secrets, TOP, {str(i): f"{s}' <-> {s}" for i, s in enumerate(secrets)},
                                       actual=conj(Prop(s) for s in secrets))
     import numpy as np
 
-    from delkit.kripke import KripkeModel
-    from delkit.relation import Relation
+    from delkit.models.kripke import KripkeModel
+    from delkit.models.relation import Relation
 
     w = np.arange(1 << n, dtype=np.int64)
     val = ((w[:, None] >> np.arange(n)[None, :]) & 1).astype(bool)
@@ -175,9 +175,9 @@ def kw_call(n: int, call: tuple[int, int]) -> Any:
     """The event model of the call ``call`` (see the module docstring): 2^n events per possible call."""
     import numpy as np
 
-    from delkit.events import EventModel
-    from delkit.formula import K
-    from delkit.relation import Relation
+    from delkit.logic.formula import K
+    from delkit.models.events import EventModel
+    from delkit.models.relation import Relation
 
     names, pre, members = [], [], []
     for c in _calls(n):
@@ -197,7 +197,7 @@ def kw_call(n: int, call: tuple[int, int]) -> Any:
 
 def kw_experts(n: int) -> Formula:
     """⋀_i ⋀_j K_i s_j: everyone knows every secret."""
-    from delkit.formula import K
+    from delkit.logic.formula import K
 
     return conj(K(str(i), Prop(_secret(j))) for i in range(n) for j in range(n))
 
@@ -208,8 +208,8 @@ def kw_call_transformer(state: Any, n: int, call: tuple[int, int]) -> Any:
     ``in_k`` (k is in the call) and ``x_k`` (secret k passes as true); law: exactly one call (i, j) happens
     and ``x_k ↔`` (s_k if k ∈ {i, j}, else K_i s_k ∨ K_j s_k); agent a observes whether it is in the call
     and, if it is, every event variable."""
-    from delkit.formula import Iff, Implies, K
-    from delkit.symbolic import _fresh
+    from delkit.backends.symbolic import _fresh
+    from delkit.logic.formula import Iff, Implies, K
 
     taken = set(state.bdd.vars)
     tag = _fresh("g", taken)
@@ -232,7 +232,7 @@ def kw_call_transformer(state: Any, n: int, call: tuple[int, int]) -> Any:
 def _kw_step(state: Any, n: int, c: tuple[int, int]) -> Any:
     if hasattr(state, "transform_symbolic"):
         return kw_call_transformer(state, n, c)
-    from delkit.update import product_update
+    from delkit.models.update import product_update
 
     return product_update(state, kw_call(n, c))
 
@@ -249,7 +249,7 @@ def kw_minimum_calls(n: int, *, symbolic: bool = True, limit: int = 8
     """:func:`minimum_calls` for the knowing-whether variant (the same symmetry: the first call is 01 and no
     call repeats the one just made — after a call both callers know the same secrets, so repeating it adds
     nothing, and knowing a fact is never lost)."""
-    from delkit.formula import K
+    from delkit.logic.formula import K
 
     # the goal's conjuncts one by one, stopping at the first that fails (most sequences fail early)
     parts = [K(str(i), Prop(_secret(j))) for i in range(n) for j in range(n) if i != j]
@@ -299,10 +299,10 @@ class GossipKwResult:
 
 def solve_gossip_kw(n: int = 4, *, symbolic: bool = True) -> GossipKwResult:
     """Least number of calls making everyone an expert, knowing-whether variant (CPU seconds)."""
-    from delkit.formula import E
+    from delkit.logic.formula import E
 
     if symbolic:
-        from delkit.symbolic import prepare
+        from delkit.backends.symbolic import prepare
 
         prepare()
     t0 = time.process_time()

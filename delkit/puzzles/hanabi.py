@@ -11,7 +11,7 @@ is: ``⋁_p K_i h_i_0_p``.
 Encoding (SMCDEL's ``toynabiStartFor``): ``h{i}_{c}_{p}`` — player i holds card c at position p; the law:
 each position holds exactly one card and each card is in at most one position; player i observes every
 ``h{j}_…`` of the other players. The deal: player i holds cards ``(i−1)·hand … i·hand − 1`` in order.
-Symbolic: a :class:`~delkit.symbolic.KnowledgeStructure`; explicit: one world per deal (injective map from
+Symbolic: a :class:`~delkit.backends.symbolic.KnowledgeStructure`; explicit: one world per deal (injective map from
 positions to cards), player i's relation: the same cards at the others'.
 
 Answer for the default game (2 players, cards 0–4, hands of 2: player 1 holds 0, 1; player 2 holds 2, 3;
@@ -30,7 +30,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from delkit.errors import ModelError
-from delkit.formula import Formula, K, Not, Prop, conj, disj
+from delkit.logic.formula import Formula, K, Not, Prop, conj, disj
 
 __all__ = ["HanabiResult", "hanabi_structure", "hanabi_model", "hint", "safe_play", "knows_card", "deal",
            "solve_hanabi"]
@@ -66,7 +66,7 @@ def _state_formula(players: int, cards: int, hand: int, assignment: dict[tuple[i
 
 def hanabi_structure(players: int = 2, cards: int = 5, hand: int = 2) -> Any:
     """The knowledge structure (actual state: :func:`deal`)."""
-    from delkit.symbolic import KnowledgeStructure
+    from delkit.backends.symbolic import KnowledgeStructure
 
     _check(players, cards, hand)
     slots = _slots(players, hand)
@@ -85,8 +85,8 @@ def hanabi_model(players: int = 2, cards: int = 5, hand: int = 2) -> Any:
     """The explicit S5 model: one world per deal."""
     import numpy as np
 
-    from delkit.kripke import KripkeModel
-    from delkit.relation import Relation
+    from delkit.models.kripke import KripkeModel
+    from delkit.models.relation import Relation
 
     _check(players, cards, hand)
     slots = _slots(players, hand)

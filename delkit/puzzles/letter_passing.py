@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from delkit.errors import ModelError
-from delkit.formula import BOT, TOP, C, Formula, Implies, K, Kw, Not, Prop, conj, disj
+from delkit.logic.formula import BOT, TOP, C, Formula, Implies, K, Kw, Not, Prop, conj, disj
 
 __all__ = ["MAX_AGENTS", "LetterResult", "letter_start", "pass_event", "pass_transformer", "goal",
            "solve_letter_passing"]
@@ -63,14 +63,14 @@ def letter_start(n: int, to: int, engine: str = "explicit") -> Any:
     _check(n, to)
     ats, fors = [_at(i) for i in range(1, n + 1)], [_for(i) for i in range(1, n + 1)]
     if engine == "symbolic":
-        from delkit.symbolic import KnowledgeStructure
+        from delkit.backends.symbolic import KnowledgeStructure
 
         law = conj([_exactly_one(ats), _exactly_one(fors), _at(1), Not(_for(1))])
         observed = {"1": [_at(1).name] + [p.name for p in fors]} | {str(k): [_at(k).name] for k in range(2, n + 1)}
         return KnowledgeStructure.create([p.name for p in ats + fors], law, observed, actual=_for(to))
     if engine != "explicit":
         raise ModelError(f"letter passing: unknown engine {engine!r}; use explicit or symbolic")
-    from delkit.kripke import KripkeModel
+    from delkit.models.kripke import KripkeModel
 
     # world w: the letter is for agent w + 2; agent 1 tells the worlds apart, the others do not
     worlds = [{"at1", f"for{k}"} for k in range(2, n + 1)]
@@ -82,8 +82,8 @@ def letter_start(n: int, to: int, engine: str = "explicit") -> Any:
 def pass_event(n: int, i: int, j: int) -> Any:
     """Pass i → j as an event model: event k (k = 2 … n): the letter is for k; the receiver tells the events
     apart, everybody else confuses them all; every event is designated (the actual address survives)."""
-    from delkit.events import EventModel
-    from delkit.relation import Relation
+    from delkit.models.events import EventModel
+    from delkit.models.relation import Relation
 
     events = {f"for{k}": {"pre": conj([_at(i), _for(k)]), "post": {f"at{i}": BOT, f"at{j}": TOP}}
               for k in range(2, n + 1)}
@@ -96,7 +96,7 @@ def pass_transformer(n: int, i: int, j: int, tag: str) -> Any:
     """Pass i → j as a knowledge transformer: event variables ``t<tag>_b`` spell the addressee in binary
     (for_k → the bits of k), observed by j. (One event variable per agent, t_k ↔ for_k, would be SMCDEL's
     choice; with the t's declared after all for's its BDD has 2^n nodes, the binary code n · log n.)"""
-    from delkit.symbolic import Transformer
+    from delkit.backends.symbolic import Transformer
 
     bits = [Prop(f"t{tag}_{b}") for b in range(max(1, n.bit_length()))]
     code = [conj(bits[b] if (k >> b) & 1 else Not(bits[b]) for b in range(len(bits))) for k in range(n + 1)]
@@ -144,7 +144,7 @@ def solve_letter_passing(n: int = 3, to: int | None = None, *, engine: str = "ex
     to = n if to is None else to
     _check(n, to, engine)
     if engine == "symbolic":
-        from delkit.symbolic import prepare
+        from delkit.backends.symbolic import prepare
 
         prepare()
     t0 = time.process_time()
@@ -171,7 +171,7 @@ def solve_letter_passing(n: int = 3, to: int | None = None, *, engine: str = "ex
             # SMCDEL's optimize after every update: the old at-copies are constants
             state = state.transform(pass_transformer(n, i, j, str(s))).minimise(keep=base)
         else:
-            from delkit.update import product_update
+            from delkit.models.update import product_update
 
             state = product_update(state, pass_event(n, i, j))
         steps.append(record(j))

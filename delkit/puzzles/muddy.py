@@ -24,11 +24,11 @@ from typing import Any
 
 import numpy as np
 
-import delkit.semantics  # noqa: F401 - loaded before timing (KripkeModel.check imports it lazily)
+import delkit.logic.semantics  # noqa: F401 - loaded before timing (KripkeModel.check imports it lazily)
 from delkit.errors import ModelError
-from delkit.formula import Formula, Kw, Not, Prop, conj, disj
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
+from delkit.logic.formula import Formula, Kw, Not, Prop, conj, disj
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 
 __all__ = ["MAX_EXPLICIT_CHILDREN", "MuddyResult", "muddy_model", "solve_muddy", "at_least_one", "nobody_knows",
            "run_rounds"]
@@ -82,7 +82,7 @@ def muddy_model(children: int, muddy: int) -> KripkeModel:
     if children > MAX_EXPLICIT_CHILDREN:
         raise ModelError(f"muddy children: {children} children means 2^{children} explicit worlds (at most "
                          f"{MAX_EXPLICIT_CHILDREN} children explicitly); use the BDD engine: `delkit puzzle muddy "
-                         "--symbolic` or delkit.symbolic.muddy_symbolic")
+                         "--symbolic` or delkit.backends.symbolic.muddy_symbolic")
     w = np.arange(1 << children, dtype=np.int64)
     bits = np.int64(1) << np.arange(children, dtype=np.int64)
     valuation = (w[:, None] & bits[None, :]) != 0
@@ -104,7 +104,7 @@ def nobody_knows(children: int) -> Formula:
 def run_rounds(state: Any, children: int, muddy: int, *, max_rounds: int | None = None,
                size: Callable[[Any], int] = len) -> tuple[Any, int, int, int | None, list[int]]:
     """The protocol after the father's announcement, on any structure with ``holds`` and ``announce``
-    (a :class:`KripkeModel` or a :class:`delkit.symbolic.KnowledgeStructure`).
+    (a :class:`KripkeModel` or a :class:`delkit.backends.symbolic.KnowledgeStructure`).
 
     Returns the final state, the number of "nobody knows" rounds, the rounds in which all muddy / all
     clean children know, and ``size(state)`` after each announcement.

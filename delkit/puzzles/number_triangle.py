@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from delkit.errors import ModelError
-from delkit.formula import Formula, Implies, Kw, Not, Prop, conj
+from delkit.logic.formula import Formula, Implies, Kw, Not, Prop, conj
 
 __all__ = ["MAX_CHILDREN", "MAX_EXPLICIT", "TriangleResult", "parse_quantifier", "triangle_run", "classic_run",
            "solve_number_triangle"]
@@ -196,7 +196,7 @@ def classic_run(n: int, muddy: int, quantifier: str = "some", *, symbolic: bool 
                          f"{'--symbolic' if symbolic else '--explicit'} (the triangle has 2n + 1 points)")
     mk, ck, nobody = _kind_formulas(n)
     if symbolic:
-        from delkit.symbolic import KnowledgeStructure, declare, new_manager, prepare
+        from delkit.backends.symbolic import KnowledgeStructure, declare, new_manager, prepare
 
         prepare()
     t0 = time.process_time()

@@ -45,7 +45,7 @@ from typing import Any
 import numpy as np
 
 from delkit.errors import ModelError
-from delkit.formula import BOT, TOP, Formula, Iff, K, Not, Prop, conj, disj
+from delkit.logic.formula import BOT, TOP, Formula, Iff, K, Not, Prop, conj, disj
 
 __all__ = ["MAX_EXPLICIT", "MAX_PRISONERS", "MAX_TRANSFORMER", "MAX_DAYS", "ImageStructure", "PrisonersResult",
            "prisoners_start", "day_transformer",
@@ -161,7 +161,7 @@ def expected_days_closed(n: int) -> Fraction:
 
 def prisoners_start(n: int, *, bdd: Any = None) -> Any:
     """Nobody has been interviewed, the light is off: common knowledge (the counter observes nothing)."""
-    from delkit.symbolic import KnowledgeStructure
+    from delkit.backends.symbolic import KnowledgeStructure
 
     voc = _vocabulary(n)
     return KnowledgeStructure.create(voc, conj(Not(Prop(v)) for v in voc), {COUNTER: []}, bdd=bdd)
@@ -169,7 +169,7 @@ def prisoners_start(n: int, *, bdd: Any = None) -> Any:
 
 def day_transformer(n: int, who: int | None, tag: str) -> Any:
     """One day: prisoner ``who`` is interviewed (``None``: every prisoner is a designated event)."""
-    from delkit.symbolic import Transformer
+    from delkit.backends.symbolic import Transformer
 
     i = [None] + [Prop(f"i{tag}_{k}") for k in range(1, n + 1)]
     seen = Prop(f"s{tag}")
@@ -189,7 +189,7 @@ def reduce_structure(ks: Any, keep: tuple[str, ...]) -> Any:
     away (∃). Each step maps states onto states preserving the valuation of ``keep`` and every agent's
     indistinguishability in both directions (a bounded morphism), so formulas over ``keep`` keep their truth
     at the actual states."""
-    from delkit.symbolic import KnowledgeStructure
+    from delkit.backends.symbolic import KnowledgeStructure
 
     g = ks.generated()
     b = g.bdd
@@ -224,7 +224,7 @@ class ImageStructure:
     matters: K_1 φ holds iff L ⊨ φ."""
 
     def __init__(self, n: int) -> None:
-        from delkit.symbolic import declare, new_manager
+        from delkit.backends.symbolic import declare, new_manager
 
         self.n = n
         self.voc = _vocabulary(n)
@@ -289,8 +289,8 @@ class ImageStructure:
 
 
 def _start_model(n: int) -> Any:
-    from delkit.kripke import KripkeModel
-    from delkit.relation import Relation
+    from delkit.models.kripke import KripkeModel
+    from delkit.models.relation import Relation
 
     voc = _vocabulary(n)
     return KripkeModel(tuple(voc), (COUNTER,), np.zeros((1, len(voc)), dtype=bool),
@@ -300,7 +300,7 @@ def _start_model(n: int) -> Any:
 def day_event(n: int, who: int | None) -> Any:
     """One day as an event model: events ``1on`` / ``1off`` (the counter finds the light on / off) and ``k``
     (prisoner k ≥ 2); the counter tells apart 1on, 1off and "someone else"."""
-    from delkit.events import EventModel
+    from delkit.models.events import EventModel
 
     events: dict[str, dict] = {"1on": {"pre": LIGHT, "post": {"light": BOT, "vis1": TOP}},
                                "1off": {"pre": Not(LIGHT), "post": {"vis1": TOP}}}
@@ -376,8 +376,8 @@ def run_schedule(n: int, schedule: list[int], engine: str = "symbolic", *, stop:
             if stop and out_k[-1]:
                 break
     else:
-        from delkit.bisimulation import contract
-        from delkit.update import product_update
+        from delkit.models.bisimulation import contract
+        from delkit.models.update import product_update
 
         model = _start_model(n)
         for who in schedule:
@@ -404,7 +404,7 @@ def solve_prisoners(n: int = 4, days: int = 200, seed: int = 0, *, schedule: lis
             raise ModelError(f"prisoners: the schedule names prisoners {sorted(set(bad))}; prisoners are 1..{n}")
     sched = schedule if schedule is not None else random_schedule(n, days, seed)
     if engine != "explicit":
-        from delkit.symbolic import prepare
+        from delkit.backends.symbolic import prepare
 
         prepare()
     t0 = time.process_time()

@@ -30,10 +30,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from delkit.formula import C, Formula, K, Not, Prop, conj, disj
-from delkit.kripke import KripkeModel
+from delkit.logic.formula import C, Formula, K, Not, Prop, conj, disj
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 from delkit.puzzles._common import knows_which
-from delkit.relation import Relation
 
 __all__ = ["RussianCardsResult", "russian_cards_model", "announcement_formula", "good_formula",
            "is_good", "solve_russian_cards"]

@@ -26,10 +26,10 @@ from typing import Any
 
 import numpy as np
 
-from delkit.formula import Formula, K, Not, Prop, conj, disj
-from delkit.kripke import KripkeModel
+from delkit.logic.formula import Formula, K, Not, Prop, conj, disj
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 from delkit.puzzles._common import bit_props, encode_bits, knows_which, value_of
-from delkit.relation import Relation
 
 __all__ = ["SumProductResult", "sum_product_model", "sum_product_structure", "solve_sum_product",
            "smcdel_sum_product"]
@@ -76,7 +76,7 @@ def _pairs_of(limit: int) -> tuple[np.ndarray, np.ndarray]:
 def sum_product_structure(limit: int = 100, *, bdd: Any = None) -> Any:
     """SMCDEL's encoding as a knowledge structure: binary digits ``x* y* s* p*`` of x, y, x + y and x·y;
     θ = the disjunction of the 2352 (for 100) full assignments; S observes ``s*``, P observes ``p*``."""
-    from delkit.symbolic import KnowledgeStructure, declare, new_manager
+    from delkit.backends.symbolic import KnowledgeStructure, declare, new_manager
 
     x, y = _pairs_of(limit)
     xp, yp, sp, pp = bit_props("x", x), bit_props("y", y), bit_props("s", x + y), bit_props("p", x * y)
@@ -106,7 +106,7 @@ def solve_sum_product(limit: int = 100, *, symbolic: bool = False) -> SumProduct
 
     ``seconds`` is the CPU time of building the model/structure and the three announcements."""
     if symbolic:
-        from delkit.symbolic import prepare
+        from delkit.backends.symbolic import prepare
 
         prepare()  # imports and the interpreter's first full garbage collection before the clock starts
     t0 = time.process_time()
@@ -139,8 +139,8 @@ def smcdel_sum_product(limit: int = 100, *, bdd: Any = None) -> tuple[list[tuple
     """SMCDEL's ``sapSolutions``: the states where ``f1 ∧ [!f1]f2 ∧ [!f1][!f2]f3`` holds, with
     f1 = K_S ¬knows_P, f2 = knows_P, f3 = knows_S and knows_A = ⋁_{(x,y)} K_A(x = a ∧ y = b); returns the
     (x, y) of those states and the CPU seconds of building the structure and evaluating (formula included;
-    manager creation too unless a fresh manager ``bdd``, ``delkit.symbolic.new_manager()``, is given)."""
-    from delkit.symbolic import prepare
+    manager creation too unless a fresh manager ``bdd``, ``delkit.backends.symbolic.new_manager()``, is given)."""
+    from delkit.backends.symbolic import prepare
 
     prepare()  # imports and the interpreter's first full garbage collection before the clock starts
 
@@ -154,7 +154,7 @@ def smcdel_sum_product(limit: int = 100, *, bdd: Any = None) -> tuple[list[tuple
     def knows(agent: str) -> Formula:
         return disj(K(agent, f) for f in are)
 
-    from delkit.formula import Announce
+    from delkit.logic.formula import Announce
 
     f1, f2, f3 = K("S", Not(knows("P"))), knows("P"), knows("S")
     protocol = conj([f1, Announce(f1, f2), Announce(f1, Announce(f2, f3))])

@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from delkit.formula import Formula, K, Not, Prop, conj, disj
+from delkit.logic.formula import Formula, K, Not, Prop, conj, disj
 from delkit.puzzles._common import encode_bits
 
 __all__ = ["WhatSumResult", "what_sum_structure", "solve_what_sum", "number_is", "decide", "support",
@@ -105,7 +105,7 @@ def knows_own(who: str, bound: int) -> Formula:
 
 def what_sum_structure(bound: int = 50) -> Any:
     """SMCDEL's knowledge structure for numbers up to ``bound``."""
-    from delkit.symbolic import KnowledgeStructure, declare, new_manager
+    from delkit.backends.symbolic import KnowledgeStructure, declare, new_manager
 
     w = _width(bound)
     bits = {p: [f"{p}{j}" for j in range(w)] for p in "abc"}
@@ -124,8 +124,8 @@ def what_sum_structure(bound: int = 50) -> Any:
 
 def _what_sum_model(bound: int) -> Any:
     """The explicit S5 model of the same puzzle: one world per triple; Anne's partition is (b, c), etc."""
-    from delkit.kripke import KripkeModel
-    from delkit.relation import Relation
+    from delkit.models.kripke import KripkeModel
+    from delkit.models.relation import Relation
 
     w = _width(bound)
     t = _triples(bound)
@@ -153,7 +153,7 @@ def solve_what_sum(bound: int | None = None, anne_says: int = 50, *, symbolic: b
         return WhatSumResult(None, anne_says, None, exact.solutions, "unbounded", time.process_time() - t0,
                              exact.solutions, exact.threshold)
     if symbolic:
-        from delkit.symbolic import prepare
+        from delkit.backends.symbolic import prepare
 
         prepare()
     w = _width(bound)

@@ -2,7 +2,7 @@
 
 A document is built once, when the viewer starts, by a *viewer*: a function ``(paths, options) -> Document |
 None`` that recognises its files (None: not mine). The core's viewer reads Kripke and event models (JSON /
-DOT, :mod:`delkit.io`) and SMCDEL structures (``.smcdel.txt``, drawn explicitly up to ``max_worlds``); the
+DOT, :mod:`delkit.io.formats`) and SMCDEL structures (``.smcdel.txt``, drawn explicitly up to ``max_worlds``); the
 layers above the core add theirs — the planning layer reads tasks with a plan (one frame per step) and
 e-PICO mission results — through the ``VIEWERS`` attribute of their ``delkit.commands`` module (see
 :func:`viewers`), so the core never imports them.
@@ -44,7 +44,7 @@ class Panel:
 
     @property
     def is_kripke(self) -> bool:
-        from delkit.kripke import KripkeModel
+        from delkit.models.kripke import KripkeModel
 
         return isinstance(self.model, KripkeModel)
 
@@ -140,7 +140,7 @@ def _size(model: Any) -> int:
 
 def core_viewer(paths: Sequence[Path], options: dict) -> Document:
     """Kripke / event models (JSON, DOT) and SMCDEL structures: one frame."""
-    from delkit.files import is_smcdel, load_any
+    from delkit.io.files import is_smcdel, load_any
 
     if len(paths) != 1:
         raise DelkitError(f"{paths[1]}: a model or structure file is viewed alone (a second file is a plan, "
@@ -154,12 +154,12 @@ def core_viewer(paths: Sequence[Path], options: dict) -> Document:
         if n > limit:
             raise ModelError(f"{path}: the structure has {n} states; the viewer draws its Kripke model up to "
                              f"{limit} (raise --max-worlds, at most {MAX_WORLDS})")
-        from delkit.files import structure_model
+        from delkit.io.files import structure_model
 
         model = structure_model(obj, str(path), limit)
         notes.append(f"the structure's Kripke model, drawn explicitly ({n} states; limit {limit}, --max-worlds); "
                      f"each world is named by its true variables")
-        from delkit.draw import structure_header
+        from delkit.drawing.draw import structure_header
 
         notes.append("; ".join(structure_header(obj, limit=300)))  # θ and Ω_a as formulas (form_of)
         kind = "structure"
@@ -178,8 +178,8 @@ def _smcdel_parser(path: Path, model: Any) -> Callable[[str], Any]:
     SMCDEL parser after the file's own declarations (VARS, LAW, OBS/REL); errors point into the formula."""
     import re
 
-    from delkit.formula import parse
-    from delkit.smcdel import parse_smcdel
+    from delkit.io.smcdel import parse_smcdel
+    from delkit.logic.formula import parse
 
     text = path.read_text(encoding="utf-8")
     m = re.search(r"^\s*(TRUE\?|VALID\?|WHERE\?)", text, flags=re.M)
@@ -212,9 +212,9 @@ def _smcdel_parser(path: Path, model: Any) -> Callable[[str], Any]:
 
 
 def graph_json(model: Any) -> dict:
-    """The drawing of a model for the page: positions from :mod:`delkit.draw` (the static pictures' layout),
+    """The drawing of a model for the page: positions from :mod:`delkit.drawing.draw` (the static pictures' layout),
     worlds with their valuations, one edge per drawn arrow (agents listed), S5 agents whose loops are hidden."""
-    from delkit import draw
+    from delkit.drawing import draw
 
     pic = draw.picture(model)
     kripke = hasattr(model, "valuation")
@@ -266,7 +266,7 @@ def parse_for(doc: Document, panel: Panel, text: str) -> Any:
                          source="formula")
     if doc.parse is not None:
         return doc.parse(text)
-    from delkit.formula import parse
+    from delkit.logic.formula import parse
 
     f = parse(text, source="formula")
     panel.model.validate_symbols(f)
@@ -275,7 +275,7 @@ def parse_for(doc: Document, panel: Panel, text: str) -> Any:
 
 def evaluate(doc: Document, frame: int, key: str, text: str) -> dict:
     """Where the formula holds on a frame's Kripke panel: per world, and at the designated world(s)."""
-    from delkit.formula import show
+    from delkit.logic.formula import show
 
     panel = doc.panel(frame, key)
     if not panel.is_kripke:

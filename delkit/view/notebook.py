@@ -1,5 +1,5 @@
 """A self-contained HTML stepper for notebooks: a :class:`~delkit.view.document.Document`'s frames drawn as
-SVG (:mod:`delkit.draw`), precomputed, switched by radio buttons and CSS — no server, no script, so it also
+SVG (:mod:`delkit.drawing.draw`), precomputed, switched by radio buttons and CSS — no server, no script, so it also
 shows in untrusted notebooks. ``planners.view.stepper(task, plan)`` builds one for a plan."""
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ class Stepper:
         self.doc = doc
 
     def html(self) -> str:
-        from delkit.draw import picture
+        from delkit.drawing.draw import picture
 
         uid = f"dkv{next(_IDS)}"
         n = len(self.doc.frames)

@@ -10,7 +10,7 @@ def random_s5(n_worlds: int = 1000, n_props: int = 10, agents: tuple[str, ...] =
     """An S5 model: random valuations, each agent's worlds cut into random classes of ``class_size``."""
     import numpy as np
 
-    from delkit.kripke import KripkeModel
+    from delkit.models.kripke import KripkeModel
 
     rng = np.random.default_rng(seed)
     worlds = [{f"p{i}" for i in range(n_props) if rng.random() < 0.5} for _ in range(n_worlds)]

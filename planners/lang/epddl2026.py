@@ -39,9 +39,9 @@ from operator import itemgetter
 from pathlib import Path
 
 from delkit._lazy import lazy_module
-from delkit.compact import PlainEvents
+from delkit.backends.compact import PlainEvents
 from delkit.errors import ParseError
-from delkit.formula import BOT, TOP, And, Bot, C, Formula, Iff, Implies, K, Kw, Not, Or, Prop, Top
+from delkit.logic.formula import BOT, TOP, And, Bot, C, Formula, Iff, Implies, K, Kw, Not, Or, Prop, Top
 from planners.lang.initial import LoadTimeout
 from planners.lang.sexpr import Node, Sym, read
 
@@ -1124,7 +1124,7 @@ def _prop(g: _Ground, node, env) -> Formula:
 
 
 def _is_propositional(f: Formula) -> bool:
-    """``delkit.formula.is_propositional`` without collecting the subformulas (one walk, stops at the first
+    """``delkit.logic.formula.is_propositional`` without collecting the subformulas (one walk, stops at the first
     modal or dynamic operator)."""
     todo = [f]
     while todo:
@@ -1145,8 +1145,8 @@ def _is_propositional(f: Formula) -> bool:
 
 
 def _explicit_init(init: Node, g: _Ground, props: list[str], agents: tuple[str, ...]):
-    from delkit.kripke import KripkeModel
-    from delkit.relation import Relation
+    from delkit.models.kripke import KripkeModel
+    from delkit.models.relation import Relation
 
     kv: dict[str, object] = {}
     i = 1
@@ -1421,7 +1421,7 @@ def _obs_leaf(g: _Ground, n, at: _ActType) -> Callable[[dict[str, str], dict, li
 
 
 def _relation(n: int, pairs: list[tuple[int, int]]) -> list[tuple[int, ...]]:
-    """A relation on n events as successor rows (ascending; :class:`~delkit.compact.PlainEvents` turns an
+    """A relation on n events as successor rows (ascending; :class:`~delkit.backends.compact.PlainEvents` turns an
     equivalence into a partition when a delkit EventModel is needed)."""
     succ: list[set[int]] = [set() for _ in range(n)]
     for a, b in pairs:

@@ -23,7 +23,7 @@ honoured throughout (:class:`planners.lang.epddl2026.LoadTimeout`).
 
 Small tasks (every component over at most ``_SPLIT_VARS`` fluents, at most :data:`PLAIN_WORLDS` worlds) are
 built with integers only (:func:`plain_models`, :func:`plain_labels`: the same worlds in the same order and
-the same partitions) as a :class:`delkit.compact.PlainModel`, their initial statements checked on the
+the same partitions) as a :class:`delkit.backends.compact.PlainModel`, their initial statements checked on the
 compact backend: planning them never imports numpy, whose import is most of a small ``delkit plan``'s
 start-up. ``Task.initial`` converts such a model to a KripkeModel when it is read.
 """
@@ -34,9 +34,9 @@ import time
 from collections.abc import Sequence
 
 from delkit._lazy import lazy_module
-from delkit.compact import CompactEngine, PlainModel
+from delkit.backends.compact import CompactEngine, PlainModel
 from delkit.errors import ModelError, ParseError, PlanningError
-from delkit.formula import (
+from delkit.logic.formula import (
     BOT,
     TOP,
     And,
@@ -60,8 +60,8 @@ TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (start-up
 if TYPE_CHECKING:
     import numpy as np
 
-    from delkit.kripke import KripkeModel
-    from delkit.relation import Relation
+    from delkit.models.kripke import KripkeModel
+    from delkit.models.relation import Relation
 else:  # imported when a task too large for the integer path (PlainModel) is read
     np = lazy_module("numpy")
 
@@ -117,7 +117,7 @@ def _components(parts: list[Formula], support: dict | None = None) -> list[tuple
 
 
 def prop_eval(val: np.ndarray, pidx: dict[str, int], f: Formula) -> np.ndarray:  # noqa: C901 - one per connective
-    """Truth of a propositional formula in each row of a valuation matrix (numpy; no delkit.semantics, whose
+    """Truth of a propositional formula in each row of a valuation matrix (numpy; no delkit.logic.semantics, whose
     scipy.sparse.csgraph import costs 0.3 s of start-up)."""
     if isinstance(f, Prop):
         return val[:, pidx[f.name]]
@@ -547,7 +547,7 @@ def models(props: Sequence[str], constraints: Sequence[Formula], *, deadline: fl
 def _kw_relations(val: np.ndarray, pidx: dict[str, int], agents: Sequence[str], kw: dict[str, list[Formula]],
                   deadline: float | None) -> dict[str, Relation]:
     """Agent i's partition: the worlds agreeing on every formula i knows whether."""
-    from delkit.relation import Relation
+    from delkit.models.relation import Relation
 
     rels: dict[str, Relation] = {}
     n = val.shape[0]
@@ -583,7 +583,7 @@ def finitary_s5_epddl(props: Sequence[str], agents: Sequence[str], type1: Sequen
         raise ParseError("no world satisfies the initial facts together with the common knowledge "
                          "(no designated world)", source=source)
     rels = _kw_relations(val, pidx, agents, type3, deadline)
-    from delkit.kripke import KripkeModel
+    from delkit.models.kripke import KripkeModel
 
     return KripkeModel(props, agents, val, rels, tuple(np.flatnonzero(des).tolist()))
 
@@ -663,7 +663,7 @@ def finitary_s5(props: Sequence[str], agents: Sequence[str], pointed: dict[str, 
         raise ParseError(f"the initial literals do not determine the actual world: fluent(s) {undecided} are "
                          f"neither given nor fixed by common knowledge; add them (negated if false) to the "
                          f"'initially' literals", source=source)
-    from delkit.kripke import KripkeModel
+    from delkit.models.kripke import KripkeModel
 
     model = KripkeModel(props, agents, val, rels, (int(hits[0]),))
     everyone = tuple(sorted(agents))

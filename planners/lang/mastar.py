@@ -24,7 +24,7 @@ from pathlib import Path
 
 from delkit._records import DataclassFields, Record
 from delkit.errors import ParseError, io_reason
-from delkit.formula import TOP, C, D, E, Formula, K, Not, Or, Prop, conj
+from delkit.logic.formula import TOP, C, D, E, Formula, K, Not, Or, Prop, conj
 from planners.lang.initial import finitary_s5
 from planners.task import ActionSpec, Task, merge_observers
 

@@ -33,7 +33,7 @@ import re
 from collections.abc import Iterable
 
 from delkit.errors import PlanningError
-from delkit.formula import TOP, And, Bot, C, D, E, Formula, Iff, Implies, K, Kw, Not, Or, Prop, Top, conj, disj
+from delkit.logic.formula import TOP, And, Bot, C, D, E, Formula, Iff, Implies, K, Kw, Not, Or, Prop, Top, conj, disj
 from planners.task import ActionSpec, Task
 
 __all__ = ["to_epddl", "to_mastar", "epddl_formula", "mastar_formula"]

@@ -93,7 +93,7 @@ def test_the_shield_stops_an_action_whose_precondition_is_false(alpha2):
 
 
 def test_both_backends_give_bisimilar_belief_states(alpha2):
-    from delkit.bisimulation import canonical_form, contract
+    from delkit.models.bisimulation import canonical_form, contract
     from planners.spaces import make_space
 
     _inst, _res, m = alpha2

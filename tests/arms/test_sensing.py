@@ -67,7 +67,7 @@ def _hidden(origin, face_points, box_pos, box_half) -> bool:
 
 def _sat(pre, vals, props, agents) -> bool:
     """A propositional precondition at the one-world model of a valuation."""
-    from delkit.kripke import KripkeModel
+    from delkit.models.kripke import KripkeModel
 
     w = KripkeModel.build([{p for p, v in vals.items() if v}], {a: [[0]] for a in agents}, designated=[0],
                           props=list(props), agents=list(agents))

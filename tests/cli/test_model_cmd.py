@@ -8,7 +8,7 @@ import pytest
 
 from delkit import KripkeModel, bisimilar, compose, ontic, public_announcement, sensing
 from delkit.cli import main
-from delkit.io import load, load_model, save
+from delkit.io.formats import load, load_model, save
 
 MUDDY2 = {
     # two muddy children, both muddy (world "mm"); each sees the other's forehead
@@ -117,7 +117,7 @@ def test_prove_valid_and_invalid(capsys):
     assert main(["prove", "K_a p -> p", "--logic", "KD45", "--worlds", "3", "--json"]) == 1
     d = json.loads(capsys.readouterr().out)
     assert d["valid"] is False and d["logic"] == "KD45"
-    from delkit.io import model_from_dict
+    from delkit.io.formats import model_from_dict
 
     cm = model_from_dict(d["counter_model"])
     assert cm.is_kd45() and not cm.holds("K_a p -> p")

@@ -9,7 +9,7 @@ import pytest
 
 from delkit import KripkeModel
 from delkit.cli import main
-from delkit.io import save
+from delkit.io.formats import save
 
 
 @pytest.fixture

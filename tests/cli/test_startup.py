@@ -155,7 +155,7 @@ GRAMMAR = 'start: NAME ("," NAME)*\nNAME: /[a-z]+/\n%ignore " "\n'
 
 
 def test_lark_cache_written_then_used(tmp_path, monkeypatch) -> None:
-    from delkit._larkcache import build_lark
+    from delkit.logic._larkcache import build_lark
 
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path))
     monkeypatch.delenv("DELKIT_NO_CACHE", raising=False)
@@ -173,7 +173,7 @@ def test_lark_cache_written_then_used(tmp_path, monkeypatch) -> None:
 
 
 def test_lark_cache_falls_back_when_unwritable(tmp_path, monkeypatch) -> None:
-    from delkit._larkcache import build_lark, cache_dir
+    from delkit.logic._larkcache import build_lark, cache_dir
 
     blocker = tmp_path / "file"
     blocker.write_text("not a directory")
@@ -186,7 +186,7 @@ def test_lark_cache_falls_back_when_unwritable(tmp_path, monkeypatch) -> None:
 
 
 def test_formula_errors_same_with_and_without_cache(tmp_path) -> None:
-    code = ("from delkit.formula import parse\n"
+    code = ("from delkit.logic.formula import parse\n"
             "for s in ['K_a p &', 'K_a (p', '[E,', 'C{a,b', 'p <-> ->', 'p q', '@', 'K_a p & ~K_b q']:\n"
             "    try: print(parse(s))\n"
             "    except Exception as e: print(e)\n")
@@ -202,7 +202,7 @@ def test_formula_errors_same_with_and_without_cache(tmp_path) -> None:
 def test_relation_from_pairs_without_scipy_matches_scipy() -> None:
     import scipy.sparse as sp
 
-    from delkit.relation import Relation
+    from delkit.models.relation import Relation
 
     rng = np.random.default_rng(7)
     for n in (1, 2, 5, 17):
@@ -223,7 +223,7 @@ def test_components_match_scipy(data) -> None:
     import scipy.sparse as sp
     from scipy.sparse.csgraph import connected_components
 
-    from delkit.semantics import _components
+    from delkit.logic.semantics import _components
 
     n = data.draw(st.integers(1, 80))
     k = data.draw(st.integers(1, 3))
@@ -241,7 +241,7 @@ def test_components_match_scipy(data) -> None:
 
 
 def test_components_long_chain_uses_fallback() -> None:
-    from delkit.semantics import _components
+    from delkit.logic.semantics import _components
 
     n = 400  # a path of diameter 400: more rounds than the propagation does before falling back
     a, b = np.arange(n) // 2, (np.arange(n) + 1) // 2
@@ -253,7 +253,7 @@ def test_components_long_chain_uses_fallback() -> None:
 # ---------------------------------------------------------------------------------------------- fast formula reader
 def _lark_parse(text: str):
     """The formula the grammar's (lark) parser builds, or the name of its exception."""
-    from delkit.formula import _Build, _parser
+    from delkit.logic.formula import _Build, _parser
 
     try:
         return _Build({}, "<formula>").build(_parser().parse(text))
@@ -266,7 +266,7 @@ def _lark_parse(text: str):
                 allow_common=True), st.booleans())
 def test_fast_formula_reader_reads_printed_formulas_as_lark(f, diamonds) -> None:
     """Every printed formula without announcements or updates is read by the fast reader, to lark's formula."""
-    from delkit.formula import _fast_parse, show
+    from delkit.logic.formula import _fast_parse, show
 
     text = show(f, diamonds=diamonds)
     fast = _fast_parse(text)
@@ -287,7 +287,7 @@ _TRICKY = ["K_a_b p", "M_a_b p", "Kw_a.b p", "B_b' p", "<->p", "K_ p", "Kw_ p", 
 
 
 def test_fast_formula_reader_on_tricky_spellings() -> None:
-    from delkit.formula import _fast_parse
+    from delkit.logic.formula import _fast_parse
 
     read = 0
     for t in _TRICKY:
@@ -303,7 +303,7 @@ def test_fast_formula_reader_on_tricky_spellings() -> None:
 def test_fast_formula_reader_never_disagrees_with_lark(pieces, data) -> None:
     """On any text — random pieces, a printed formula with pieces spliced in, the tricky spellings — the fast
     reader either declines (None: lark reads it, errors included) or builds lark's formula."""
-    from delkit.formula import _fast_parse, show
+    from delkit.logic.formula import _fast_parse, show
 
     f = data.draw(formulas(["p", "q"], ["a", "b"], max_depth=3))
     text = show(f)

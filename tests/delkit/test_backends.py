@@ -12,14 +12,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.bisimulation import bisimilar, contract
-from delkit.compact import CompactEngine
+from delkit.backends.compact import CompactEngine
 from delkit.errors import ModelError
-from delkit.formula import D, Not, subformulas
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
+from delkit.logic.formula import D, Not, subformulas
+from delkit.models.bisimulation import bisimilar, contract
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
+from delkit.models.update import product_update
 from delkit.testing import event_models, formulas, kripke_models
-from delkit.update import product_update
 
 P, A = ("p", "q"), ("a", "b")
 ENGINE = CompactEngine(P, A)
@@ -109,8 +109,8 @@ def test_shape_cache_hit_hand_checked() -> None:
     """Two states with one frame and the same order of valuations after the update share the cached shape
     (the very same relation tuples) and each has the reference result: a public ontic event q := ¬q on a
     two-world model where a cannot tell p and b can."""
-    from delkit.events import EventModel
-    from delkit.formula import Prop, Top
+    from delkit.logic.formula import Prop, Top
+    from delkit.models.events import EventModel
 
     em = EventModel(("e",), A, (Top(),), ({"q": Not(Prop("q"))},), {a: Relation.identity(1) for a in A}, (0,),
                     "flip q")
@@ -131,8 +131,8 @@ def test_shape_cache_tells_a_failed_precondition_from_a_small_valuation() -> Non
     """Same frame, same event (pre p, q := ⊤): in the first state the precondition fails at the world a
     cannot tell from the designated one (the result has one world), in the second it holds there and the new
     valuation is the smallest (two worlds). The shape key must not confuse "fails" with "smallest"."""
-    from delkit.events import EventModel
-    from delkit.formula import Prop, Top
+    from delkit.logic.formula import Prop, Top
+    from delkit.models.events import EventModel
 
     p3, a2 = ("p", "q", "r"), ("a", "b")
     em = EventModel(("e",), a2, (Prop("p"),), ({"q": Top()},), {a: Relation.identity(1) for a in a2}, (0,), "set q")
@@ -152,7 +152,7 @@ def test_shape_cache_tells_a_failed_precondition_from_a_small_valuation() -> Non
 @given(data=st.data())
 def test_truth_compact_equals_symbolic_on_s5(data) -> None:
     """The third backend: BDD knowledge structures agree with the compact one on S5 models."""
-    from delkit.symbolic import from_kripke
+    from delkit.backends.symbolic import from_kripke
 
     m = data.draw(_models("S5", designated="one", max_worlds=4))
     f = data.draw(formulas(P, A, 2, allow_common=True).filter(_no_group_d))
@@ -195,7 +195,7 @@ def test_group_d_hand_checked() -> None:
     w0 (R_a ∩ R_b = {w0}), K_a p and K_b p do not. w1 and w2 are bisimilar, so a plain contraction merges them
     and its quotient has R_a ∩ R_b = {w0, w1w2}: D_{a,b} p would become false. Collective bisimulation merges
     them too but keeps R_{ab} = {(w0, w0), ...} as a relation of its own, so D_{a,b} p stays true."""
-    from delkit.formula import parse
+    from delkit.logic.formula import parse
 
     m = KripkeModel.build([{"p"}, set(), set()], {"a": {"pairs": [(0, 0), (0, 1), (1, 1), (2, 2)]},
                                                     "b": {"pairs": [(0, 0), (0, 2), (1, 1), (2, 2)]}},

@@ -11,9 +11,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from delkit.bisimulation import bisimilar
-from delkit.formula import TOP, Prop
-from delkit.symbolic_belief import BeliefStructure, belief_from_kripke
+from delkit.backends.symbolic_belief import BeliefStructure, belief_from_kripke
+from delkit.logic.formula import TOP, Prop
+from delkit.models.bisimulation import bisimilar
 from delkit.testing import event_models, formulas, kripke_models
 
 P, A = ("p", "q", "r"), ("a", "b")

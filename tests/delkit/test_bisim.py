@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from delkit import KripkeModel, bisimilar, canonical_hash, contract
-from delkit.bisimulation import canonical_form, refine
-from delkit.relation import Relation
+from delkit.models.bisimulation import canonical_form, refine
+from delkit.models.relation import Relation
 
 
 def random_model(rng: np.random.Generator, n: int, kind: str) -> KripkeModel:

@@ -1,4 +1,4 @@
-"""Distinguishing formulas (``delkit.bisimulation``, ``delkit model diff``).
+"""Distinguishing formulas (``delkit.models.bisimulation``, ``delkit model diff``).
 
 Properties on random models of every frame class: either the models are bisimilar — then the returned
 relation is a bisimulation (atoms, zig, zag, designated worlds covered) and random formulas up to modal
@@ -18,10 +18,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from delkit import KripkeModel
-from delkit.bisimulation import as_kripke, bisimilar, contract, diff, distinguishing_formula, formula_size
 from delkit.cli import main
-from delkit.formula import D, modal_depth, subformulas
-from delkit.io import dumps
+from delkit.io.formats import dumps
+from delkit.logic.formula import D, modal_depth, subformulas
+from delkit.models.bisimulation import as_kripke, bisimilar, contract, diff, distinguishing_formula, formula_size
 from delkit.testing import formulas, kripke_models, world_permutations
 
 PROPS, AGENTS = ("p", "q"), ("a", "b")
@@ -82,7 +82,7 @@ def test_bisimilar_copies_have_no_distinguishing_formula(m, data, probes):
     perm = data.draw(world_permutations(m.n_worlds))
     inv = np.argsort(perm)
     rels = {}
-    from delkit.relation import Relation
+    from delkit.models.relation import Relation
 
     for ag, r in m.relations.items():
         rels[ag] = Relation.from_pairs(m.n_worlds, [(int(inv[x]), int(inv[y])) for x, y in r.pairs()])
@@ -106,7 +106,7 @@ def test_pointed_formula_has_the_splitting_depth(m, data):
         return
     vec = m.check(f)
     assert vec[x] and not vec[y]
-    from delkit.bisimulation import refinement_history
+    from delkit.models.bisimulation import refinement_history
 
     history = refinement_history(m)
     split = next(k for k, blocks in enumerate(history) if blocks[x] != blocks[y])
@@ -124,8 +124,8 @@ def test_hand_example_depth_two():
 
 
 def test_knowledge_structure_against_its_kripke_model():
-    from delkit.symbolic import from_kripke
-    from delkit.symbolic_belief import belief_from_kripke
+    from delkit.backends.symbolic import from_kripke
+    from delkit.backends.symbolic_belief import belief_from_kripke
 
     m = KripkeModel.build({"w": {"p"}, "v": set(), "u": {"q"}}, {"a": [["w", "v"], ["u"]], "b": [["w"], ["v", "u"]]},
                           designated=["w"])

@@ -1,4 +1,4 @@
-"""Symbolic partition refinement (``delkit.bisimulation_symbolic``) against the explicit one.
+"""Symbolic partition refinement (``delkit.backends.bisimulation_symbolic``) against the explicit one.
 
 Random S5 models as knowledge structures and random KD45/K models as belief structures: the verdict equals
 the explicit refinement's on the translated models, the formula is checked by the explicit model checker
@@ -12,12 +12,12 @@ from pathlib import Path
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from delkit.bisimulation import as_kripke, diff
-from delkit.bisimulation_symbolic import symbolic_diff
-from delkit.formula import modal_depth
-from delkit.smcdel import parse_smcdel, structure
-from delkit.symbolic import KnowledgeStructure, from_kripke
-from delkit.symbolic_belief import belief_from_kripke
+from delkit.backends.bisimulation_symbolic import symbolic_diff
+from delkit.backends.symbolic import KnowledgeStructure, from_kripke
+from delkit.backends.symbolic_belief import belief_from_kripke
+from delkit.io.smcdel import parse_smcdel, structure
+from delkit.logic.formula import modal_depth
+from delkit.models.bisimulation import as_kripke, diff
 from delkit.testing import kripke_models
 
 PROPS, AGENTS = ("p", "q"), ("a", "b")
@@ -57,7 +57,7 @@ def test_obs_and_rel_files_are_bisimilar_and_rounds_are_symbolic():
 def test_large_structures_beyond_the_explicit_limit():
     """Muddy children, 14 children (16,384 states, over the explicit limit of 4,096): before and after the
     father's announcement. Someone's ignorance tells them apart; the formula is checked on BDDs."""
-    from delkit.formula import Prop, disj
+    from delkit.logic.formula import Prop, disj
 
     n = 14
     kids = [str(i) for i in range(1, n + 1)]
@@ -90,7 +90,7 @@ def test_back_condition_matters():
                          kripke_models(PROPS, AGENTS, 3, frame=fr, designated="some"))))
 def test_diff_explanation_formulas_denote_the_sets(case):
     """The explanation's readable formulas (form_of) denote exactly the sets they name, in each structure."""
-    from delkit.formula import parse
+    from delkit.logic.formula import parse
 
     frame, m1, m2 = case
     a, b = _encode(m1, frame), _encode(m2, frame)

@@ -8,7 +8,7 @@ import pytest
 
 from delkit import KripkeModel, parse
 from delkit.errors import ModelError, ParseError
-from delkit.relation import Relation
+from delkit.models.relation import Relation
 
 
 @pytest.mark.parametrize(("relation", "fragment"), [
@@ -40,7 +40,7 @@ def test_parse_errors_name_anonymous_tokens_readably() -> None:
 
 def test_a_model_with_no_worlds_is_not_written_since_it_cannot_be_read_back(tmp_path) -> None:
     from delkit import product_update, public_announcement
-    from delkit.io import dumps, loads, save
+    from delkit.io.formats import dumps, loads, save
 
     m = KripkeModel.build([{"p"}], {"a": [[0]]}, designated=[0])
     empty = product_update(m, public_announcement("~p", ["a"]))    # no event applies
@@ -59,7 +59,7 @@ def test_a_model_with_no_worlds_is_not_written_since_it_cannot_be_read_back(tmp_
     ('"agents": ["a", 3]', "'agents' must list names as strings, got 3"),
 ])
 def test_model_file_with_non_string_symbols_is_a_model_file_error(entry, fragment) -> None:
-    from delkit.io import ModelFileError, loads
+    from delkit.io.formats import ModelFileError, loads
 
     text = ('{"delkit": "kripke-model", ' + entry + ', "worlds": [{"name": "u", "true": ["p"]}], '
             '"relations": {"a": [["u"]]}, "designated": ["u"]}')

@@ -1,4 +1,4 @@
-"""The numpy refinement (delkit.compact_np) against the compact backend's Python one: the same canonical
+"""The numpy refinement (delkit.backends.compact_np) against the compact backend's Python one: the same canonical
 output on any input — random models given as successor lists, and the products of random mA* updates."""
 
 from __future__ import annotations
@@ -6,9 +6,9 @@ from __future__ import annotations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import delkit.compact as compact
-from delkit.compact import CompactEngine, _refine
-from delkit.compact_np import refine
+import delkit.backends.compact as compact
+from delkit.backends.compact import CompactEngine, _refine
+from delkit.backends.compact_np import refine
 from delkit.testing import event_models, kripke_models, refinement_inputs
 
 

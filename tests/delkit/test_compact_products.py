@@ -4,7 +4,7 @@
 skip event ε (mA*'s oblivious agents), on the other events only, sharing the old state's successor lists
 for the copy (``_copy_product``). Both must give the very same canonical state (valuations, relations,
 designated worlds — what keys and the parallel search's records are made of), and that state must be
-bisimilar to ``delkit.update.product_update``'s.
+bisimilar to ``delkit.models.update.product_update``'s.
 """
 
 from __future__ import annotations
@@ -13,14 +13,14 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import delkit.compact as compact
-from delkit.bisimulation import bisimilar
-from delkit.compact import CompactEngine
-from delkit.events import EventModel
-from delkit.formula import Top
-from delkit.relation import Relation
+import delkit.backends.compact as compact
+from delkit.backends.compact import CompactEngine
+from delkit.logic.formula import Top
+from delkit.models.bisimulation import bisimilar
+from delkit.models.events import EventModel
+from delkit.models.relation import Relation
+from delkit.models.update import product_update
 from delkit.testing import event_models, kripke_models
-from delkit.update import product_update
 
 P, A = ("p", "q", "r"), ("a", "b", "c")
 
@@ -82,9 +82,9 @@ def test_skip_event_in_a_general_event_model(data, frame) -> None:
 
 def test_copy_product_is_taken_on_mastar_announcements() -> None:
     """An announcement with an oblivious agent on an S5 model: the copy product answers (not the pair one)."""
-    from delkit.events import action
-    from delkit.formula import Prop
-    from delkit.kripke import KripkeModel
+    from delkit.logic.formula import Prop
+    from delkit.models.events import action
+    from delkit.models.kripke import KripkeModel
 
     val = np.array([[True, False, False], [False, False, False], [True, True, False], [False, True, True]])
     rels = {"a": Relation.from_labels([0, 0, 1, 1]), "b": Relation.from_labels([0, 1, 0, 1]),
@@ -114,9 +114,9 @@ def test_copy_of_part_of_the_state_after_an_oblivious_update() -> None:
     old copy: a second such announcement reaches a copy of only part of the state (its worlds are
     renumbered, and the copy is kept on the state for the next action that reaches it). Both results equal
     the pair-by-pair construction and the reference, along random chains of such updates."""
-    from delkit.events import action
-    from delkit.formula import Prop
-    from delkit.kripke import KripkeModel
+    from delkit.logic.formula import Prop
+    from delkit.models.events import action
+    from delkit.models.kripke import KripkeModel
 
     val = np.array([[True, False, False], [False, False, False], [True, True, False], [False, True, True]])
     rels = {"a": Relation.from_labels([0, 0, 1, 1]), "b": Relation.from_labels([0, 1, 0, 1]),
@@ -145,7 +145,7 @@ def test_chains_of_oblivious_updates(data, frame) -> None:
     """Random chains of mA* updates (from S5 models the states become KD45; the copy often covers part of
     the state only): the copy construction, the pair-by-pair one and the reference agree at every step;
     and so does the shape cache, asked for a twin state (the same frame, valuations redrawn) right after."""
-    from delkit.compact import CompactState
+    from delkit.backends.compact import CompactState
 
     m = data.draw(kripke_models(P, A, 4, frame=frame, designated="one"))
     e1, e2 = CompactEngine(P, A), CompactEngine(P, A)
@@ -176,9 +176,9 @@ def test_copy_reached_through_a_successor_set_no_world_of_the_copy_has() -> None
     """K frame: c's successors of the designated w0 are {w1, w2}, but inside the copy's part X = {w1, w2}
     both have {w2}: the built pair's list for c is one of s's lists that no world of X has (it is added to
     the copy's lists for this product)."""
-    from delkit.events import action
-    from delkit.formula import Prop
-    from delkit.kripke import KripkeModel
+    from delkit.logic.formula import Prop
+    from delkit.models.events import action
+    from delkit.models.kripke import KripkeModel
 
     val = np.array([[True, False, False], [False, True, False], [False, False, True]])
     ident = Relation.identity(3)
@@ -195,7 +195,7 @@ def test_copy_reached_through_a_successor_set_no_world_of_the_copy_has() -> None
 def test_copy_product_with_undesignated_events(data, frame) -> None:
     """mA* frames with some outcomes not designated (an announcement's "no" event): the copy product builds
     the rows of the undesignated events its pairs reach (through partial observers) and only those."""
-    from delkit.events import action
+    from delkit.models.events import action
     from delkit.testing import formulas
 
     m = data.draw(kripke_models(P, A, 5, frame=frame, designated="some"))

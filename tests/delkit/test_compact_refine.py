@@ -13,8 +13,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.compact import CompactEngine, CompactState, PlainEvents, PlainModel, _refine
-from delkit.formula import Not, Prop, Top
+from delkit.backends.compact import CompactEngine, CompactState, PlainEvents, PlainModel, _refine
+from delkit.logic.formula import Not, Prop, Top
 from delkit.testing import refinement_inputs
 from planners.lang import load_task, shared_benchmarks
 from planners.spaces import CompactSpace

@@ -24,9 +24,9 @@ from delkit import (
     sensing,
     show,
 )
-from delkit.events import EventModel
-from delkit.formula import Update
-from delkit.relation import Relation
+from delkit.logic.formula import Update
+from delkit.models.events import EventModel
+from delkit.models.relation import Relation
 
 
 def coin() -> KripkeModel:
@@ -241,7 +241,7 @@ def test_update_with_composed_event_names_round_trips():
 
 
 def test_props_of_update_includes_postconditions():
-    from delkit.formula import props_of
+    from delkit.logic.formula import props_of
 
     flip = ontic([("q", True, "r")], ["a"], full=["a"])
     assert props_of(Update(flip, 0, parse("p"))) == {"p", "q", "r"}

@@ -1,4 +1,4 @@
-"""Pictures (``delkit.draw``, ``delkit model draw``): SVG parses and shows every world and edge, TikZ is a
+"""Pictures (``delkit.drawing.draw``, ``delkit model draw``): SVG parses and shows every world and edge, TikZ is a
 balanced tikzpicture, PNG files are PNGs; Jupyter reprs; knowledge/belief structures."""
 
 from __future__ import annotations
@@ -10,12 +10,12 @@ import pytest
 from hypothesis import given, settings
 
 from delkit import KripkeModel, public_announcement
+from delkit.backends.symbolic import KnowledgeStructure
+from delkit.backends.symbolic_belief import BeliefStructure
 from delkit.cli import main
-from delkit.draw import picture
-from delkit.formula import Prop
-from delkit.io import dumps
-from delkit.symbolic import KnowledgeStructure
-from delkit.symbolic_belief import BeliefStructure
+from delkit.drawing.draw import picture
+from delkit.io.formats import dumps
+from delkit.logic.formula import Prop
 from delkit.testing import kripke_models
 
 SVG = "{http://www.w3.org/2000/svg}"
@@ -117,7 +117,7 @@ def test_cli_draw_smcdel_and_errors(tmp_path, capsys):
 def test_large_models_fall_back_to_text_in_jupyter():
     import numpy as np
 
-    from delkit.relation import Relation
+    from delkit.models.relation import Relation
 
     n = 201
     m = KripkeModel(("p",), ("a",), np.zeros((n, 1), dtype=bool), {"a": Relation.identity(n)}, (0,))
@@ -130,9 +130,9 @@ def test_large_models_fall_back_to_text_in_jupyter():
 def test_structure_pictures_show_laws_as_formulas(m) -> None:
     """A belief structure's picture writes θ and every Ω_a as a formula (form_of, not dd's ite(...) text)
     that denotes exactly that BDD: parsed back and rebuilt, it is the same node."""
-    from delkit.draw import picture
-    from delkit.formula import parse
-    from delkit.symbolic_belief import _propositional, belief_from_kripke
+    from delkit.backends.symbolic_belief import _propositional, belief_from_kripke
+    from delkit.drawing.draw import picture
+    from delkit.logic.formula import parse
 
     bs, _ = belief_from_kripke(m)
     header = picture(bs, max_worlds=0).header
@@ -146,9 +146,9 @@ def test_structure_pictures_show_laws_as_formulas(m) -> None:
 
 def test_viewer_notes_show_a_belief_structures_law_as_a_formula() -> None:
     """``delkit view`` on a belief structure file: θ and Ω_a in the notes as form_of formulas."""
-    from delkit.formula import parse
-    from delkit.smcdel import parse_smcdel, structure
-    from delkit.symbolic_belief import _propositional
+    from delkit.backends.symbolic_belief import _propositional
+    from delkit.io.smcdel import parse_smcdel, structure
+    from delkit.logic.formula import parse
     from delkit.view.document import load_document
 
     path = Path(__file__).resolve().parents[2] / "specs" / "smcdel" / "muddy3-belief.smcdel.txt"

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.formula import K, Prop
+from delkit.logic.formula import K, Prop
 from delkit.puzzles.gossip import kw_after, kw_experts, kw_minimum_calls, solve_gossip_kw
 
 
@@ -69,7 +69,7 @@ def test_what_the_variants_know_about_experts() -> None:
     """After 01 23 02 13 (docs/puzzles.md): knowing whether, agent 0 knows exactly that 0 and 2 are experts
     (they exchanged everything in call 02; 0 cannot tell that call 13 happened); GossipS5, where a call
     shows who called but not what was said, leaves no agent knowing that even she has every secret."""
-    from delkit.formula import conj
+    from delkit.logic.formula import conj
     from delkit.puzzles.gossip import after_calls
 
     seq = [(0, 1), (2, 3), (0, 2), (1, 3)]

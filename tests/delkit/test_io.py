@@ -1,4 +1,4 @@
-"""delkit.io: JSON and DOT round trips (property-based) and the error messages on malformed files."""
+"""delkit.io.formats: JSON and DOT round trips (property-based) and the error messages on malformed files."""
 
 from __future__ import annotations
 
@@ -10,8 +10,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from delkit import DelkitError, KripkeModel, ParseError, bisimilar, parse, sensing
-from delkit.events import EventModel
-from delkit.io import (
+from delkit.io.formats import (
     ModelFileError,
     dumps,
     event_model_from_dict,
@@ -26,6 +25,7 @@ from delkit.io import (
     save_dot,
     to_dot,
 )
+from delkit.models.events import EventModel
 from delkit.testing import event_models, kripke_models
 
 PROPS, AGENTS = ("p", "q", "r_1"), ("a", "b")

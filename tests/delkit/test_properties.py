@@ -37,7 +37,7 @@ from delkit import (
     public_announcement,
     show,
 )
-from delkit.formula import subformulas
+from delkit.logic.formula import subformulas
 from delkit.testing import event_models, formulas, kd45_models, kripke_models, s5_models
 from delkit.verify import find_model, prove, reduce, s5_single_agent_bound
 

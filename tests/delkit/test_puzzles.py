@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 from delkit.cli import main
 from delkit.errors import ModelError
-from delkit.formula import C, K, Kw, Not, Prop
+from delkit.logic.formula import C, K, Kw, Not, Prop
 from delkit.puzzles import (
     solve_cheryl,
     solve_dining,
@@ -63,7 +63,7 @@ def test_muddy_father_announcement_makes_single_muddy_child_know() -> None:
 @settings(max_examples=25, deadline=None)
 @given(st.integers(1, 9).flatmap(lambda n: st.tuples(st.just(n), st.integers(1, n))))
 def test_muddy_explicit_and_symbolic_agree_with_the_literature(nm: tuple[int, int]) -> None:
-    from delkit.symbolic import muddy_symbolic
+    from delkit.backends.symbolic import muddy_symbolic
 
     n, m = nm
     e, s = solve_muddy(n, m), muddy_symbolic(n, m)
@@ -273,7 +273,7 @@ def test_gossip_four_calls_make_four_experts() -> None:
 def test_gossip_calls_are_private_to_the_callers() -> None:
     """After the call 01, agent 0 knows it has 1's secret; agent 2 knows that some call happened but not
     which one (SMCDEL's GossipS5 observations)."""
-    from delkit.formula import disj
+    from delkit.logic.formula import disj
     from delkit.puzzles.gossip import after_calls
 
     ks = after_calls(4, [(0, 1)])
@@ -338,10 +338,10 @@ def test_door_mat_literature_claims() -> None:
 
 def test_door_mat_explicit_equals_symbolic() -> None:
     """The transformer read back as an event model: the explicit product update gives the same answers."""
-    from delkit.bisimulation import bisimilar
+    from delkit.backends.symbolic import event_model_from_transformer
+    from delkit.models.bisimulation import bisimilar
+    from delkit.models.update import product_update
     from delkit.puzzles.door_mat import door_mat_start, try_take
-    from delkit.symbolic import event_model_from_transformer
-    from delkit.update import product_update
 
     start, x = door_mat_start(), try_take("1")
     explicit = product_update(start.to_kripke(), event_model_from_transformer(x, start))

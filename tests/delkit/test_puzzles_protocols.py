@@ -11,10 +11,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.bisimulation import bisimilar
 from delkit.cli import main
 from delkit.errors import ModelError
-from delkit.formula import K, Kw, Not, Prop
+from delkit.logic.formula import K, Kw, Not, Prop
+from delkit.models.bisimulation import bisimilar
 
 
 def _json(capsys, argv: list[str]) -> dict:
@@ -254,8 +254,8 @@ def test_letter_passing_line(n: int, to: int) -> None:
 @settings(max_examples=15, deadline=None)
 @given(st.integers(2, 7), st.data())
 def test_letter_passing_explicit_equals_symbolic(n: int, data) -> None:
+    from delkit.models.update import product_update
     from delkit.puzzles.letter_passing import letter_start, pass_event, pass_transformer, solve_letter_passing
-    from delkit.update import product_update
 
     to = data.draw(st.integers(2, n))
     assert solve_letter_passing(n, to).steps == solve_letter_passing(n, to, engine="symbolic").steps
@@ -268,8 +268,8 @@ def test_letter_passing_explicit_equals_symbolic(n: int, data) -> None:
 
 def test_letter_passing_receiver_reads_privately() -> None:
     """After 1→2 agent 3 knows that 2 knows the address (the pass is public), not the address itself."""
+    from delkit.models.update import product_update
     from delkit.puzzles.letter_passing import knows_addressee, letter_start, pass_event
-    from delkit.update import product_update
 
     m = product_update(letter_start(3, 3), pass_event(3, 1, 2))
     assert m.holds(K("3", knows_addressee(3, 2))) and not m.holds(knows_addressee(3, 3))
@@ -300,8 +300,8 @@ def test_prisoners_smcdel_story() -> None:
 
 def _histories(n: int, days: int):
     """The multi-pointed model of all schedules of ``days`` days (no reduction) and each world's schedule."""
+    from delkit.models.update import product_update
     from delkit.puzzles.prisoners import _start_model, day_event
-    from delkit.update import product_update
 
     model = _start_model(n)
     hist: list[tuple[int, ...]] = [()]

@@ -8,7 +8,7 @@ import scipy.sparse as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.relation import Relation
+from delkit.models.relation import Relation
 
 
 @st.composite

@@ -15,7 +15,7 @@ import pytest
 
 from delkit.cli import main
 from delkit.errors import ParseError
-from delkit.smcdel import answer, check_file, parse_smcdel, structure
+from delkit.io.smcdel import answer, check_file, parse_smcdel, structure
 
 SPECS = Path(__file__).resolve().parents[2] / "specs" / "smcdel"
 
@@ -90,14 +90,14 @@ def test_smcdel_cli_error_is_one_line(tmp_path, capsys) -> None:
 
 
 def test_belief_file_is_a_belief_structure_and_matches_the_s5_file() -> None:
-    from delkit.symbolic_belief import BeliefStructure
+    from delkit.backends.symbolic_belief import BeliefStructure
 
     spec = parse_smcdel((SPECS / "muddy3-belief.smcdel.txt").read_text())
     assert isinstance(structure(spec), BeliefStructure) and spec.relations is not None
     s5 = [r["answer"] for r in check_file(str(SPECS / "muddy3.smcdel.txt"))]
     assert [r["answer"] for r in answer(spec)][3:] == s5
     # the relations written as formulas over V and V' give the S5 model of the OBS file
-    from delkit.bisimulation import diff
+    from delkit.models.bisimulation import diff
 
     obs = structure(parse_smcdel((SPECS / "muddy3.smcdel.txt").read_text()))
     assert diff(structure(spec), obs).bisimilar
@@ -125,8 +125,8 @@ def test_sally_anne_file_is_the_result_of_the_story() -> None:
     state {1,3}) to the story computed step by step — explicitly (product update) and symbolically (products
     of the belief structure with the event models)."""
     from delkit import product_update
-    from delkit.bisimulation import diff
-    from delkit.symbolic_belief import belief_from_kripke
+    from delkit.backends.symbolic_belief import belief_from_kripke
+    from delkit.models.bisimulation import diff
 
     spec = parse_smcdel((SPECS / "sallyanne.smcdel.txt").read_text())
     written = structure(spec).to_kripke()
@@ -142,7 +142,7 @@ def test_sally_anne_file_is_the_result_of_the_story() -> None:
     assert diff(explicit, written, props=["1", "2"]).bisimilar
     assert diff(symbolic.to_kripke(["1", "2"]), written, props=["1", "2"]).bisimilar
     # and the false belief, on the story itself
-    from delkit.formula import K, Not, Prop, conj
+    from delkit.logic.formula import K, Not, Prop, conj
 
     marble_in_basket = Prop("2")
     assert explicit.holds(conj([K("sally", marble_in_basket), Not(marble_in_basket), K("anne", Not(marble_in_basket))]))

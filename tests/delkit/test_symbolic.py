@@ -7,10 +7,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from delkit.bisimulation import bisimilar
+from delkit.backends.symbolic import KnowledgeStructure, Transformer, from_kripke, muddy_symbolic
 from delkit.errors import ModelError, UnknownSymbolError
-from delkit.events import EventModel, ontic, public_announcement, semi_private_announcement
-from delkit.formula import (
+from delkit.logic.formula import (
     BOT,
     TOP,
     And,
@@ -29,11 +28,12 @@ from delkit.formula import (
     Update,
     parse,
 )
-from delkit.kripke import KripkeModel
+from delkit.models.bisimulation import bisimilar
+from delkit.models.events import EventModel, ontic, public_announcement, semi_private_announcement
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
+from delkit.models.update import product_update
 from delkit.puzzles.muddy import solve_muddy
-from delkit.relation import Relation
-from delkit.symbolic import KnowledgeStructure, Transformer, from_kripke, muddy_symbolic
-from delkit.update import product_update
 
 PROPS = ("p", "q")
 AGENTS = ("a", "b", "c")
@@ -121,7 +121,7 @@ def test_round_trip_is_bisimilar(model: KripkeModel) -> None:
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(s5_models(max_worlds=4), s5_event_models())
 def test_transform_matches_product_update(model: KripkeModel, events: EventModel) -> None:
-    from delkit.symbolic import transformer_from_event_model
+    from delkit.backends.symbolic import transformer_from_event_model
 
     ks, _ = from_kripke(model)
     x, _ = transformer_from_event_model(events, ks)
@@ -136,7 +136,7 @@ def test_transform_matches_product_update(model: KripkeModel, events: EventModel
 def test_transform_of_structure_observing_propositions(law: Formula, obs: list[list[str]], actual: Formula,
                                                        events: EventModel) -> None:
     """Agents that observe changed variables keep observing their *old* values (copies), as in M ⊗ E."""
-    from delkit.symbolic import transformer_from_event_model
+    from delkit.backends.symbolic import transformer_from_event_model
 
     ks = KnowledgeStructure.create(PROPS, law, dict(zip(AGENTS, obs, strict=True)), actual=actual)
     model = ks.to_kripke()
@@ -261,7 +261,7 @@ def test_symbolic_agrees_with_explicit_many(model: KripkeModel, formula: Formula
 @given(s5_models(max_worlds=4), s5_event_models())
 def test_transformer_back_to_event_model_round_trip(model: KripkeModel, events: EventModel) -> None:
     """event model → transformer → event model: the product updates are bisimilar."""
-    from delkit.symbolic import event_model_from_transformer, transformer_from_event_model
+    from delkit.backends.symbolic import event_model_from_transformer, transformer_from_event_model
 
     ks, _ = from_kripke(model)
     x, _ = transformer_from_event_model(events, ks)
@@ -278,8 +278,8 @@ def test_warm_caches_agree_after_products_and_announcements(law: Formula, obs: l
     unobserved sets, cubes and the "Kw_a x with x hidden from a" decisions shared by announcements) is
     reused only where it still holds: after warming every cache on F, F × E and (F × E)|φ agree with the
     explicit engine (products change the observations, announcements do not)."""
+    from delkit.backends.symbolic import transformer_from_event_model
     from delkit.errors import DelkitError
-    from delkit.symbolic import transformer_from_event_model
 
     ks = KnowledgeStructure.create(PROPS, law, dict(zip(AGENTS, obs, strict=True)), actual=actual)
     if ks.count_states() == 0 or ks.actual == ks.bdd.false:

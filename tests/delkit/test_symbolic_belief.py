@@ -7,12 +7,12 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from delkit.bisimulation import bisimilar
+from delkit.backends.symbolic_belief import BeliefStructure, belief_from_kripke
 from delkit.errors import ModelError
-from delkit.formula import K, Not, Prop, parse
-from delkit.symbolic_belief import BeliefStructure, belief_from_kripke
+from delkit.logic.formula import K, Not, Prop, parse
+from delkit.models.bisimulation import bisimilar
+from delkit.models.update import product_update
 from delkit.testing import event_models, formulas, kripke_models
-from delkit.update import product_update
 
 PROPS = ("p", "q")
 AGENTS = ("a", "b")

@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.formula import Formula, Kw, Not, Prop, conj, disj
-from delkit.symbolic import KnowledgeStructure, muddy_symbolic
+from delkit.backends.symbolic import KnowledgeStructure, muddy_symbolic
+from delkit.logic.formula import Formula, Kw, Not, Prop, conj, disj
 
 VARS = tuple(f"x{i}" for i in range(5))
 

@@ -8,7 +8,7 @@ import json
 import pytest
 
 from delkit.cli import main
-from delkit.formula import Not, Prop
+from delkit.logic.formula import Not, Prop
 from delkit.puzzles.dining import smcdel_dining_check, solve_dining
 from delkit.puzzles.drinking import check_thirsty, drinking_structure, solve_drinking, thirsty_formula
 from delkit.puzzles.sum_product import smcdel_sum_product, solve_sum_product
@@ -75,8 +75,8 @@ def test_muddy_answer_does_not_depend_on_the_memory_estimate(estimate) -> None:
     """The puzzles size their managers (``new_manager(memory_estimate=…)``): the estimate only moves CUDD's
     eager-collection threshold (clamped to 2 MiB … 1 GiB), never the answer — below the threshold CUDD
     collects garbage in the middle of the rounds."""
+    from delkit.backends.symbolic import KnowledgeStructure, new_manager
     from delkit.puzzles.muddy import at_least_one, run_rounds
-    from delkit.symbolic import KnowledgeStructure, new_manager
 
     n, m = 24, 17
     props = [f"m{i}" for i in range(n)]
@@ -93,9 +93,9 @@ def test_muddy_answer_does_not_depend_on_the_memory_estimate(estimate) -> None:
 def test_exactly_one_is_smcdels_pairwise_law(n: int) -> None:
     """The dining structure's law (:func:`exactly_one`, O(n) shared subformulas) is SMCDEL's
     ``⋁ P_i ∧ ⋀_{i<j} ¬(P_i ∧ P_j)``: the same BDD, and the truth table agrees with a count of the true parts."""
-    from delkit.formula import conj, disj
+    from delkit.backends.symbolic import KnowledgeStructure
+    from delkit.logic.formula import conj, disj
     from delkit.puzzles.dining import exactly_one
-    from delkit.symbolic import KnowledgeStructure
 
     ps = [Prop(f"P{i}") for i in range(n + 1)]
     pairwise = conj([disj(ps)] + [Not(ps[i] & ps[j]) for i in range(n + 1) for j in range(i + 1, n + 1)])

@@ -12,11 +12,11 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from delkit.bisimulation import bisimilar
-from delkit.compact import CompactEngine
-from delkit.formula import Dkw, Not, Or, Prop, parse
-from delkit.kripke import KripkeModel
-from delkit.symbolic import KnowledgeStructure, form_of, from_kripke, transformer_from_event_model
+from delkit.backends.compact import CompactEngine
+from delkit.backends.symbolic import KnowledgeStructure, form_of, from_kripke, transformer_from_event_model
+from delkit.logic.formula import Dkw, Not, Or, Prop, parse
+from delkit.models.bisimulation import bisimilar
+from delkit.models.kripke import KripkeModel
 from delkit.testing import event_models, formulas, kripke_models, propositional_formulas
 
 P, A = ("p", "q", "r"), ("a", "b", "c")
@@ -170,7 +170,7 @@ def test_dkw_syntax_and_smcdel_reader() -> None:
     assert parse(str(f)) == f
     assert parse("Ckw{a} p") == Or((parse("C{a} p"), parse("C{a} ~p")))
     assert Dkw(["a"], Prop("p")) == Or((parse("D{a} p"), parse("D{a} " + str(Not(Prop("p"))))))
-    from delkit.smcdel import answer, parse_smcdel
+    from delkit.io.smcdel import answer, parse_smcdel
 
     spec = parse_smcdel("VARS 1,2\nLAW Top\nOBS alice: 1\n    bob: 2\n"
                         "VALID? (alice,bob) distknow whether (1 & 2)\nVALID? alice distknow whether 2\n"

@@ -10,8 +10,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from delkit import Announce, Update
-from delkit.formula import agents_of, is_propositional, modal_depth, props_of, subformulas
-from delkit.relation import Relation
+from delkit.logic.formula import agents_of, is_propositional, modal_depth, props_of, subformulas
+from delkit.models.relation import Relation
 from delkit.testing import (
     event_models,
     formulas,
@@ -26,7 +26,7 @@ CFG = settings(max_examples=60, deadline=None, suppress_health_check=[HealthChec
 
 
 def depth(f) -> int:
-    from delkit.formula import children
+    from delkit.logic.formula import children
 
     return 1 + max((depth(c) for c in children(f)), default=-1)
 

@@ -20,8 +20,8 @@ from delkit import (
     sensing,
     show,
 )
-from delkit.events import EventModel
-from delkit.formula import Iff, is_propositional
+from delkit.logic.formula import Iff, is_propositional
+from delkit.models.events import EventModel
 from delkit.verify import (
     VerificationError,
     check_macro,
@@ -236,7 +236,7 @@ def test_tampered_macros_are_caught():
                                  good.designated), [e1, e2])
     assert not res.equivalent and any("precondition" in p for p in res.problems)
     # a relation changed: b now tells the sensing outcomes apart
-    from delkit.relation import Relation
+    from delkit.models.relation import Relation
 
     rels = dict(good.relations)
     rels["b"] = Relation.identity(good.n_events)
@@ -271,7 +271,7 @@ def test_satisfiable_is_what_compose_prune_uses():
 
 def test_run_demo(tmp_path):
     from delkit.demo import proofs
-    from delkit.io import load_model
+    from delkit.io.formats import load_model
 
     res = proofs(tmp_path)
     assert res["ok"], res

@@ -11,7 +11,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from delkit.cli import main
-from delkit.formula import Not
+from delkit.logic.formula import Not
 from delkit.puzzles import CATALOGUE, summary_table
 from delkit.puzzles.what_sum import (
     _decode,

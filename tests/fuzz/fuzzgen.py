@@ -348,7 +348,7 @@ PROPS, AGENTS = ("p", "q"), ("a", "b")
 
 
 def _model_dict(draw) -> dict:
-    from delkit.io import model_to_dict
+    from delkit.io.formats import model_to_dict
     from delkit.testing import kripke_models
 
     frame = draw(st.sampled_from(["S5", "KD45", "K"]))
@@ -357,7 +357,7 @@ def _model_dict(draw) -> dict:
 
 
 def _event_dict(draw) -> dict:
-    from delkit.io import event_model_to_dict
+    from delkit.io.formats import event_model_to_dict
     from delkit.testing import event_models
 
     return event_model_to_dict(draw(event_models(PROPS, AGENTS, 3)))
@@ -463,7 +463,7 @@ def model_cases(draw) -> Case:
         return Case("model draw", ("model", "draw", "{d}/m.json", "-o", f"{{d}}/out.{ext}", *lay),
                     (("m.json", data),), note=mode, budget=30.0)
     if sub == "dot-in":  # a DOT file written by delkit, then its attributes mutated
-        from delkit.io import from_dict, to_dot
+        from delkit.io.formats import from_dict, to_dot
 
         try:
             dot = to_dot(from_dict(obj))

@@ -239,21 +239,21 @@ def _oracle_plan(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
 
 
 def _load_input_model(argv: list[str]):
-    from delkit.io import load
+    from delkit.io.formats import load
 
     return load([a for a in argv if Path(a).suffix in (".json", ".dot")][0])
 
 
 def _bisimilar(a, b) -> bool:
-    from delkit.bisimulation import canonical_form
+    from delkit.models.bisimulation import canonical_form
 
     return canonical_form(a, exact=True) == canonical_form(b, exact=True)
 
 
 def _oracle_model_roundtrip(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
     """``model dot`` / ``model contract`` output, read back, is bisimilar (event models: equal) to the input."""
-    from delkit.io import from_dot, loads, to_dict
-    from delkit.kripke import KripkeModel
+    from delkit.io.formats import from_dot, loads, to_dict
+    from delkit.models.kripke import KripkeModel
 
     src = _load_input_model(argv)
     back = from_dot(out) if argv[1] == "dot" else loads(out)
@@ -267,8 +267,8 @@ def _oracle_model_roundtrip(case: Case, argv: list[str], rc: int, out: str, d: s
 
 def _oracle_model_check(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
     """The truth value must be the same on the bisimulation contraction of the model."""
-    from delkit.bisimulation import contract
-    from delkit.formula import parse
+    from delkit.logic.formula import parse
+    from delkit.models.bisimulation import contract
 
     m = _load_input_model(argv)
     formula = argv[3]
@@ -282,10 +282,10 @@ def _oracle_model_check(case: Case, argv: list[str], rc: int, out: str, d: str) 
 
 def _oracle_model_check_event(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
     """[E,e]φ: the truth value must equal that of φ on the product update (contracted), computed directly."""
-    from delkit.bisimulation import contract
-    from delkit.formula import Update, parse
-    from delkit.io import load_event_model
-    from delkit.update import product_update
+    from delkit.io.formats import load_event_model
+    from delkit.logic.formula import Update, parse
+    from delkit.models.bisimulation import contract
+    from delkit.models.update import product_update
 
     m = _load_input_model(argv)
     em = load_event_model(str(Path(d) / "e.json"))
@@ -305,16 +305,17 @@ def _oracle_model_check_event(case: Case, argv: list[str], rc: int, out: str, d:
 
 
 def _oracle_model_diff(case: Case, argv: list[str], rc: int, out: str, d: str) -> str:
-    """``model diff``: a bisimulation must be one (same verdict as ``delkit.bisimulation``); a distinguishing formula
+    """``model diff``: a bisimulation must be one (same verdict as ``delkit.models.bisimulation``); a distinguishing
+    formula
     must hold in the side it names and fail in the other, as the model checker says."""
-    from delkit.bisimulation import bisimilar
-    from delkit.formula import parse as parse_formula
-    from delkit.io import load
+    from delkit.io.formats import load
+    from delkit.logic.formula import parse as parse_formula
+    from delkit.models.bisimulation import bisimilar
 
     res = json.loads(out)
     a, b = (load(Path(d) / n) for n in ("a.json", "b.json"))
     if res["bisimilar"] != bisimilar(a, b):
-        return f"model diff says bisimilar={res['bisimilar']}, delkit.bisimulation says the opposite"
+        return f"model diff says bisimilar={res['bisimilar']}, delkit.models.bisimulation says the opposite"
     if res["bisimilar"]:
         return ""
     f = parse_formula(res["formula"])
@@ -328,8 +329,8 @@ def _oracle_prove(case: Case, argv: list[str], rc: int, out: str, d: str) -> str
     """A counter-model printed by ``prove --json`` must falsify the formula at its world 0."""
     if rc != 1 or "--json" not in argv:
         return ""
-    from delkit.formula import parse
-    from delkit.io import from_dict
+    from delkit.io.formats import from_dict
+    from delkit.logic.formula import parse
 
     res = json.loads(out)
     cm = res.get("counter_model")

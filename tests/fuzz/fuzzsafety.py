@@ -53,7 +53,7 @@ def _case(*a, **k):
 
 
 def _model_bytes() -> bytes:
-    from delkit.io import dumps
+    from delkit.io.formats import dumps
     from delkit.puzzles.muddy import muddy_model
 
     return (dumps(muddy_model(2, 1)) + "\n").encode()

@@ -289,10 +289,10 @@ def test_distributed_knowledge_keeps_its_truth_under_collective_contraction():
     """Contraction merges worlds that D_G tells apart; the checker's collective one must not."""
     import numpy as np
 
-    from delkit.bisimulation import contract
-    from delkit.formula import parse
-    from delkit.kripke import KripkeModel
-    from delkit.relation import Relation
+    from delkit.logic.formula import parse
+    from delkit.models.bisimulation import contract
+    from delkit.models.kripke import KripkeModel
+    from delkit.models.relation import Relation
     from planners.validate import _contract
 
     # a: {w0,w2},{w1,w3}; b: {w0,w3},{w1,w2}: a ∩ b is the identity, so D{a,b} p holds at w0. w0 ~ w1 and

@@ -48,7 +48,7 @@ def test_quoted_event_name_with_a_bad_escape_is_a_parse_error(tmp_path, capsys):
     m = _model(tmp_path)
     one_line_error(capsys, ["model", "check", str(m), '[E,"e\\q"] p'], r"bad escape", r"<formula>:1:\d+")
     from delkit.errors import ParseError
-    from delkit.formula import parse
+    from delkit.logic.formula import parse
 
     with pytest.raises(ParseError, match="Invalid"):
         parse('[E,"\\u12"] p')
@@ -57,7 +57,7 @@ def test_quoted_event_name_with_a_bad_escape_is_a_parse_error(tmp_path, capsys):
 @pytest.mark.parametrize("attr,value", [("delkit_agents", "5"), ("delkit_partitions", "true"),
                                         ("delkit_props", '{\\"p\\": 1}'), ("delkit_true", "3")])
 def test_dot_attribute_of_the_wrong_json_type(tmp_path, capsys, attr, value):
-    from delkit.io import load, to_dot
+    from delkit.io.formats import load, to_dot
 
     dot = to_dot(load(_model(tmp_path)))
     dot2 = re.sub(rf'{attr}="(?:[^"\\]|\\.)*"', f'{attr}="{value}"', dot, count=1)

@@ -89,7 +89,7 @@ def test_trace_json_to_a_fresh_file_is_written(tmp_path, capsys):
 
 @pytest.mark.parametrize("cmd", ["dot", "contract", "draw"])
 def test_model_output_through_a_hard_link_is_refused(tmp_path, capsys, cmd):
-    from delkit.io import save
+    from delkit.io.formats import save
     from delkit.puzzles.muddy import muddy_model
 
     m = tmp_path / "m.json"

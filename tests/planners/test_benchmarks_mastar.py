@@ -8,8 +8,8 @@ import csv
 
 import pytest
 
-from delkit.bisimulation import bisimilar, contract
-from delkit.update import product_update
+from delkit.models.bisimulation import bisimilar, contract
+from delkit.models.update import product_update
 from planners.epistemic import Limits, plan
 from planners.lang import shared_benchmarks
 from planners.lang.mastar import load_mastar
@@ -70,7 +70,7 @@ def test_cb_oblivious_optimum_is_seven_not_six() -> None:
     B(a,tails) conjunct must give exactly 6, and dropping also one agent's conjunct exactly 4."""
     from dataclasses import replace
 
-    from delkit.formula import K, Prop, conj
+    from delkit.logic.formula import K, Prop, conj
 
     task = load_mastar(MASTAR / "CB_simple" / "CB_oblivious__pl_6.txt")
     assert plan(task).length == 7

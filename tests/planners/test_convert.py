@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from delkit.bisimulation import bisimilar
 from delkit.cli import main
 from delkit.errors import PlanningError
+from delkit.models.bisimulation import bisimilar
 from planners.demo import specs_dir
 from planners.epistemic import Limits, plan
 from planners.lang import load_task, shared_benchmarks

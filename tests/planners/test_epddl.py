@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from delkit.errors import ParseError
-from delkit.formula import TOP, parse
+from delkit.logic.formula import TOP, parse
 from planners.demo import specs_dir
 from planners.epistemic import plan
 from planners.lang import load_task, shared_benchmarks

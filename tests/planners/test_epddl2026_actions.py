@@ -10,7 +10,7 @@ import itertools
 import numpy as np
 import pytest
 
-from delkit.kripke import KripkeModel
+from delkit.models.kripke import KripkeModel
 from planners.lang.epddl2026 import load_epddl2026
 from planners.task import apply_action
 

@@ -27,7 +27,7 @@ import pytest
 from hypothesis import given, settings
 
 from delkit.errors import ParseError
-from delkit.formula import is_propositional
+from delkit.logic.formula import is_propositional
 from delkit.testing import formulas
 from planners.lang import shared_benchmarks
 from planners.lang.epddl2026 import _is_propositional, load_epddl2026
@@ -97,7 +97,7 @@ def test_grounded_task_identical_to_reference(row: dict) -> None:
 @settings(max_examples=300, deadline=None)
 @given(formulas(["p", "q"], ["a", "b"], max_depth=4))
 def test_is_propositional_as_delkits(f) -> None:
-    """The grounder's one-walk test for finitary-S5 theories agrees with delkit.formula.is_propositional."""
+    """The grounder's one-walk test for finitary-S5 theories agrees with delkit.logic.formula.is_propositional."""
     assert _is_propositional(f) == is_propositional(f)
 
 

@@ -43,7 +43,7 @@ def test_alpha_two_colours_end_to_end():
 def test_consistent_beliefs_every_step():
     """No vacuous success: replaying the flat plan with delkit's product update, every agent keeps an
     accessible world at the actual world after every step."""
-    from delkit.update import product_update
+    from delkit.models.update import product_update
 
     sol = solve(generate("delta", 2), macros=True)
     task, _, _ = epistemic_task(sol.instance, macros=False)
@@ -238,7 +238,7 @@ def test_successors_equal_the_product(reading):
     gives, along a breadth-first search (where the commutation shortcut fires) and random walks."""
     import random
 
-    from delkit.update import product_update
+    from delkit.models.update import product_update
     from planners.epistemic import Limits, bfs
     from planners.spaces import CompactSpace
 
@@ -273,7 +273,7 @@ def test_successors_equal_the_product(reading):
 def test_big_public_updates_equal_the_product():
     """Four colours (256 worlds: the compact backend's one-event public update without the pair table, and
     the refinement shortcut): along a plan of δ, every successor equals delkit's product update."""
-    from delkit.update import product_update
+    from delkit.models.update import product_update
     from planners.spaces import CompactSpace
 
     inst = generate("delta", 4)

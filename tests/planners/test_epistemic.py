@@ -7,11 +7,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.bisimulation import bisimilar, contract
-from delkit.compact import from_kripke
-from delkit.formula import D as Dist
+from delkit.backends.compact import from_kripke
+from delkit.logic.formula import D as Dist
+from delkit.models.bisimulation import bisimilar, contract
+from delkit.models.update import product_update
 from delkit.testing import formulas
-from delkit.update import product_update
 from planners.demo import specs_dir
 from planners.epistemic import DelSpace, Limits, bfs, make_space, plan
 from planners.lang import load_task, shared_benchmarks
@@ -62,7 +62,7 @@ def test_limits_give_a_failure_not_an_empty_plan() -> None:
 def test_goal_true_initially_is_an_explicit_empty_plan() -> None:
     from dataclasses import replace
 
-    from delkit.formula import parse
+    from delkit.logic.formula import parse
 
     task = load_task(D / "coin_in_the_box" / "domain.epddl", D / "coin_in_the_box" / "problem.epddl")
     t2 = replace(task, goal=parse("K_a has_key_a"), _cache={})
@@ -160,7 +160,7 @@ def test_group_distributed_knowledge_goals_are_planned_with_collective_bisimulat
     at all), the plan replays under the independent checker, and no shorter prefix reaches the goal."""
     import dataclasses
 
-    from delkit.formula import K, Not, Prop
+    from delkit.logic.formula import K, Not, Prop
 
     task = load_task(D / "coin_in_the_box" / "domain.epddl", D / "coin_in_the_box" / "problem.epddl")
     a, b = task.agents[:2]

@@ -134,8 +134,8 @@ def _variant(task, kind: str):
     (a public announcement of the first fluent) — the heuristic must stay admissible with both."""
     import dataclasses
 
-    from delkit.events import public_announcement
-    from delkit.formula import Prop
+    from delkit.logic.formula import Prop
+    from delkit.models.events import public_announcement
     from planners.task import EventAction, MacroSpec
 
     acts = tuple(task.actions)

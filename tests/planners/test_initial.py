@@ -14,8 +14,8 @@ from hypothesis import strategies as st
 
 import planners.lang.initial as initial
 from delkit.cli import main
-from delkit.formula import And, Formula, Iff, Implies, Not, Or, Prop
-from delkit.kripke import KripkeModel
+from delkit.logic.formula import And, Formula, Iff, Implies, Not, Or, Prop
+from delkit.models.kripke import KripkeModel
 from planners.lang.initial import LoadTimeout, models
 from planners.lang.mastar import load_mastar
 

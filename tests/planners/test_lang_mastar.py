@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from delkit.errors import ParseError
-from delkit.formula import C, K, Not, Or, Prop, parse
+from delkit.logic.formula import C, K, Not, Or, Prop, parse
 from planners.lang.mastar import parse_mastar, parse_mastar_formula
 
 SMALL = """

@@ -53,9 +53,9 @@ def test_proof_can_fail(alpha2):
     declared sequence (so prove_macro is not vacuous)."""
     from dataclasses import replace
 
-    from delkit.compose import compose_all
-    from delkit.events import EventModel
-    from delkit.formula import Not
+    from delkit.logic.formula import Not
+    from delkit.models.compose import compose_all
+    from delkit.models.events import EventModel
     from delkit.verify import check_macro
 
     _, task, ms = alpha2
@@ -120,8 +120,8 @@ def test_macro_reference_is_the_planners_transition():
     """A macro's reference sequence (used by its z3 proof) and the planner's transition agree on applicability:
     an announcement false in one of several designated worlds makes the step inapplicable in both (a copy that
     only required *some* designated world to survive once accepted it)."""
-    from delkit.formula import Prop
-    from delkit.kripke import KripkeModel
+    from delkit.logic.formula import Prop
+    from delkit.models.kripke import KripkeModel
     from planners.task import ActionSpec, MacroSpec, Task, apply_action
 
     agents = ("a", "b")

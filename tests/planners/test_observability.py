@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import pytest
 
-from delkit.formula import parse
-from delkit.update import product_update
+from delkit.logic.formula import parse
+from delkit.models.update import product_update
 from planners.lang.mastar import parse_mastar
 from planners.spaces import CompactSpace
 from planners.validate import check_plan

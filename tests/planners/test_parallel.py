@@ -142,7 +142,7 @@ def test_the_shared_goal_bound_keeps_the_least_path() -> None:
 def test_a_part_records_the_commuting_transitions_another_part_computed() -> None:
     """A part's state space memoises the transitions of commuting actions (it predicts a sensing's successor
     from them); the transitions another part computed toward this part's states are sent along and recorded."""
-    from delkit.compact import state_of_key
+    from delkit.backends.compact import state_of_key
     from planners.parallel import _Part
 
     path = BENCH / "mastar" / "Grapevine" / "Grapevine_3" / "Grapevine_3__pl_3.txt"

@@ -1,6 +1,6 @@
 """The numpy-free path of small tasks (start-up): the readers' PlainModel initial states and the compact
 backend's PlainEvents are the same models as the numpy reference builds (finitary_s5's KripkeModel,
-``planners.task.build_event_model`` by the ``delkit.events`` constructors), on every shared mA* and EPDDL
+``planners.task.build_event_model`` by the ``delkit.models.events`` constructors), on every shared mA* and EPDDL
 (2026) instance small enough, and planning on them gives the same results."""
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import planners.lang.initial as initial
-from delkit.compact import PlainEvents, PlainModel
-from delkit.formula import TOP, And, Not, Or, Prop
+from delkit.backends.compact import PlainEvents, PlainModel
+from delkit.logic.formula import TOP, And, Not, Or, Prop
 from planners.epistemic import Limits, bfs
 from planners.lang import load_task, shared_benchmarks
 from planners.spaces import CompactSpace

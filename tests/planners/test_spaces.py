@@ -10,9 +10,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.bisimulation import bisimilar, contract
-from delkit.events import sensing
-from delkit.kripke import KripkeModel
+from delkit.models.bisimulation import bisimilar, contract
+from delkit.models.events import sensing
+from delkit.models.kripke import KripkeModel
 from planners.demo import specs_dir
 from planners.epistemic import Limits, bfs, plan
 from planners.lang import load_task
@@ -105,7 +105,7 @@ def test_event_actions_search_exactly_like_ma_star_actions(spec) -> None:
 
 def _coin_task(designated: tuple[int, ...], goal: str) -> Task:
     """Hand-checked: one agent a, a coin p; worlds {p}, {} indistinguishable for a; a may look."""
-    from delkit.formula import parse
+    from delkit.logic.formula import parse
 
     m = KripkeModel.build([{"p"}, set()], {"a": [[0, 1]]}, designated=list(designated))
     look = EventAction("look", lambda bits: sensing("p", ["a"], full=["a"], name="look"))
@@ -137,8 +137,8 @@ def test_group_d_goal_hand_checked(engine) -> None:
     A plain contraction would merge w1, w2 and lose D_{a,b} p (the goal would look false and the planner
     would search instead of answering the empty plan); 'tell' announces p to a and b privately, after which
     both know p."""
-    from delkit.events import private_announcement
-    from delkit.formula import parse
+    from delkit.logic.formula import parse
+    from delkit.models.events import private_announcement
 
     m = KripkeModel.build([{"p"}, set(), set()], {"a": {"pairs": [(0, 0), (0, 1), (1, 1), (2, 2)]},
                                                     "b": {"pairs": [(0, 0), (0, 2), (1, 1), (2, 2)]}},
@@ -203,7 +203,7 @@ def test_literal_index_never_drops_an_applicable_action(run) -> None:
 def test_declared_designated_preconditions_are_checked() -> None:
     """An EventAction whose declared designated_pre differs from its event model's is refused when built."""
     from delkit.errors import PlanningError
-    from delkit.formula import Prop
+    from delkit.logic.formula import Prop
 
     task = _coin_task((0,), "K_a p")
     look = task.actions[0]

@@ -2,8 +2,8 @@
 
 ``CompactSpace.successors`` answers some actions without building the product: a sensing or announcement
 that cannot change the state (the loop test), a commuting action whose successor is known from
-transitions seen before (s·a = p·b·a ≅ p·a·b), and the ε-copy product of :mod:`delkit.compact`. Every
-successor it yields must have the key of ``contract(M ⊗ E)`` built by ``delkit.update`` (the numpy
+transitions seen before (s·a = p·b·a ≅ p·a·b), and the ε-copy product of :mod:`delkit.backends.compact`. Every
+successor it yields must have the key of ``contract(M ⊗ E)`` built by ``delkit.models.update`` (the numpy
 reference) — checked here on the states a BFS expands, once the space's transition memory is filled.
 """
 
@@ -13,8 +13,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.bisimulation import contract
-from delkit.compact import from_kripke
+from delkit.backends.compact import from_kripke
+from delkit.models.bisimulation import contract
 from planners.lang import load_task, shared_benchmarks
 from planners.spaces import CompactSpace
 from planners.task import apply_action

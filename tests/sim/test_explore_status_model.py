@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from delkit.formula import K
+from delkit.logic.formula import K
 from sim.status_model import STATUSES, FactoredStatusModel, StatusModel, agent, eq14, eq18, status_prop
 
 
@@ -127,7 +127,7 @@ def test_factored_false_belief_and_revision_with_eight_robots():
 
 
 def test_ruleset1_suspicion_is_a_private_possibly_false_belief_revised_on_meeting():
-    from delkit.formula import K, Or
+    from delkit.logic.formula import K, Or
     from sim.status_model import BUSY, FactoredStatusModel, agent, status_prop
 
     m = FactoredStatusModel(4)

@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from delkit import KripkeModel, product_update, sensing
-from delkit.formula import parse
-from delkit.io import dumps
+from delkit.io.formats import dumps
+from delkit.logic.formula import parse
 from delkit.view.browser import open_page
 from delkit.view.document import load_document
 

@@ -13,7 +13,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from delkit import KripkeModel, product_update, sensing
-from delkit.draw import _overlap, picture
+from delkit.drawing.draw import _overlap, picture
 
 ROOT = Path(__file__).resolve().parents[2]
 COIN = ROOT / "specs" / "coin_in_the_box"

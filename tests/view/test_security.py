@@ -18,7 +18,7 @@ with warnings.catch_warnings():  # starlette 1.x: "install httpx2" (its test cli
 
 from delkit import KripkeModel  # noqa: E402
 from delkit.errors import ModelError  # noqa: E402
-from delkit.io import dumps  # noqa: E402
+from delkit.io.formats import dumps  # noqa: E402
 from delkit.view import document  # noqa: E402
 from delkit.view.document import load_document  # noqa: E402
 from delkit.view.server import MAX_BODY, make_app, start  # noqa: E402

@@ -8,8 +8,8 @@ from pathlib import Path
 
 import pytest
 
-from delkit.bisimulation import bisimilar
-from delkit.io import model_from_dict
+from delkit.io.formats import model_from_dict
+from delkit.models.bisimulation import bisimilar
 from planners.cli.plan_cmd import fast_args, run_check
 from planners.lang import load_task
 from planners.task import apply_steps

@@ -15,7 +15,7 @@ The structures and formulas are SMCDEL's own (its example modules); this file on
 bench/symbolic.py sequences delkit's calls:
 
 * muddy N: SMCDEL.Examples.MuddyChildren's mudScnInit N N, father N and knows i.  The protocol of
-  delkit.symbolic.muddy_symbolic: announce the father's formula, then per round evaluate every child's
+  delkit.backends.symbolic.muddy_symbolic: announce the father's formula, then per round evaluate every child's
   "knows whether I am muddy" at the actual state and announce the conjunction of the truthful answers,
   until all know (delkit's engine computes the conjunction "nobody knows" in one pass over the law instead
   of one quantification per child, and asks the children one by one only when someone knows).  Announcements are SMCDEL's unsafeUpdate (θ ∧ ||ψ||, what delkit's announce does);

@@ -1,5 +1,5 @@
 // delkit view: draws what the server computed. No semantics here: truth values and accessible worlds come
-// from the JSON API (api/eval, api/possible); the layout comes from delkit.draw (api/doc).
+// from the JSON API (api/eval, api/possible); the layout comes from delkit.drawing.draw (api/doc).
 "use strict";
 
 const state = { doc: null, frame: 0, views: {}, ready: false, lastEval: null, lastPossible: null, timings: {} };
@@ -49,7 +49,7 @@ const STYLE = [
 
 function elements(graph) {
   const els = [];
-  const labels = graph.edges.length <= 600;   // delkit.draw places labels up to this size
+  const labels = graph.edges.length <= 600;   // delkit.drawing.draw places labels up to this size
   for (const n of graph.nodes) {
     els.push({ group: "nodes", classes: "world" + (n.designated ? " designated" : ""),
                data: { id: "n" + n.id, idx: n.id, label: n.lines.join("\n"), d: 2 * n.r, name: n.name,

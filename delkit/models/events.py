@@ -20,8 +20,8 @@ from typing import Any
 import numpy as np
 
 from delkit.errors import ModelError
-from delkit.formula import TOP, Formula, Not, Or, Prop, conj, is_propositional, parse, show
-from delkit.relation import Relation
+from delkit.logic.formula import TOP, Formula, Not, Or, Prop, conj, is_propositional, parse, show
+from delkit.models.relation import Relation
 
 __all__ = [
     "EventModel", "public_announcement", "private_announcement", "semi_private_announcement",
@@ -132,8 +132,8 @@ class EventModel:
         return {p for m in self.post for p, v in m.items() if v != Prop(p)}
 
     def _repr_svg_(self) -> str:
-        """Inline picture in Jupyter (see :mod:`delkit.draw`)."""
-        from delkit.draw import picture
+        """Inline picture in Jupyter (see :mod:`delkit.drawing.draw`)."""
+        from delkit.drawing.draw import picture
 
         return picture(self).svg()
 
@@ -259,7 +259,7 @@ def ontic(effects: Mapping[str, Formula | str | bool] | Iterable[tuple[str, Form
 
 def _val(v: Formula | str | bool) -> Formula:
     if isinstance(v, bool):
-        from delkit.formula import BOT
+        from delkit.logic.formula import BOT
 
         return TOP if v else BOT
     return _f(v)

@@ -5,7 +5,7 @@ Epistemic Logic*, LORI 2015; Gattinger, PhD thesis 2018, Ch. 2) is ``F = (V, θ,
 vocabulary V, a state law θ (a BDD over V) and, per agent, the observed variables O_i ⊆ V. The states
 are the assignments s ⊆ V satisfying θ; agent i cannot tell s and t apart iff they agree on O_i. A
 *scenario* adds a set of actual states (here the BDD ``actual``, so structures are multi-pointed like
-:class:`~delkit.kripke.KripkeModel`).
+:class:`~delkit.models.kripke.KripkeModel`).
 
 Truth sets ``||φ||_F`` are BDDs over V:
 
@@ -45,7 +45,7 @@ from typing import Any
 import numpy as np
 
 from delkit.errors import ModelError, UnknownSymbolError
-from delkit.formula import (
+from delkit.logic.formula import (
     BOT,
     TOP,
     And,
@@ -68,8 +68,8 @@ from delkit.formula import (
     disj,
     parse,
 )
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 
 __all__ = ["KnowledgeStructure", "Transformer", "from_kripke", "transformer_from_event_model", "new_manager",
            "prepare", "declare", "form_of", "puzzle_memory",
@@ -274,7 +274,7 @@ class KnowledgeStructure:
 
     def _repr_html_(self) -> str:
         """Inline picture in Jupyter: vocabulary, law, observations/relations and the Kripke model if small."""
-        from delkit.draw import picture
+        from delkit.drawing.draw import picture
 
         return picture(self).html()
 
@@ -703,7 +703,7 @@ def _redundant_variable(b: Any, law: Any, p: str, voc: Sequence[str]) -> tuple[A
 
 def _common_fixpoint(st: Any, group: tuple[str, ...], u: Any) -> Any:
     """gfp X. law ∧ ⋀_{a∈G} □_a(u ∧ X), iterated from X = law — for any structure with ``law`` and ``_box``
-    (knowledge structures here, belief structures in ``delkit.symbolic_belief``)."""
+    (knowledge structures here, belief structures in ``delkit.backends.symbolic_belief``)."""
     x = st.law
     while True:
         target = u & x
@@ -1032,8 +1032,8 @@ def event_model_from_transformer(x: Transformer, structure: KnowledgeStructure, 
     ``θ₋(q)[V⁺ := assignment]``; agent a cannot tell two events apart iff they agree on O⁺_a; designated:
     the events satisfying ``designated``. ``product_update(M, E')`` is then bisimilar to ``M × X``.
     """
-    from delkit.events import EventModel
-    from delkit.formula import is_propositional, substitute
+    from delkit.logic.formula import is_propositional, substitute
+    from delkit.models.events import EventModel
 
     for f in (x.law, x.designated, *x.changes.values()):
         if not is_propositional(f):

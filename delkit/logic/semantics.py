@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from delkit.errors import UnknownSymbolError
-from delkit.formula import (
+from delkit.logic.formula import (
     And,
     Announce,
     Bot,
@@ -119,7 +119,7 @@ def _eval(m, f: Formula) -> np.ndarray:  # noqa: C901 - one clause per operator
         pre = evaluate(m, model_e.pre[f.event])
         out = np.ones(n, dtype=bool)
         if pre.any():
-            new, pairs = m.product(model_e, designated="all")  # M ⊗ E (delkit.update), via the model
+            new, pairs = m.product(model_e, designated="all")  # M ⊗ E (delkit.models.update), via the model
             sel = np.flatnonzero(pairs[:, 1] == f.event)
             out[pairs[sel, 0]] = evaluate(new, f.arg)[sel]
         return out

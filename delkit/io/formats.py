@@ -1,6 +1,6 @@
 """Reading and writing Kripke and event models: JSON (a documented schema) and Graphviz DOT.
 
-JSON schema, version 1 (formulas are text in the syntax of :func:`delkit.formula.parse`)::
+JSON schema, version 1 (formulas are text in the syntax of :func:`delkit.logic.formula.parse`)::
 
     {
       "delkit": "kripke-model", "version": 1,
@@ -49,10 +49,10 @@ import numpy as np
 from scipy.sparse.csgraph import connected_components
 
 from delkit.errors import DelkitError, ModelError, ParseError
-from delkit.events import EventModel
-from delkit.formula import TOP, Formula, parse, show
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
+from delkit.logic.formula import TOP, Formula, parse, show
+from delkit.models.events import EventModel
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 
 __all__ = [
     "ModelFileError", "MODEL_FORMATS", "sniff", "not_this_format", "SCHEMA_VERSION", "model_to_dict",
@@ -148,7 +148,7 @@ class _Reader:
         if key not in d:
             if default is not ...:
                 return default
-            raise self.fail(f"{where} has no {key!r} entry", f"add \"{key}\" (see the schema in delkit.io)")
+            raise self.fail(f"{where} has no {key!r} entry", f"add \"{key}\" (see the schema in delkit.io.formats)")
         val = d[key]
         if not isinstance(val, typ) or isinstance(val, bool) and typ is not bool:
             tn = typ.__name__ if isinstance(typ, type) else " or ".join(t.__name__ for t in typ)
@@ -270,7 +270,7 @@ class _Reader:
 
     def header(self, data: Any, kind: str | None) -> str:
         if not isinstance(data, Mapping):
-            raise self.fail("the top level must be a JSON object", "see the schema in delkit.io")
+            raise self.fail("the top level must be a JSON object", "see the schema in delkit.io.formats")
         got = data.get("delkit")
         if got not in _KINDS:
             raise self.fail(f"\"delkit\" must be one of {list(_KINDS)}, got {json.dumps(got)}",
@@ -636,14 +636,15 @@ def from_dot(text: str, *, source: str = "<dot>") -> KripkeModel | EventModel:
                 edges.append((_unquote(x), _unquote(y), at, st.meta.line))
     kind = graph_attrs.get("delkit_kind")
     if kind not in _KINDS:
-        raise r.fail("the graph has no delkit_kind attribute", "only DOT written by delkit.io.to_dot can be read "
+        raise r.fail("the graph has no delkit_kind attribute", "only DOT written by delkit.io.formats.to_dot can be "
+                                                               "read "
                      "back; convert other drawings to the JSON schema")
 
     def js(val: str | None, what: str, default: Any = None, typ: type = list) -> Any:
         if val is None:
             if default is not None:
                 return default
-            raise r.fail(f"missing {what} attribute", "only DOT written by delkit.io.to_dot can be read back")
+            raise r.fail(f"missing {what} attribute", "only DOT written by delkit.io.formats.to_dot can be read back")
         try:
             out = json.loads(val)
         except json.JSONDecodeError as exc:

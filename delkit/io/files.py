@@ -33,7 +33,7 @@ ANY_FORMATS = "delkit's JSON model format (.json), DOT (.dot/.gv) or SMCDEL's la
 def load_any(path: str) -> Any:
     """A KripkeModel or EventModel (JSON/DOT), or a knowledge/belief structure (SMCDEL's language: a
     ``.smcdel.txt`` file, or one whose text starts ``VARS … LAW …``)."""
-    from delkit.io import load, sniff
+    from delkit.io.formats import load, sniff
 
     smcdel = is_smcdel(path)
     if not smcdel and Path(path).suffix.lower() not in (".json", ".dot", ".gv"):
@@ -43,7 +43,7 @@ def load_any(path: str) -> Any:
             smcdel = False  # load() below says what is wrong with the file
     if smcdel:
         from delkit.errors import ParseError
-        from delkit.smcdel import parse_smcdel, structure
+        from delkit.io.smcdel import parse_smcdel, structure
 
         try:
             text = read_input(path, "SMCDEL file")
@@ -55,9 +55,9 @@ def load_any(path: str) -> Any:
 
 def structure_model(obj: Any, path: str, max_worlds: int):
     """The explicit model of a symbolic structure, worlds named by their true variables, e.g. ``{1,3}``."""
-    from delkit.bisimulation import as_kripke
     from delkit.errors import ModelError
-    from delkit.kripke import KripkeModel
+    from delkit.models.bisimulation import as_kripke
+    from delkit.models.kripke import KripkeModel
     from delkit.resources import require, structure_kripke_bytes
 
     try:

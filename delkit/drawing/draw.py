@@ -1,7 +1,8 @@
 """Pictures of Kripke models, event models and symbolic structures — SVG, PNG and LaTeX/TikZ, no Graphviz.
 
-:func:`picture` turns a :class:`~delkit.kripke.KripkeModel`, an :class:`~delkit.events.EventModel`, a
-:class:`~delkit.symbolic.KnowledgeStructure` or a :class:`~delkit.symbolic_belief.BeliefStructure` into a
+:func:`picture` turns a :class:`~delkit.models.kripke.KripkeModel`, an :class:`~delkit.models.events.EventModel`, a
+:class:`~delkit.backends.symbolic.KnowledgeStructure` or a :class:`~delkit.backends.symbolic_belief.BeliefStructure`
+into a
 :class:`Picture`: positioned nodes and edges. Then
 
 * :meth:`Picture.svg` writes SVG text directly (it is what Jupyter shows: the models have ``_repr_svg_``,
@@ -314,7 +315,7 @@ def picture(obj: Any, *, max_worlds: int = 64, layout: str = "auto", seed: int =
     if hasattr(obj, "world_name") and hasattr(obj, "valuation"):
         return _kripke(obj, [obj.world_name(w) for w in range(obj.n_worlds)], layout, seed)
     if hasattr(obj, "events") and hasattr(obj, "pre") and hasattr(obj, "post"):
-        from delkit.formula import show
+        from delkit.logic.formula import show
 
         labels = []
         for i, name in enumerate(obj.events):
@@ -420,9 +421,9 @@ def _structure(obj: Any, max_worlds: int, layout: str, seed: int) -> Picture:
 
 
 def _bdd_text(obj: Any, u: Any, limit: int = 90) -> str:
-    """A BDD as a readable formula (the structure's ``form_of``: :func:`delkit.symbolic.form_of`, SMCDEL's
+    """A BDD as a readable formula (the structure's ``form_of``: :func:`delkit.backends.symbolic.form_of`, SMCDEL's
     ``formOf``; this module imports no structure class), shortened to ``limit`` characters."""
-    from delkit.formula import show
+    from delkit.logic.formula import show
 
     text = show(obj.form_of(u))
     return text if len(text) <= limit else text[:limit - 1] + "…"

@@ -14,8 +14,8 @@ from typing import Literal, overload
 
 import numpy as np
 
-from delkit.events import EventModel
-from delkit.kripke import KripkeModel
+from delkit.models.events import EventModel
+from delkit.models.kripke import KripkeModel
 
 __all__ = ["product_update", "applicable", "preconditions", "update_sequence"]
 
@@ -47,7 +47,7 @@ def product_update(model, events, *, return_pairs=False, designated="product"):
 
     ``designated="product"`` (default) keeps the pairs of designated worlds and events;
     ``designated="all"`` keeps every designated world of M paired with any event (used for [E,e]φ).
-    The construction is :meth:`KripkeModel.product <delkit.kripke.KripkeModel.product>`.
+    The construction is :meth:`KripkeModel.product <delkit.models.kripke.KripkeModel.product>`.
     """
     new, pairs = model.product(events, designated=designated)
     return (new, pairs) if return_pairs else new

@@ -1,6 +1,6 @@
 """The compact backend's partition refinement vectorised with numpy, for products with many worlds.
 
-:func:`refine` computes exactly what :func:`delkit.compact._refine` computes — the coarsest bisimulation of
+:func:`refine` computes exactly what :func:`delkit.backends.compact._refine` computes — the coarsest bisimulation of
 a model given by valuations and successor lists, its blocks numbered canonically, the quotient's
 valuations, successor masks and designated blocks — so the states it builds have the very keys and records
 of the pure-Python path (a state found on one path is a duplicate of the same state found on the other).
@@ -12,8 +12,8 @@ lexicographically, a proper prefix first). Here a set is a row of its members in
 with -1, rows are ranked lexicographically by successive stable int64 rankings of their columns, and a
 signature is the tuple of those ranks — the same order, hence the same ranks, as the Python tuples of ints.
 
-numpy is imported by this module only; :mod:`delkit.compact` imports it only for products above
-:data:`delkit.compact.NP_REFINE_MIN` worlds (small tasks never load numpy: ``tests/cli/test_startup.py``).
+numpy is imported by this module only; :mod:`delkit.backends.compact` imports it only for products above
+:data:`delkit.backends.compact.NP_REFINE_MIN` worlds (small tasks never load numpy: ``tests/cli/test_startup.py``).
 """
 
 from __future__ import annotations
@@ -86,7 +86,7 @@ class _Lists:
 
 def refine(val: Sequence[int], dist: Sequence[Sequence[Sequence[int]]], cls: Sequence[Sequence[int]],
            points: Sequence[int]) -> tuple[list[int], list[int], tuple, tuple[int, ...]] | None:
-    """:func:`delkit.compact._refine` on numpy arrays: (block of each world, valuation of each block,
+    """:func:`delkit.backends.compact._refine` on numpy arrays: (block of each world, valuation of each block,
     successor masks per relation and block, designated blocks) — equal to it; None when a valuation does
     not fit in 63 bits (the caller refines in Python)."""
     n = len(val)

@@ -1,12 +1,12 @@
 """Multi-pointed Kripke models.
 
 A model has worlds 0..n-1, a valuation (boolean matrix worlds × propositions), one accessibility
-:class:`~delkit.relation.Relation` per agent (a partition for S5, a sparse matrix otherwise) and a set of
+:class:`~delkit.models.relation.Relation` per agent (a partition for S5, a sparse matrix otherwise) and a set of
 designated (actual) worlds. Models are immutable; operations return new models. Truth of formulas is
-computed by :mod:`delkit.semantics` and memoised per model; the product M ⊗ E with an event model is
-:meth:`KripkeModel.product` (the public function is :func:`delkit.update.product_update`). Truth of [E,e]ψ
+computed by :mod:`delkit.logic.semantics` and memoised per model; the product M ⊗ E with an event model is
+:meth:`KripkeModel.product` (the public function is :func:`delkit.models.update.product_update`). Truth of [E,e]ψ
 needs the product and the product needs the truth of preconditions: the two meet in the model object
-(:mod:`delkit.semantics` calls ``m.product``), so neither module imports the other.
+(:mod:`delkit.logic.semantics` calls ``m.product``), so neither module imports the other.
 """
 
 from __future__ import annotations
@@ -19,11 +19,11 @@ import numpy as np
 
 from delkit._lazy import lazy_module
 from delkit.errors import ModelError, UnknownSymbolError
-from delkit.formula import Formula, agents_of, props_of
-from delkit.relation import Relation, RelationError
+from delkit.logic.formula import Formula, agents_of, props_of
+from delkit.models.relation import Relation, RelationError
 
 if TYPE_CHECKING:
-    from delkit.events import EventModel
+    from delkit.models.events import EventModel
 
 sp = lazy_module("scipy.sparse")  # imported on first use (start-up time)
 
@@ -170,7 +170,7 @@ class KripkeModel:
     # ------------------------------------------------------------------ truth
     def check(self, formula: Formula | str) -> np.ndarray:
         """Boolean vector over worlds: where ``formula`` is true (memoised)."""
-        from delkit.semantics import evaluate
+        from delkit.logic.semantics import evaluate
 
         return evaluate(self, formula)
 
@@ -227,7 +227,7 @@ class KripkeModel:
         return out
 
     def product(self, events: EventModel, *, designated: str = "product") -> tuple[KripkeModel, np.ndarray]:
-        """M ⊗ E and the (k, 2) array of (world, event) of each new world (see :mod:`delkit.update`).
+        """M ⊗ E and the (k, 2) array of (world, event) of each new world (see :mod:`delkit.models.update`).
 
         ``designated="product"`` keeps the pairs of designated worlds and events; ``designated="all"`` keeps
         every designated world of M paired with any event (used for [E,e]φ).
@@ -280,7 +280,7 @@ class KripkeModel:
         mask[src] = True
         if not ags:
             return mask
-        from delkit.semantics import common_reach
+        from delkit.logic.semantics import common_reach
 
         kind, data = common_reach(self, tuple(ags))  # cached per model and group
         if kind == "components":  # S5: reachable = the connected components of the sources
@@ -346,10 +346,10 @@ class KripkeModel:
         return self.relation(agent).to_matrix()
 
     def _repr_svg_(self) -> str | None:
-        """Inline picture in Jupyter (see :mod:`delkit.draw`); None (the text repr) above 200 worlds."""
+        """Inline picture in Jupyter (see :mod:`delkit.drawing.draw`); None (the text repr) above 200 worlds."""
         if self.n_worlds > 200:
             return None
-        from delkit.draw import picture
+        from delkit.drawing.draw import picture
 
         return picture(self).svg()
 

@@ -1,7 +1,7 @@
 """Propositional validity and satisfiability with z3 (exact: z3 decides SAT).
 
 The tools every DEL construction needs for pre- and postconditions: :func:`to_z3`, :func:`counterexample`,
-:func:`valid`, :func:`satisfiable`, :func:`equivalent`. They are used by :mod:`delkit.compose` (pruning
+:func:`valid`, :func:`satisfiable`, :func:`equivalent`. They are used by :mod:`delkit.models.compose` (pruning
 impossible events of a macro) and :mod:`delkit.verify` (macro checks, reductions), which re-exports them.
 A modal or dynamic formula raises :class:`~delkit.errors.VerificationError`.
 """
@@ -9,7 +9,7 @@ A modal or dynamic formula raises :class:`~delkit.errors.VerificationError`.
 from __future__ import annotations
 
 from delkit.errors import VerificationError
-from delkit.formula import And, Bot, Formula, Iff, Implies, Not, Or, Prop, Top, parse, show
+from delkit.logic.formula import And, Bot, Formula, Iff, Implies, Not, Or, Prop, Top, parse, show
 
 __all__ = ["to_z3", "counterexample", "valid", "satisfiable", "equivalent"]
 

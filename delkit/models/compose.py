@@ -19,8 +19,8 @@ from collections.abc import Sequence
 import numpy as np
 
 from delkit.errors import ModelError
-from delkit.events import EventModel
-from delkit.formula import Formula, Prop, Update, conj, is_propositional, substitute
+from delkit.logic.formula import Formula, Prop, Update, conj, is_propositional, substitute
+from delkit.models.events import EventModel
 
 __all__ = ["compose", "compose_all"]
 
@@ -48,7 +48,7 @@ def compose(e1: EventModel, e2: EventModel, *, name: str | None = None, prune: b
         posts.append(post)
     keep = np.ones(len(pairs), dtype=bool)
     if prune:
-        from delkit.propositional import satisfiable
+        from delkit.logic.propositional import satisfiable
 
         for k, f in enumerate(pres):
             if is_propositional(f) and not satisfiable(f):

@@ -44,7 +44,7 @@ __all__ = [
 
 class EventModelLike(Protocol):
     """What the formula language needs of the event model E of an update formula [E,e]ψ: its event names,
-    preconditions and postconditions. :class:`delkit.events.EventModel` is one; formulas do not import
+    preconditions and postconditions. :class:`delkit.models.events.EventModel` is one; formulas do not import
     it (event models are built from formulas, so the dependency points from events to formulas)."""
 
     @property
@@ -686,7 +686,7 @@ QUOTED: /"([^"\\]|\\.)*"/
 
 @lru_cache(maxsize=1)
 def _parser() -> Any:
-    from delkit._larkcache import build_lark
+    from delkit.logic._larkcache import build_lark
 
     return build_lark("formula", _GRAMMAR, propagate_positions=False, maybe_placeholders=False)
 

@@ -31,11 +31,12 @@ place of ``OBS``: one relation per agent, a Boolean formula over the variables a
          bob:   ~2'             -- bob always believes ~2 (KD45 if some state has ~2)
 
 Then ``K a φ`` / ``a knows that φ`` (also ``a believes that φ``) is the box of that relation (belief on
-KD45 relations), and the file describes a :class:`delkit.symbolic_belief.BeliefStructure` (K, KD45 or
+KD45 relations), and the file describes a :class:`delkit.backends.symbolic_belief.BeliefStructure` (K, KD45 or
 S5, whatever the relations are). Primed variables are allowed in REL lines only.
 
 Parsing uses lark (like delkit's other grammars); errors carry the line and column. Queries are answered
-on :class:`delkit.symbolic.KnowledgeStructure` (OBS) or :class:`delkit.symbolic_belief.BeliefStructure` (REL).
+on :class:`delkit.backends.symbolic.KnowledgeStructure` (OBS) or
+:class:`delkit.backends.symbolic_belief.BeliefStructure` (REL).
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ from typing import Any
 import numpy as np
 
 from delkit.errors import ModelError, ParseError
-from delkit.formula import (
+from delkit.logic.formula import (
     BOT,
     TOP,
     Announce,
@@ -375,8 +376,8 @@ class _Build:
         """SMCDEL's group announcement: the agents in G learn whether φ (a fresh variable q ↔ φ that only G
         observes); the others learn nothing. ``[G!φ]ψ = φ → ψ after the "yes" event``; with ``whether``
         ψ must hold after whichever event is true."""
-        from delkit.events import EventModel
-        from delkit.relation import Relation
+        from delkit.models.events import EventModel
+        from delkit.models.relation import Relation
 
         agents = tuple(sorted(self.agents))
         ev = ("yes", "no")
@@ -404,11 +405,11 @@ def announce_whether(what: Formula, arg: Formula) -> Formula:
 
 def structure(spec: SmcdelFile) -> Any:
     """The knowledge structure of a parsed file (variables named by their numbers); with REL lines, the
-    belief structure (:class:`delkit.symbolic_belief.BeliefStructure`, primed variables ``1'``)."""
-    from delkit.symbolic import KnowledgeStructure
+    belief structure (:class:`delkit.backends.symbolic_belief.BeliefStructure`, primed variables ``1'``)."""
+    from delkit.backends.symbolic import KnowledgeStructure
 
     if spec.relations is not None:
-        from delkit.symbolic_belief import BeliefStructure
+        from delkit.backends.symbolic_belief import BeliefStructure
 
         return BeliefStructure.create([_name(v) for v in spec.variables], spec.law, spec.relations)
 

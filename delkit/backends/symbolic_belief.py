@@ -29,8 +29,20 @@ from typing import Any
 
 import numpy as np
 
+# the common-knowledge fixpoint and the announcement-stack and everybody-knows rules use only ``law``,
+# ``evaluate``, ``announce`` and ``_box``, which belief and knowledge structures share: one implementation serves both
+from delkit.backends.symbolic import (
+    _bits_needed,
+    _common_fixpoint,
+    _drop_redundant,
+    _ev_announce,
+    _ev_every,
+    _fold_bdds,
+    _fresh,
+    new_manager,
+)
 from delkit.errors import ModelError, UnknownSymbolError
-from delkit.formula import (
+from delkit.logic.formula import (
     And,
     Announce,
     Bot,
@@ -49,21 +61,8 @@ from delkit.formula import (
     Update,
     parse,
 )
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
-
-# the common-knowledge fixpoint and the announcement-stack and everybody-knows rules use only ``law``,
-# ``evaluate``, ``announce`` and ``_box``, which belief and knowledge structures share: one implementation serves both
-from delkit.symbolic import (
-    _bits_needed,
-    _common_fixpoint,
-    _drop_redundant,
-    _ev_announce,
-    _ev_every,
-    _fold_bdds,
-    _fresh,
-    new_manager,
-)
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 
 __all__ = ["BeliefStructure", "belief_from_kripke"]
 
@@ -124,7 +123,7 @@ class BeliefStructure:
 
     def _repr_html_(self) -> str:
         """Inline picture in Jupyter: vocabulary, law, observations/relations and the Kripke model if small."""
-        from delkit.draw import picture
+        from delkit.drawing.draw import picture
 
         return picture(self).html()
 
@@ -285,9 +284,9 @@ class BeliefStructure:
         return ~self.evaluate(f.model.pre[f.event]) | (b.let(subst, psi) if subst else psi)
 
     def form_of(self, node: Any = None) -> Formula:
-        """A formula whose truth set is ``node`` (default: the state law), :func:`delkit.symbolic.form_of`;
+        """A formula whose truth set is ``node`` (default: the state law), :func:`delkit.backends.symbolic.form_of`;
         SMCDEL's ``formOf``."""
-        from delkit.symbolic import form_of
+        from delkit.backends.symbolic import form_of
 
         return form_of(self.bdd, self.law if node is None else node)
 
@@ -409,7 +408,7 @@ def _disjoin(b: Any, parts: Iterable[Any]) -> Any:
 
 
 def _props(f: Formula) -> set[str]:
-    from delkit.formula import props_of
+    from delkit.logic.formula import props_of
 
     return props_of(f)
 

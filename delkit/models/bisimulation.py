@@ -35,10 +35,10 @@ designated sets (as :func:`bisimilar`): they are bisimilar iff every designated 
 has a bisimilar designated world in the other; otherwise the formula holds at every designated world of
 one model and fails at a designated world of the other.
 
-Symbolic structures (:class:`~delkit.symbolic.KnowledgeStructure`,
-:class:`~delkit.symbolic_belief.BeliefStructure`) given to :func:`diff` are compared through their explicit
+Symbolic structures (:class:`~delkit.backends.symbolic.KnowledgeStructure`,
+:class:`~delkit.backends.symbolic_belief.BeliefStructure`) given to :func:`diff` are compared through their explicit
 Kripke models (:func:`as_kripke`, refused above ``max_worlds`` states); the same refinement on BDDs, without
-listing states, is :func:`delkit.bisimulation_symbolic.symbolic_diff` (the symbolic backend).
+listing states, is :func:`delkit.backends.bisimulation_symbolic.symbolic_diff` (the symbolic backend).
 """
 
 from __future__ import annotations
@@ -51,9 +51,9 @@ from typing import Any
 import numpy as np
 
 from delkit.errors import ModelError
-from delkit.formula import BOT, TOP, Formula, K, Not, children, conj, disj, modal_depth, show
-from delkit.kripke import KripkeModel
-from delkit.relation import Relation
+from delkit.logic.formula import BOT, TOP, Formula, K, Not, children, conj, disj, modal_depth, show
+from delkit.models.kripke import KripkeModel
+from delkit.models.relation import Relation
 
 __all__ = ["refine", "bisimulation_classes", "contract", "quotient", "bisimilar", "canonical_form", "canonical_hash",
            "disjoint_union", "Diff", "diff", "distinguishing_formula", "refinement_history", "formula_size",
@@ -190,7 +190,7 @@ def _quotient_labels(blocks: np.ndarray, labels: np.ndarray, k: int) -> np.ndarr
     """Class of each block in the quotient of the partition ``labels`` by ``blocks`` (k blocks): the connected
     components of "same block or same class" (numpy min-label propagation; blocks that respect the relation
     settle it in two rounds, and no scipy import)."""
-    from delkit.semantics import _components
+    from delkit.logic.semantics import _components
 
     comp = _components(int(blocks.size), [np.asarray(blocks, dtype=np.int64), labels])
     rep = np.zeros(k, dtype=np.int64)
@@ -363,7 +363,7 @@ class _Explainer:
         return hit
 
     def _literal(self, x: int, y: int) -> tuple[Formula, np.ndarray]:
-        from delkit.formula import Prop
+        from delkit.logic.formula import Prop
 
         val = self.model.valuation
         j = int(np.flatnonzero(val[x] != val[y])[0])
@@ -410,7 +410,7 @@ def _negate(f: Formula) -> Formula:
 def split_formula(a: str, chi: Formula, diamond: bool) -> Formula:
     """The modal step of a distinguishing formula: ``◇_a χ`` written ``¬K_a ¬χ`` (``¬K_a ⊥`` for χ = ⊤) when
     the world it must hold at sees a χ-world the other does not, else ``K_a ¬χ`` (shared with
-    :mod:`delkit.bisimulation_symbolic`)."""
+    :mod:`delkit.backends.bisimulation_symbolic`)."""
     if diamond:
         return Not(K(a, _negate(chi))) if chi != TOP else Not(K(a, BOT))
     return K(a, _negate(chi))
