@@ -61,6 +61,7 @@ def write_plan_file(out: Path, doc: dict, inputs: Sequence[Path]) -> None:
         return
     check_plan_out(out, inputs)
     try:
+        out.parent.mkdir(parents=True, exist_ok=True)  # as every --out of the CLI: missing folders are made
         tmp = out.with_name(f".{out.name}.{os.getpid()}.tmp")
         tmp.write_text(text, encoding="utf-8")
         os.replace(tmp, out)  # the file is whole or absent; a link at ``out`` is replaced, not followed

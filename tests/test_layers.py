@@ -177,8 +177,8 @@ def test_the_circle_finder_sees_lazy_relative_and_type_checking_imports(tmp_path
 # ------------------------------------------------------------------------------ parts inside delkit
 #: delkit's parts, lowest first: a module may import its own part and lower ones. A part is the sub-package
 #: (``delkit/models/``) or, for a module directly inside delkit/, the module itself.
-DELKIT_RANKS: dict[str, int] = {
-    "errors": 0, "_lazy": 0, "_records": 0, "resources": 1, "paths": 1, "progress": 1, "executors": 1,
+DELKIT_RANKS: dict[str, float] = {
+    "errors": 0, "_lazy": 0, "_records": 0, "paths": 0.5, "resources": 1, "progress": 1, "executors": 1,
     "logic": 2, "drawing": 3, "models": 4, "backends": 5, "io": 6, "verify": 7, "testing": 7,
     "puzzles": 8, "demo": 9, "view": 10, "cli": 11, "__main__": 12,
 }

@@ -278,7 +278,7 @@ def test_spent_budget_is_exit_3_not_bad_input(capsys, monkeypatch):
 def test_smcdel_has_a_timeout(tmp_path, capsys):
     big = tmp_path / "big.smcdel.txt"
     big.write_text("VARS " + ",".join(str(i) for i in range(1, 27)) + "\nLAW Top\nOBS alice: 1\nbob: 2\n"
-                   + "VALID? alice knows whether 1\n" * 3000)
+                   + "VALID? alice knows whether 1\n" * 30000)  # seconds of work: far past 0.5 s on any machine
     rc, out, err = run_cli(capsys, ["smcdel", big, "--timeout", "0.5", "--json"])
     assert rc == 3 and json.loads(out)["status"] == "limit", err
 
