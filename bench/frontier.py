@@ -25,6 +25,7 @@ import os
 import sys
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -51,27 +52,24 @@ def generated(folder: Path) -> list[dict]:
     return rows
 
 
-def epddl2026() -> list[dict]:
-    base = SHARED / "epddl2026"
-    rows = []
+def _expected(suite: str, row: Callable[[Path, dict], dict]) -> list[dict]:
+    """The rows of a shared suite's expected.csv, each made by ``row(suite folder, CSV record)``."""
+    base = SHARED / suite
     with open(base / "expected.csv") as f:
-        for r in csv.DictReader(f):
-            libs = [str(base / x) for x in r["libraries"].split(";") if x]
-            rows.append({"suite": "epddl2026", "family": r["problem"].split("/")[2],
-                         "name": r["problem"].split("/")[2] + "/" + Path(r["problem"]).stem,
-                         "files": [str(base / r["domain"]), str(base / r["problem"])], "library": libs,
-                         "known": r["shortest_known"]})
-    return rows
+        return [{"suite": suite, **row(base, r)} for r in csv.DictReader(f)]
+
+
+def epddl2026() -> list[dict]:
+    return _expected("epddl2026", lambda base, r: {
+        "family": r["problem"].split("/")[2], "name": r["problem"].split("/")[2] + "/" + Path(r["problem"]).stem,
+        "files": [str(base / r["domain"]), str(base / r["problem"])],
+        "library": [str(base / x) for x in r["libraries"].split(";") if x], "known": r["shortest_known"]})
 
 
 def mastar() -> list[dict]:
-    base = SHARED / "mastar"
-    rows = []
-    with open(base / "expected.csv") as f:
-        for r in csv.DictReader(f):
-            rows.append({"suite": "mastar", "family": r["file"].split("/")[0], "name": Path(r["file"]).stem,
-                         "files": [str(base / r["file"])], "library": [], "known": r["expected_length"]})
-    return rows
+    return _expected("mastar", lambda base, r: {
+        "family": r["file"].split("/")[0], "name": Path(r["file"]).stem, "files": [str(base / r["file"])],
+        "library": [], "known": r["expected_length"]})
 
 
 def run_one(row: dict, search: str, timeout: float) -> dict:
