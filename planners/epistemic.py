@@ -211,6 +211,23 @@ def resume_collector(was: bool) -> None:
     gc.enable()
 
 
+def _expand_new(space: StateSpace, state: Any, key: Hashable, parent: dict[Hashable, Any],
+                fresh: Callable[[Any, Hashable], None]) -> tuple[int, Hashable | None]:
+    """Generate ``state``'s successors in order, record in ``parent`` each one first reached here, and hand it
+    to ``fresh(state, key)`` — stopping at the first goal among them (the goal test at generation of BFS and
+    novelty search). Returns (successors generated, the goal's key or None)."""
+    n = 0
+    for name, nxt, nkey in space.successors(state):
+        n += 1
+        if nkey in parent:
+            continue
+        parent[nkey] = (key, name)
+        if space.is_goal(nxt):
+            return n, nkey
+        fresh(nxt, nkey)
+    return n, None
+
+
 @_gc_paused
 def bfs(space: StateSpace, limits: Limits = Limits(), *, prune: bool = True) -> SearchResult:
     """Breadth-first search with duplicate detection; goal test at generation (optimal length).
@@ -232,6 +249,14 @@ def bfs(space: StateSpace, limits: Limits = Limits(), *, prune: bool = True) -> 
     frontier: deque = deque([(s0, k0)])
     expanded = generated = pruned = 0
     live = counters()  # the counts so far, for a limit answer given from outside this loop (alarm, watchdog)
+
+    def keep(nxt: Any, nkey: Hashable) -> None:
+        nonlocal pruned
+        if dead is not None and dead(nxt):
+            pruned += 1
+        else:
+            frontier.append((nxt, nkey))
+
     while frontier:
         live["expanded"], live["generated"] = expanded, generated
         why = budget.exceeded(expanded)
@@ -240,18 +265,11 @@ def bfs(space: StateSpace, limits: Limits = Limits(), *, prune: bool = True) -> 
                                 "limits: " + why, space.dead_ends + pruned, len(parent))
         state, key = frontier.popleft()
         expanded += 1
-        for name, nxt, nkey in space.successors(state):
-            generated += 1
-            if nkey in parent:
-                continue
-            parent[nkey] = (key, name)
-            if space.is_goal(nxt):
-                return SearchResult("solved", _path(parent, nkey), expanded, generated, budget.seconds, "bfs",
-                                    "", space.dead_ends + pruned, len(parent))
-            if dead is not None and dead(nxt):
-                pruned += 1
-                continue
-            frontier.append((nxt, nkey))
+        n, goal = _expand_new(space, state, key, parent, keep)
+        generated += n
+        if goal is not None:
+            return SearchResult("solved", _path(parent, goal), expanded, generated, budget.seconds, "bfs",
+                                "", space.dead_ends + pruned, len(parent))
     return SearchResult("unsolvable", None, expanded, generated, budget.seconds, "bfs",
                         "the reachable state space is exhausted: no plan exists", space.dead_ends + pruned,
                         len(parent))
@@ -416,7 +434,14 @@ def novelty_search(space: StateSpace, limits: Limits = Limits(), *, width: int =
     counter = 0
     sign = -1 if deeper else 1
     heap: list = [(novelty(s0, g0), g0, 0, counter, s0, k0)]
-    expanded = generated = 0
+    expanded = generated = g = 0
+
+    def push(nxt: Any, nkey: Hashable) -> None:
+        nonlocal counter
+        gc_ = space.goal_count(nxt)
+        counter += 1
+        heappush(heap, (novelty(nxt, gc_), gc_, sign * (g + 1), counter, nxt, nkey))
+
     while heap:
         why = budget.exceeded(expanded)
         if why:
@@ -425,17 +450,11 @@ def novelty_search(space: StateSpace, limits: Limits = Limits(), *, width: int =
         _, _, sg, _, state, key = heappop(heap)
         g = sg * sign
         expanded += 1
-        for name, nxt, nkey in space.successors(state):
-            generated += 1
-            if nkey in parent:
-                continue
-            parent[nkey] = (key, name)
-            if space.is_goal(nxt):
-                return SearchResult("solved", _path(parent, nkey), expanded, generated, budget.seconds, "novelty",
-                                    "", space.dead_ends, len(parent))
-            gc_ = space.goal_count(nxt)
-            counter += 1
-            heappush(heap, (novelty(nxt, gc_), gc_, sign * (g + 1), counter, nxt, nkey))
+        n, goal = _expand_new(space, state, key, parent, push)
+        generated += n
+        if goal is not None:
+            return SearchResult("solved", _path(parent, goal), expanded, generated, budget.seconds, "novelty",
+                                "", space.dead_ends, len(parent))
     return SearchResult("unsolvable", None, expanded, generated, budget.seconds, "novelty",
                         "the reachable state space is exhausted: no plan exists", space.dead_ends, len(parent))
 
