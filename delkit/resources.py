@@ -251,13 +251,15 @@ def process_start() -> float:
 
 
 def begin_command() -> None:
-    """Mark the start of a command: the process start for the first command of a process, else now."""
+    """Mark the start of a command: the process start for the first command of the ``delkit`` process itself
+    (the console script, :data:`HARD_EXIT`), else now — a host program that calls ``delkit.cli.main`` (a test
+    runner, a notebook) has run for its own reasons before, and that time is not the command's."""
     import time
 
     global _BEGUN_PID
     pid = os.getpid()
     first = _BEGUN_PID != pid and _on_main_thread()
-    _LOCAL.t0 = process_start() if first else time.monotonic()
+    _LOCAL.t0 = process_start() if first and HARD_EXIT else time.monotonic()
     _ANSWERED.clear()
     if not first:
         # the same dict, emptied: a watchdog started before reads this command's counts (the process's first
@@ -265,6 +267,12 @@ def begin_command() -> None:
         counters().clear()
     if first:
         _BEGUN_PID = pid
+
+
+def end_command() -> None:
+    """Forget the command's start (:func:`begin_command`): a library call made after it (``run_check``,
+    ``run_plan`` called directly) counts its limits from its own start, not from a finished command's."""
+    _LOCAL.t0 = None
 
 
 def command_start() -> float:

@@ -120,7 +120,7 @@ def main(argv: list[str] | None = None) -> int:
 
     resources.JSON_LIMITS = "--json" in (args[:args.index("--")] if "--" in args else args)
 
-    begin_command()  # every --timeout counts from here (from process start for the process's first command)
+    begin_command()  # every --timeout counts from here (from process start in the console script's process)
     try:
         fast = _fast_path(args)
         if fast is not None:  # a plain `plan` / `check` line: run without importing typer (start-up time)
@@ -132,6 +132,8 @@ def main(argv: list[str] | None = None) -> int:
         result = command.main(args=args, prog_name="delkit", standalone_mode=False)
     except BaseException as exc:  # noqa: BLE001 - each kind is mapped to its exit status below
         return _exit_status(exc)
+    finally:
+        resources.end_command()
     return result if isinstance(result, int) else 0
 
 
