@@ -44,8 +44,8 @@ def timed(argv: list[str], env: dict | None = None) -> tuple[int, str, str, floa
     return p.returncode, p.stdout, p.stderr, time.monotonic() - t0
 
 
-def slow_expansion(tmp_path: Path, n: int = 11, copies: int = 4) -> list[str]:
-    """An E-PDDL task with a 2^n-world initial state and 40 actions: one expansion takes ≈ 1-2 s CPU."""
+def slow_expansion(tmp_path: Path, n: int = 13, copies: int = 4) -> list[str]:
+    """An E-PDDL task with a 2^n-world initial state and 48 actions: its one expansion takes ≈ 4 s CPU."""
     preds = " ".join(f"(f{i})" for i in range(n))
     acts = "\n".join(f"  (:action t{i}_{k} :parameters () :precondition (f0) :effect (not (f{i})) :observers (a))"
                      for i in range(1, n) for k in range(copies))
