@@ -35,22 +35,15 @@ def plan_document(task_name: str, sources: Sequence[str | Path], result: dict) -
 
 
 def check_plan_out(out: Path, inputs: Sequence[Path], option: str = "--plan-out") -> None:
-    """Refuse (exit 2, before any work) a plan output that is one of the inputs — compared with
-    :func:`os.path.samefile`, so a symlink or a hard link to an input is caught — or a directory."""
+    """Refuse (exit 2, before any work) a plan output that is a directory or one of the inputs
+    (:func:`delkit.paths.refuse_overwrite_input`: a symlink or a hard link to an input is caught)."""
+    from delkit.paths import refuse_overwrite_input
+
     if str(out) == "-":
         return
     if out.is_dir():
         raise ParseError(f"{out} is a directory; give a file name, e.g. {option} plan.json", source=option)
-    if not os.path.lexists(out):
-        return
-    for p in inputs:
-        try:
-            same = os.path.samefile(out, p)
-        except OSError:
-            continue
-        if same:
-            raise ParseError(f"{out} would overwrite the input file {p}; write the plan elsewhere",
-                             source=option)
+    refuse_overwrite_input([out], inputs, option=option)
 
 
 def write_plan_file(out: Path, doc: dict, inputs: Sequence[Path]) -> None:
