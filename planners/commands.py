@@ -76,8 +76,13 @@ def run_plan(spec: Path, problem: Path | None = None, search: str = "bfs", timeo
                                          allow_inconsistent=allow_inconsistent)
             space = space_for(task, engine, allow_inconsistent, consistent_beliefs=consistent_beliefs)
             if search == "auto":
-                res = portfolio(lambda: space_for(task, engine, allow_inconsistent,
-                                                  consistent_beliefs=consistent_beliefs), limits)
+                unused = [space]  # the first phase searches the space built above; later phases get fresh ones
+
+                def make():  # noqa: ANN202 - a StateSpace
+                    return unused.pop() if unused else space_for(task, engine, allow_inconsistent,
+                                                                 consistent_beliefs=consistent_beliefs)
+
+                res = portfolio(make, limits)
             else:
                 res = run_search(space, search, limits)
             res = annotate(res, space, semantics)
